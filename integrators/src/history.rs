@@ -1,0 +1,115 @@
+//! Per-particle bookkeeping shared by the methods that remember earlier steps
+//! (position Verlet, Beeman, Adams-Bashforth) or cache the last acceleration
+//! (leapfrog, velocity Verlet).
+//!
+//! History belongs to a particle, not to a slot: it moves with
+//! `swap_remove`, starts empty for an appended particle, and is discarded for a
+//! particle whose position or velocity was changed outside the step (a bounce,
+//! a teleport), detected by comparing with what the last step wrote. A change
+//! of `dt` or of time discards everyone's history, since the multistep
+//! coefficients assume equal spacing. Particles with too little history are
+//! restarted by an RK4 step, so a particle's trajectory does not depend on the
+//! particles spawned or despawned around it.
+
+use crate::integrator::fit;
+use crate::vector::{Real, Vector};
+
+/// Depth of history per particle, and the state each particle had when the
+/// last step ended.
+#[derive(Debug, Clone)]
+pub(crate) struct History<V: Vector> {
+    last_positions: Vec<V>,
+    last_velocities: Vec<V>,
+    /// Steps of history each particle has (saturating).
+    depth: Vec<u8>,
+    /// `dt` and end time of the last step, to detect changes of spacing.
+    last_dt: Option<V::Real>,
+    last_end: Option<V::Real>,
+}
+
+impl<V: Vector> Default for History<V> {
+    fn default() -> Self {
+        Self {
+            last_positions: Vec::new(),
+            last_velocities: Vec::new(),
+            depth: Vec::new(),
+            last_dt: None,
+            last_end: None,
+        }
+    }
+}
+
+impl<V: Vector> History<V> {
+    /// Brings the history in line with the state about to be stepped and
+    /// returns how many particles have less than `required` steps of history.
+    pub(crate) fn sync(&mut self, t: V::Real, dt: V::Real, x: &[V], v: &[V], required: u8) -> usize {
+        let n = x.len();
+        if self.depth.len() != n {
+            // Appended particles start with no history; a shorter slice without
+            // `swap_remove` drops the tail.
+            self.depth.resize(n, 0);
+            fit(&mut self.last_positions, n);
+            fit(&mut self.last_velocities, n);
+        }
+        // The caller's `t` is usually `n dt` while ours is a running sum: allow
+        // a relative slack far below any force's time scale.
+        let continues = match (self.last_dt, self.last_end) {
+            (Some(last_dt), Some(last_end)) => {
+                last_dt == dt && (t - last_end).abs() <= (dt * V::Real::from_f64(1e-6)).abs()
+            }
+            _ => false,
+        };
+        if !continues {
+            self.depth.fill(0);
+        }
+        let mut short = 0;
+        for i in 0..n {
+            if x[i] != self.last_positions[i] || v[i] != self.last_velocities[i] {
+                self.depth[i] = 0;
+            }
+            short += usize::from(self.depth[i] < required);
+        }
+        short
+    }
+
+    /// Whether particle `i` has at least `required` steps of history.
+    #[inline]
+    pub(crate) fn has(&self, i: usize, required: u8) -> bool {
+        self.depth[i] >= required
+    }
+
+    /// Records the state a step ended with; every particle gains one step.
+    pub(crate) fn record(&mut self, t_end: V::Real, dt: V::Real, x: &[V], v: &[V]) {
+        self.last_positions.copy_from_slice(x);
+        self.last_velocities.copy_from_slice(v);
+        for d in &mut self.depth {
+            *d = d.saturating_add(1);
+        }
+        self.last_dt = Some(dt);
+        self.last_end = Some(t_end);
+    }
+
+    /// Follows `Vec::swap_remove(index)` on the particle columns.
+    pub(crate) fn swap_remove(&mut self, index: usize) {
+        if index < self.depth.len() {
+            self.depth.swap_remove(index);
+            self.last_positions.swap_remove(index);
+            self.last_velocities.swap_remove(index);
+        }
+    }
+
+    /// Forgets everything.
+    pub(crate) fn reset(&mut self) {
+        self.depth.fill(0);
+        self.last_dt = None;
+        self.last_end = None;
+    }
+}
+
+/// `swap_remove` on a per-particle buffer, if it holds that index.
+#[inline]
+pub(crate) fn swap_remove_in<V: Copy>(buffer: &mut Vec<V>, index: usize) {
+    if index < buffer.len() {
+        buffer.swap_remove(index);
+    }
+}

@@ -1,0 +1,205 @@
+//! The interface every method implements, and what a step reports.
+
+use core::fmt;
+
+use crate::system::System;
+use crate::vector::{Real, Vector};
+
+/// What a method is: the static description the registry lists.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MethodInfo {
+    /// Canonical name, snake_case (`"velocity_verlet"`).
+    pub name: &'static str,
+    /// Other accepted names (`"vv"`).
+    pub aliases: &'static [&'static str],
+    /// Human-readable title.
+    pub title: &'static str,
+    /// Global order of accuracy of positions on smooth, velocity-independent forces.
+    pub order: u32,
+    /// Global order of the velocities the method reports.
+    pub order_velocity: u32,
+    /// Global order of the state (positions and velocities, Euclidean norm) when
+    /// the forces depend on velocity (drag).
+    pub order_velocity_forces: u32,
+    /// Force evaluations per step in steady state (for implicit and adaptive
+    /// methods: on a linear problem with a converged solve; see [`MethodInfo::variable_cost`]).
+    pub evaluations: u32,
+    /// Preserves the symplectic form (bounded energy error on Hamiltonian systems).
+    pub symplectic: bool,
+    /// Symmetric in time: stepping back with negated velocities retraces the path.
+    pub reversible: bool,
+    /// Needs no history from earlier steps (history methods bootstrap with RK4).
+    pub self_starting: bool,
+    /// Solves an implicit equation each step (Newton-Krylov).
+    pub implicit: bool,
+    /// The number of evaluations varies from step to step.
+    pub variable_cost: bool,
+}
+
+/// Counters a step reports, for diagnostics and cost comparisons.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Calls of [`System::acceleration`] (finite-difference Jacobian products included).
+    pub evaluations: u32,
+    /// Newton iterations (implicit methods).
+    pub newton_iterations: u32,
+    /// Krylov (GMRES) iterations, summed over the Newton iterations.
+    pub krylov_iterations: u32,
+    /// Accepted sub-steps (adaptive methods), 1 otherwise.
+    pub substeps: u32,
+    /// Rejected sub-steps (adaptive methods).
+    pub rejected_substeps: u32,
+    /// Particles that were (re)started by an RK4 bootstrap step (history methods).
+    pub bootstrapped: u32,
+}
+
+/// Why a step could not be taken. The state is left as it was before the step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepError {
+    /// `dt` was zero, NaN or infinite.
+    InvalidTimeStep {
+        /// The method that refused.
+        method: &'static str,
+        /// The offending value, as `f64`.
+        dt: f64,
+    },
+    /// Positions and velocities had different lengths.
+    LengthMismatch {
+        /// The method that refused.
+        method: &'static str,
+        /// Number of positions.
+        positions: usize,
+        /// Number of velocities.
+        velocities: usize,
+    },
+    /// An implicit solve did not reach its tolerance within its iteration cap.
+    NotConverged {
+        /// The method whose solve failed.
+        method: &'static str,
+        /// Newton iterations spent.
+        iterations: u32,
+        /// Final RMS residual, relative to the solution's scale.
+        residual: f64,
+        /// The tolerance that was asked for.
+        tolerance: f64,
+    },
+    /// An adaptive method needed more sub-steps than its cap, or its sub-step
+    /// shrank below the smallest allowed.
+    SubstepLimit {
+        /// The method that gave up.
+        method: &'static str,
+        /// Sub-steps taken before giving up.
+        substeps: u32,
+        /// The last sub-step size tried.
+        last_substep: f64,
+    },
+}
+
+impl fmt::Display for StepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StepError::InvalidTimeStep { method, dt } => {
+                write!(f, "{method}: time step must be finite and non-zero, got {dt}")
+            }
+            StepError::LengthMismatch {
+                method,
+                positions,
+                velocities,
+            } => write!(
+                f,
+                "{method}: {positions} positions but {velocities} velocities; the slices must have the same length"
+            ),
+            StepError::NotConverged {
+                method,
+                iterations,
+                residual,
+                tolerance,
+            } => write!(
+                f,
+                "{method}: implicit solve did not converge after {iterations} Newton iterations \
+                 (relative residual {residual:.3e}, tolerance {tolerance:.3e}); try a smaller time step \
+                 or a larger iteration cap"
+            ),
+            StepError::SubstepLimit {
+                method,
+                substeps,
+                last_substep,
+            } => write!(
+                f,
+                "{method}: gave up after {substeps} sub-steps (last sub-step {last_substep:.3e}); \
+                 the tolerance is too tight for this time step or the solution is not smooth"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for StepError {}
+
+/// A time-integration method for `x'' = a(t, x, x')` over a slice of particles.
+///
+/// A method owns its scratch and history buffers. They grow when particles are
+/// appended (new particles are detected by the slice length and, for history
+/// methods, bootstrapped), follow [`Integrator::swap_remove`] when particles are
+/// removed, and are reused otherwise, so steady-state steps allocate nothing.
+/// Dynamic dispatch happens once per step (and once per force evaluation),
+/// never per particle.
+pub trait Integrator<V: Vector>: Send {
+    /// The method's description (orders, cost, flags).
+    fn info(&self) -> MethodInfo;
+
+    /// Advances `positions` and `velocities` from time `t` to `t + dt`.
+    ///
+    /// # Errors
+    /// [`StepError`] when `dt` is not finite and non-zero, the slices differ in
+    /// length, or an implicit or adaptive solve fails; the state is then left
+    /// unchanged.
+    fn step(
+        &mut self,
+        t: V::Real,
+        dt: V::Real,
+        positions: &mut [V],
+        velocities: &mut [V],
+        system: &mut dyn System<V>,
+    ) -> Result<StepStats, StepError>;
+
+    /// Particle `index` was removed with `Vec::swap_remove` semantics: the last
+    /// particle moved into its slot. History moves with it.
+    fn swap_remove(&mut self, index: usize) {
+        let _ = index;
+    }
+
+    /// Forgets all history and cached accelerations, for example after the
+    /// forces changed discontinuously. The next step restarts every particle.
+    fn reset(&mut self) {}
+}
+
+/// Checks the arguments every method receives.
+pub(crate) fn check_step<V: Vector>(
+    method: &'static str,
+    dt: V::Real,
+    positions: &[V],
+    velocities: &[V],
+) -> Result<(), StepError> {
+    if !dt.is_finite() || dt == V::Real::ZERO {
+        return Err(StepError::InvalidTimeStep {
+            method,
+            dt: dt.to_f64(),
+        });
+    }
+    if positions.len() != velocities.len() {
+        return Err(StepError::LengthMismatch {
+            method,
+            positions: positions.len(),
+            velocities: velocities.len(),
+        });
+    }
+    Ok(())
+}
+
+/// Resizes a scratch buffer to `n` entries; allocates only when it grows.
+#[inline]
+pub(crate) fn fit<V: Vector>(buffer: &mut Vec<V>, n: usize) {
+    if buffer.len() != n {
+        buffer.resize(n, V::ZERO);
+    }
+}

@@ -1,0 +1,54 @@
+//! The system being integrated: one acceleration callback over all particles.
+
+use crate::vector::{Real, Vector};
+
+/// The right-hand side `a(t, x, v)` of `x'' = a(t, x, x')` for a whole slice of
+/// particles at once.
+///
+/// Multi-stage methods call [`System::acceleration`] on whole trial states, so
+/// coupled forces (springs, n-body) see every particle at the same stage.
+/// Any closure `FnMut(t, positions, velocities, accelerations_out)` is a system.
+pub trait System<V: Vector> {
+    /// Fills `out[i]` with the acceleration of particle `i` at time `t` for the
+    /// given positions and velocities. All three slices have the same length.
+    fn acceleration(&mut self, t: V::Real, positions: &[V], velocities: &[V], out: &mut [V]);
+
+    /// Jacobian-vector product `out = (da/dx) dx + (da/dv) dv` at `(t, x, v)`,
+    /// for the implicit methods' Newton-Krylov solver.
+    ///
+    /// Return `false` (the default) to let the solver use a finite difference
+    /// of [`System::acceleration`] instead; return `true` after filling `out`
+    /// when the system knows its derivatives (cheaper and exact).
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian_product(
+        &mut self,
+        _t: V::Real,
+        _positions: &[V],
+        _velocities: &[V],
+        _dx: &[V],
+        _dv: &[V],
+        _out: &mut [V],
+    ) -> bool {
+        false
+    }
+
+    /// The linear drag coefficient `b` (per unit mass) contained in
+    /// [`System::acceleration`], which then reads `a = g(t, x, v) - b v`.
+    ///
+    /// Exponential Euler integrates this part exactly; every other method
+    /// ignores it. Default: `0`.
+    fn linear_drag(&self) -> V::Real {
+        V::Real::ZERO
+    }
+}
+
+impl<V, F> System<V> for F
+where
+    V: Vector,
+    F: FnMut(V::Real, &[V], &[V], &mut [V]),
+{
+    #[inline]
+    fn acceleration(&mut self, t: V::Real, positions: &[V], velocities: &[V], out: &mut [V]) {
+        self(t, positions, velocities, out)
+    }
+}
