@@ -52,10 +52,12 @@ impl<V: Vector> History<V> {
             fit(&mut self.last_velocities, n);
         }
         // The caller's `t` is usually `n dt` while ours is a running sum: allow
-        // a relative slack far below any force's time scale.
+        // a slack of a few rounding errors, far below any force's time scale.
         let continues = match (self.last_dt, self.last_end) {
             (Some(last_dt), Some(last_end)) => {
-                last_dt == dt && (t - last_end).abs() <= (dt * V::Real::from_f64(1e-6)).abs()
+                let slack =
+                    (dt * V::Real::from_f64(1e-6)).abs() + t.abs() * V::Real::epsilon() * V::Real::from_f64(8.0);
+                last_dt == dt && (t - last_end).abs() <= slack
             }
             _ => false,
         };

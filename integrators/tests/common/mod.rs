@@ -65,3 +65,30 @@ pub fn slope(dts: &[f64], errors: &[f64]) -> f64 {
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     sxy / sxx
 }
+
+/// Kepler problem `q'' = -q / |q|^3` (GM = 1) in the plane.
+pub struct Kepler;
+
+impl System<glam::DVec2> for Kepler {
+    fn acceleration(&mut self, _t: f64, q: &[glam::DVec2], _p: &[glam::DVec2], out: &mut [glam::DVec2]) {
+        for (a, q) in out.iter_mut().zip(q) {
+            let r2 = q.length_squared();
+            *a = -*q / (r2 * r2.sqrt());
+        }
+    }
+}
+
+impl Kepler {
+    /// The orbit of eccentricity `e`: q0 = (1 - e, 0), p0 = (0, sqrt((1 + e)/(1 - e))).
+    pub fn start(e: f64) -> (glam::DVec2, glam::DVec2) {
+        (
+            glam::DVec2::new(1.0 - e, 0.0),
+            glam::DVec2::new(0.0, ((1.0 + e) / (1.0 - e)).sqrt()),
+        )
+    }
+
+    /// Total energy `|p|^2/2 - 1/|q|`.
+    pub fn energy(q: glam::DVec2, p: glam::DVec2) -> f64 {
+        0.5 * p.length_squared() - 1.0 / q.length()
+    }
+}

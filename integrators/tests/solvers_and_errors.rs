@@ -1,0 +1,198 @@
+//! The implicit solve against the lecture's closed form, and every error a
+//! step can report, with its message.
+
+mod common;
+
+use common::Oscillator;
+use tickwork_integrators::{DormandPrince, ImplicitEuler, Integrator, NewtonKrylovConfig, StepError, System, build};
+
+/// Pure linear drag that also supplies its exact Jacobian-vector product.
+struct DragWithJacobian {
+    b: f64,
+}
+
+impl System<f64> for DragWithJacobian {
+    fn acceleration(&mut self, _t: f64, _x: &[f64], v: &[f64], out: &mut [f64]) {
+        for (a, v) in out.iter_mut().zip(v) {
+            *a = -self.b * v;
+        }
+    }
+    fn jacobian_product(&mut self, _t: f64, _x: &[f64], _v: &[f64], _dx: &[f64], dv: &[f64], out: &mut [f64]) -> bool {
+        for (o, dv) in out.iter_mut().zip(dv) {
+            *o = -self.b * dv;
+        }
+        true
+    }
+}
+
+#[test]
+fn implicit_euler_matches_the_closed_form_for_linear_drag() {
+    let (b, dt) = (3.0, 0.1);
+    let v0 = [1.0, -2.0, 0.5];
+    // Finite-difference Jacobian (the default).
+    let mut method = build::<f64>("implicit_euler").expect("registered");
+    let (mut x, mut v) = (vec![0.0; 3], v0.to_vec());
+    let stats = method
+        .step(0.0, dt, &mut x, &mut v, &mut Oscillator { k: 0.0, b })
+        .expect("converges");
+    for i in 0..3 {
+        let expected = v0[i] / (1.0 + b * dt);
+        assert!(
+            (v[i] - expected).abs() <= 1e-12 * expected.abs(),
+            "v = {} vs {expected}",
+            v[i]
+        );
+        assert!((x[i] - dt * expected).abs() <= 1e-12, "x = {}", x[i]);
+    }
+    assert!(stats.newton_iterations <= 2, "{stats:?}");
+    // Supplied Jacobian: a linear problem is solved in one Newton iteration
+    // and one Krylov iteration, exactly.
+    let mut method = ImplicitEuler::<f64>::new();
+    let (mut x, mut v) = (vec![0.0; 3], v0.to_vec());
+    let stats = method
+        .step(0.0, dt, &mut x, &mut v, &mut DragWithJacobian { b })
+        .expect("converges");
+    assert_eq!((stats.newton_iterations, stats.krylov_iterations), (1, 1), "{stats:?}");
+    for i in 0..3 {
+        let expected = v0[i] / (1.0 + b * dt);
+        assert!((v[i] - expected).abs() <= 1e-15, "v = {} vs {expected}", v[i]);
+    }
+}
+
+#[test]
+fn implicit_methods_solve_coupled_nonlinear_springs() {
+    // Two particles joined by a stiff cubic spring: the Jacobian couples them,
+    // so a per-particle solve would be wrong. Check the implicit Euler residual.
+    let k = 400.0;
+    let mut spring = |_t: f64, x: &[f64], _v: &[f64], a: &mut [f64]| {
+        let stretch = x[1] - x[0] - 1.0;
+        let force = k * (stretch + stretch * stretch * stretch);
+        a[0] = force;
+        a[1] = -force;
+    };
+    let (x0, v0) = (vec![0.0, 1.5], vec![0.0, 0.0]);
+    let (mut x, mut v) = (x0.clone(), v0.clone());
+    let dt = 0.05;
+    let stats = build::<f64>("implicit_euler")
+        .unwrap()
+        .step(0.0, dt, &mut x, &mut v, &mut spring)
+        .expect("converges");
+    let mut a = vec![0.0; 2];
+    spring(dt, &x, &v, &mut a);
+    for i in 0..2 {
+        assert!((v[i] - v0[i] - dt * a[i]).abs() < 1e-9, "residual of particle {i}");
+        assert!((x[i] - x0[i] - dt * v[i]).abs() < 1e-12);
+    }
+    assert!(stats.newton_iterations >= 2, "nonlinear: {stats:?}");
+    // Momentum is conserved by the pairwise force.
+    assert!((v[0] + v[1]).abs() < 1e-9);
+}
+
+#[test]
+fn a_non_converged_implicit_solve_is_reported_and_leaves_the_state_unchanged() {
+    let config = NewtonKrylovConfig {
+        max_newton_iterations: 1,
+        ..NewtonKrylovConfig::for_real::<f64>()
+    };
+    let mut method = ImplicitEuler::<f64>::with_config(config);
+    // Cubic drag at a large step: one Newton iteration is not enough.
+    let mut cubic = |_t: f64, _x: &[f64], v: &[f64], a: &mut [f64]| a[0] = -50.0 * v[0] * v[0] * v[0];
+    let (mut x, mut v) = (vec![0.25], vec![3.0]);
+    let error = method
+        .step(0.0, 0.1, &mut x, &mut v, &mut cubic)
+        .expect_err("must not converge");
+    match &error {
+        StepError::NotConverged {
+            method,
+            iterations,
+            residual,
+            tolerance,
+        } => {
+            assert_eq!(*method, "implicit_euler");
+            assert_eq!(*iterations, 1);
+            assert!(residual > tolerance);
+        }
+        other => panic!("wrong error {other:?}"),
+    }
+    let message = error.to_string();
+    assert!(
+        message.starts_with("implicit_euler: implicit solve did not converge after 1 Newton iterations"),
+        "{message}"
+    );
+    assert_eq!((x[0], v[0]), (0.25, 3.0), "state left as it was");
+}
+
+#[test]
+fn dormand_prince_reports_a_sub_step_limit_and_leaves_the_state_unchanged() {
+    let mut method = DormandPrince::<f64>::with_tolerances(1e-14, 1e-16);
+    method.max_substeps = 3;
+    let (mut x, mut v) = (vec![1.0], vec![0.0]);
+    let error = method
+        .step(0.0, 1.0, &mut x, &mut v, &mut Oscillator { k: 100.0, b: 0.0 })
+        .expect_err("limit");
+    assert!(
+        matches!(error, StepError::SubstepLimit { substeps: 3, .. }),
+        "{error:?}"
+    );
+    assert!(
+        error
+            .to_string()
+            .starts_with("dormand_prince: gave up after 3 sub-steps"),
+        "{error}"
+    );
+    assert_eq!((x[0], v[0]), (1.0, 0.0));
+}
+
+#[test]
+fn dormand_prince_meets_its_tolerance_by_sub_stepping() {
+    // One fixed step of 0.5 on a stiff-ish oscillator (omega = 10): the
+    // default tolerance forces many sub-steps and a small error.
+    let mut method = DormandPrince::<f64>::new();
+    let (mut x, mut v) = (vec![1.0], vec![0.0]);
+    let mut system = Oscillator { k: 100.0, b: 0.0 };
+    let mut stats = Vec::new();
+    for n in 0..4 {
+        stats.push(
+            method
+                .step(n as f64 * 0.5, 0.5, &mut x, &mut v, &mut system)
+                .expect("step"),
+        );
+    }
+    let exact = (10.0f64 * 2.0).cos();
+    assert!((x[0] - exact).abs() < 1e-5, "x = {} vs {exact}", x[0]);
+    assert!(stats[0].substeps > 5, "{:?}", stats[0]);
+    // Later fixed steps start from the carried-over sub-step size: fewer rejections.
+    assert!(stats[3].rejected_substeps <= stats[0].rejected_substeps, "{stats:?}");
+}
+
+#[test]
+fn bad_time_steps_and_mismatched_slices_are_errors() {
+    for info in tickwork_integrators::METHODS {
+        let mut method = build::<f64>(info.name).unwrap();
+        let mut system = Oscillator { k: 1.0, b: 0.0 };
+        for dt in [0.0, f64::NAN, f64::INFINITY] {
+            let error = method
+                .step(0.0, dt, &mut [1.0], &mut [0.0], &mut system)
+                .expect_err("bad dt");
+            let StepError::InvalidTimeStep { method, dt: reported } = error.clone() else {
+                panic!("{error:?}")
+            };
+            assert_eq!(method, info.name);
+            assert_eq!(reported.to_bits(), dt.to_bits());
+            assert!(
+                error.to_string().contains("time step must be finite and non-zero"),
+                "{error}"
+            );
+        }
+        let error = method
+            .step(0.0, 0.1, &mut [1.0, 2.0], &mut [0.0], &mut system)
+            .expect_err("lengths");
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}: 2 positions but 1 velocities; the slices must have the same length",
+                info.name
+            )
+        );
+    }
+}
