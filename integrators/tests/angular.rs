@@ -94,7 +94,7 @@ fn angular_methods_converge_at_their_stated_order() {
         let errors: Vec<f64> = dts
             .iter()
             .map(|&dt| {
-                let (_, w) = run(info.name, w0, dt, (t_end / dt as f64).round() as usize, |_, _| {});
+                let (_, w) = run(info.name, w0, dt, (t_end / dt).round() as usize, |_, _| {});
                 (w - reference).length()
             })
             .collect();

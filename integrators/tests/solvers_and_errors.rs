@@ -196,3 +196,20 @@ fn bad_time_steps_and_mismatched_slices_are_errors() {
         );
     }
 }
+
+#[test]
+fn registry_evaluation_counts_match_what_steps_report_on_a_linear_problem() {
+    // Damped oscillator, steady state (after history and caches are warm).
+    for info in tickwork_integrators::METHODS {
+        let mut method = build::<f64>(info.name).unwrap();
+        let (mut x, mut v) = (vec![1.0, 0.5], vec![0.0, -0.2]);
+        let mut system = Oscillator { k: 1.0, b: 0.5 };
+        let mut last = None;
+        for n in 0..10 {
+            last = Some(method.step(n as f64 * 0.01, 0.01, &mut x, &mut v, &mut system).unwrap());
+        }
+        let stats = last.unwrap();
+        println!("{:>26}: {stats:?}", info.name);
+        assert_eq!(stats.evaluations, info.evaluations, "{}: {stats:?}", info.name);
+    }
+}

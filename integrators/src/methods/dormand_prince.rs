@@ -287,6 +287,10 @@ impl<V: Vector> Integrator<V> for DormandPrince<V> {
         }
         Ok(stats)
     }
+
+    fn reset(&mut self) {
+        self.next_fraction = 1.0;
+    }
 }
 
 #[cfg(test)]

@@ -14,8 +14,8 @@
 //! iteration exact and cheaper than the finite-difference default.
 //!
 //! - Order 1 for positions and velocities.
-//! - Cost: variable; on a linear problem 4 evaluations per step (two residuals
-//!   and two finite-difference products).
+//! - Cost: variable; on a linear problem 3 evaluations per step (two residuals
+//!   and one finite-difference product).
 //! - Stability: L-stable: every `h` is stable on drag and springs, and stiff
 //!   components are damped rather than amplified. The price is numerical
 //!   damping: an undamped oscillator loses energy at every step, which is why
@@ -38,7 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,
-    evaluations: 4,
+    evaluations: 3,
     symplectic: false,
     reversible: false,
     self_starting: true,

@@ -71,37 +71,39 @@ impl<V: Vector> Rk4Stages<V> {
         }
         let half = h * c(0.5);
         let two: V::Real = c(2.0);
-        for i in 0..n {
-            self.sum_x[i] = v[i];
-            self.sum_v[i] = a1[i];
-            self.trial_x[i] = x[i] + v[i] * half;
-            self.trial_v[i] = v[i] + a1[i] * half;
+        // Local slices of equal length let the compiler drop bounds checks.
+        let (x, v, a1) = (&x[..n], &v[..n], &a1[..n]);
+        {
+            let (tx, tv) = (&mut self.trial_x[..n], &mut self.trial_v[..n]);
+            let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
+            for i in 0..n {
+                sx[i] = v[i];
+                sv[i] = a1[i];
+                tx[i] = x[i] + v[i] * half;
+                tv[i] = v[i] + a1[i] * half;
+            }
         }
-        // Stage 2: k2x is the trial velocity, k2v the acceleration there.
-        system.acceleration(t + half, &self.trial_x, &self.trial_v, &mut self.accel);
-        for i in 0..n {
-            let k2x = self.trial_v[i];
-            let k2v = self.accel[i];
-            self.sum_x[i] += k2x * two;
-            self.sum_v[i] += k2v * two;
-            self.trial_x[i] = x[i] + k2x * half;
-            self.trial_v[i] = v[i] + k2v * half;
-        }
-        // Stage 3.
-        system.acceleration(t + half, &self.trial_x, &self.trial_v, &mut self.accel);
-        for i in 0..n {
-            let k3x = self.trial_v[i];
-            let k3v = self.accel[i];
-            self.sum_x[i] += k3x * two;
-            self.sum_v[i] += k3v * two;
-            self.trial_x[i] = x[i] + k3x * h;
-            self.trial_v[i] = v[i] + k3v * h;
+        // Stages 2 and 3: k_x is the trial velocity, k_v the acceleration there;
+        // the next trial state moves by h/2 (stage 2) or h (stage 3) along them.
+        for offset in [half, h] {
+            system.acceleration(t + half, &self.trial_x, &self.trial_v, &mut self.accel);
+            let (tx, tv, acc) = (&mut self.trial_x[..n], &mut self.trial_v[..n], &self.accel[..n]);
+            let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
+            for i in 0..n {
+                let (kx, kv) = (tv[i], acc[i]);
+                sx[i] += kx * two;
+                sv[i] += kv * two;
+                tx[i] = x[i] + kx * offset;
+                tv[i] = v[i] + kv * offset;
+            }
         }
         // Stage 4.
         system.acceleration(t + h, &self.trial_x, &self.trial_v, &mut self.accel);
+        let (tv, acc) = (&self.trial_v[..n], &self.accel[..n]);
+        let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
         for i in 0..n {
-            self.sum_x[i] += self.trial_v[i];
-            self.sum_v[i] += self.accel[i];
+            sx[i] += tv[i];
+            sv[i] += acc[i];
         }
         self.h = Some(h);
     }
@@ -116,9 +118,9 @@ impl<V: Vector> Rk4Stages<V> {
     /// Applies the step to every particle.
     pub(crate) fn apply_all(&self, x: &mut [V], v: &mut [V]) {
         let h6 = self.h.unwrap_or(V::Real::ZERO) * c(1.0 / 6.0);
-        for i in 0..x.len() {
-            x[i] += self.sum_x[i] * h6;
-            v[i] += self.sum_v[i] * h6;
+        for (((x, v), sx), sv) in x.iter_mut().zip(v.iter_mut()).zip(&self.sum_x).zip(&self.sum_v) {
+            *x += *sx * h6;
+            *v += *sv * h6;
         }
     }
 }

@@ -1,0 +1,36 @@
+//! The `tickwork` command line: one file per subcommand.
+
+pub mod integrators;
+
+use clap::{Parser, Subcommand};
+
+/// Tickwork: a fixed-timestep game loop with verified numerical integrators.
+#[derive(Debug, Parser)]
+#[command(name = "tickwork", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do (default: list the integrators).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// List every integration method with its order, cost and properties.
+    Integrators(integrators::IntegratorsArgs),
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn run(cli: Cli) -> std::process::ExitCode {
+    let result = match cli.command {
+        Some(Command::Integrators(args)) => integrators::run(&args, &mut std::io::stdout().lock()),
+        None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock()),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("tickwork: {error}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
