@@ -13,7 +13,8 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::Vec3A;
 use tickwork_integrators::{METHODS, System, build};
 
-/// Gravity plus linear drag, declared so that exponential Euler treats the drag exactly.
+/// Gravity plus linear drag, declared so that exponential Euler treats the drag
+/// exactly and pointwise so that explicit methods step it in chunks.
 struct GravityAndDrag;
 
 impl System<Vec3A> for GravityAndDrag {
@@ -26,6 +27,9 @@ impl System<Vec3A> for GravityAndDrag {
     }
     fn linear_drag(&self) -> f32 {
         0.1
+    }
+    fn is_pointwise(&self) -> bool {
+        true
     }
 }
 

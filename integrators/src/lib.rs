@@ -39,6 +39,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod angular;
+mod chunks;
 mod history;
 mod integrator;
 pub mod methods;

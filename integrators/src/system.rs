@@ -40,6 +40,28 @@ pub trait System<V: Vector> {
     fn linear_drag(&self) -> V::Real {
         V::Real::ZERO
     }
+
+    /// True when each particle's acceleration depends only on its own
+    /// position and velocity (and `t`): gravity, drag, wind, fixed attractors;
+    /// not springs between particles or n-body gravity. Default: `false`.
+    ///
+    /// Explicit self-starting methods then step the particles in cache-sized
+    /// chunks (see [`System::acceleration_range`]), which keeps their scratch
+    /// buffers in cache and brings large steps close to the memory-bandwidth
+    /// limit. Results are bit-identical to the whole-slice step.
+    fn is_pointwise(&self) -> bool {
+        false
+    }
+
+    /// Accelerations of the particles `first .. first + positions.len()` only,
+    /// for pointwise systems stepped in chunks. The slices are that range of the
+    /// full columns; `first` lets a system index its own per-particle data
+    /// (masses, charges). Default: [`System::acceleration`] on the range, right
+    /// for systems with no per-particle data.
+    fn acceleration_range(&mut self, t: V::Real, first: usize, positions: &[V], velocities: &[V], out: &mut [V]) {
+        let _ = first;
+        self.acceleration(t, positions, velocities, out);
+    }
 }
 
 impl<V, F> System<V> for F

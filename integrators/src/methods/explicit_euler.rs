@@ -12,6 +12,7 @@
 //!   stable only for `h b <= 2`. The lecture's baseline, kept to show why games
 //!   avoid it.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::Vector;
@@ -60,12 +61,15 @@ impl<V: Vector> Integrator<V> for ExplicitEuler<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        fit(&mut self.accel, x.len());
-        system.acceleration(t, x, v, &mut self.accel);
-        for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(&self.accel) {
-            *x += *v * dt;
-            *v += *a * dt;
-        }
+        let accel = &mut self.accel;
+        for_each_chunk(x, v, system, |x, v, system| {
+            fit(accel, x.len());
+            system.acceleration(t, x, v, accel);
+            for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(accel.iter()) {
+                *x += *v * dt;
+                *v += *a * dt;
+            }
+        });
         Ok(StepStats {
             evaluations: 1,
             substeps: 1,

@@ -25,6 +25,7 @@
 //!   stiff springs still need a small `h`. `phi1` and `phi2` are evaluated by
 //!   their Taylor series for small `z` to avoid cancellation.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::{Real, Vector};
@@ -98,19 +99,22 @@ impl<V: Vector> Integrator<V> for ExponentialEuler<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        fit(&mut self.accel, x.len());
         let b = system.linear_drag();
         let h = dt.to_f64();
         let (decay, phi1, phi2) = phi(b.to_f64() * h);
         let decay = V::Real::from_f64(decay);
         let h_phi1 = V::Real::from_f64(h * phi1);
         let h2_phi2 = V::Real::from_f64(h * h * phi2);
-        system.acceleration(t, x, v, &mut self.accel);
-        for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(&self.accel) {
-            let g = *a + *v * b;
-            *x += *v * h_phi1 + g * h2_phi2;
-            *v = *v * decay + g * h_phi1;
-        }
+        let accel = &mut self.accel;
+        for_each_chunk(x, v, system, |x, v, system| {
+            fit(accel, x.len());
+            system.acceleration(t, x, v, accel);
+            for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(accel.iter()) {
+                let g = *a + *v * b;
+                *x += *v * h_phi1 + g * h2_phi2;
+                *v = *v * decay + g * h_phi1;
+            }
+        });
         Ok(StepStats {
             evaluations: 1,
             substeps: 1,

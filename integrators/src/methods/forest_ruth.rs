@@ -21,6 +21,7 @@
 //!   conservative forces. The negative middle sub-step shrinks the stable range
 //!   on the oscillator to about `h omega < 1.57`.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::{Real, Vector};
@@ -69,26 +70,29 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        fit(&mut self.accel, x.len());
         let theta = 1.0 / (2.0 - 2f64.powf(1.0 / 3.0));
         let h = dt.to_f64();
         let drifts = [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0];
         let kicks = [theta, 1.0 - 2.0 * theta, theta];
-        let mut elapsed = 0.0;
-        for stage in 0..4 {
-            let drift = V::Real::from_f64(drifts[stage] * h);
-            for (x, v) in x.iter_mut().zip(v.iter()) {
-                *x += *v * drift;
-            }
-            elapsed += drifts[stage];
-            if stage < 3 {
-                let kick = V::Real::from_f64(kicks[stage] * h);
-                system.acceleration(t + V::Real::from_f64(elapsed * h), x, v, &mut self.accel);
-                for (v, a) in v.iter_mut().zip(&self.accel) {
-                    *v += *a * kick;
+        let accel = &mut self.accel;
+        for_each_chunk(x, v, system, |x, v, system| {
+            fit(accel, x.len());
+            let mut elapsed = 0.0;
+            for stage in 0..4 {
+                let drift = V::Real::from_f64(drifts[stage] * h);
+                for (x, v) in x.iter_mut().zip(v.iter()) {
+                    *x += *v * drift;
+                }
+                elapsed += drifts[stage];
+                if stage < 3 {
+                    let kick = V::Real::from_f64(kicks[stage] * h);
+                    system.acceleration(t + V::Real::from_f64(elapsed * h), x, v, accel);
+                    for (v, a) in v.iter_mut().zip(accel.iter()) {
+                        *v += *a * kick;
+                    }
                 }
             }
-        }
+        });
         Ok(StepStats {
             evaluations: 3,
             substeps: 1,

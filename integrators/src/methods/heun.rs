@@ -17,6 +17,7 @@
 //! - Stability: the same amplification factor as the midpoint method on linear
 //!   problems: slow energy growth on the undamped oscillator, `h b <= 2` on drag.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::{Vector, c};
@@ -71,22 +72,25 @@ impl<V: Vector> Integrator<V> for Heun<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        let n = x.len();
-        fit(&mut self.accel, n);
-        fit(&mut self.end_x, n);
-        fit(&mut self.v1, n);
         let half = dt * c(0.5);
-        system.acceleration(t, x, v, &mut self.accel);
-        for i in 0..n {
-            self.end_x[i] = x[i] + v[i] * dt;
-            self.v1[i] = v[i] + self.accel[i] * dt;
-        }
-        system.acceleration(t + dt, &self.end_x, &self.v1, &mut self.accel);
-        for i in 0..n {
-            let v2 = v[i] + self.accel[i] * dt;
-            x[i] += (v[i] + self.v1[i]) * half;
-            v[i] = (self.v1[i] + v2) * c(0.5);
-        }
+        let Self { accel, end_x, v1 } = self;
+        for_each_chunk(x, v, system, |x, v, system| {
+            let n = x.len();
+            fit(accel, n);
+            fit(end_x, n);
+            fit(v1, n);
+            system.acceleration(t, x, v, accel);
+            for i in 0..n {
+                end_x[i] = x[i] + v[i] * dt;
+                v1[i] = v[i] + accel[i] * dt;
+            }
+            system.acceleration(t + dt, end_x, v1, accel);
+            for i in 0..n {
+                let v2 = v[i] + accel[i] * dt;
+                x[i] += (v[i] + v1[i]) * half;
+                v[i] = (v1[i] + v2) * c(0.5);
+            }
+        });
         Ok(StepStats {
             evaluations: 2,
             substeps: 1,

@@ -13,6 +13,7 @@
 //!   by `(h omega)^4 / 4`, so energy creeps up slowly for every `h`; on linear
 //!   drag stable for `h b <= 2`.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::{Vector, c};
@@ -67,21 +68,24 @@ impl<V: Vector> Integrator<V> for Midpoint<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        let n = x.len();
-        fit(&mut self.accel, n);
-        fit(&mut self.mid_x, n);
-        fit(&mut self.mid_v, n);
         let half = dt * c(0.5);
-        system.acceleration(t, x, v, &mut self.accel);
-        for i in 0..n {
-            self.mid_x[i] = x[i] + v[i] * half;
-            self.mid_v[i] = v[i] + self.accel[i] * half;
-        }
-        system.acceleration(t + half, &self.mid_x, &self.mid_v, &mut self.accel);
-        for i in 0..n {
-            x[i] += self.mid_v[i] * dt;
-            v[i] += self.accel[i] * dt;
-        }
+        let Self { accel, mid_x, mid_v } = self;
+        for_each_chunk(x, v, system, |x, v, system| {
+            let n = x.len();
+            fit(accel, n);
+            fit(mid_x, n);
+            fit(mid_v, n);
+            system.acceleration(t, x, v, accel);
+            for i in 0..n {
+                mid_x[i] = x[i] + v[i] * half;
+                mid_v[i] = v[i] + accel[i] * half;
+            }
+            system.acceleration(t + half, mid_x, mid_v, accel);
+            for i in 0..n {
+                x[i] += mid_v[i] * dt;
+                v[i] += accel[i] * dt;
+            }
+        });
         Ok(StepStats {
             evaluations: 2,
             substeps: 1,

@@ -15,6 +15,7 @@
 //!   `b` the factor is `1 - h b + (h b)^2`, stable for `h b < 1`. For truly stiff
 //!   forces use [`ImplicitEuler`](crate::ImplicitEuler).
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::Vector;
@@ -69,20 +70,27 @@ impl<V: Vector> Integrator<V> for PredictorCorrectorEuler<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        let n = x.len();
-        fit(&mut self.accel, n);
-        fit(&mut self.predicted_x, n);
-        fit(&mut self.predicted_v, n);
-        system.acceleration(t, x, v, &mut self.accel);
-        for i in 0..n {
-            self.predicted_x[i] = x[i] + v[i] * dt;
-            self.predicted_v[i] = v[i] + self.accel[i] * dt;
-        }
-        system.acceleration(t + dt, &self.predicted_x, &self.predicted_v, &mut self.accel);
-        for i in 0..n {
-            v[i] += self.accel[i] * dt;
-            x[i] += v[i] * dt;
-        }
+        let Self {
+            accel,
+            predicted_x,
+            predicted_v,
+        } = self;
+        for_each_chunk(x, v, system, |x, v, system| {
+            let n = x.len();
+            fit(accel, n);
+            fit(predicted_x, n);
+            fit(predicted_v, n);
+            system.acceleration(t, x, v, accel);
+            for i in 0..n {
+                predicted_x[i] = x[i] + v[i] * dt;
+                predicted_v[i] = v[i] + accel[i] * dt;
+            }
+            system.acceleration(t + dt, predicted_x, predicted_v, accel);
+            for i in 0..n {
+                v[i] += accel[i] * dt;
+                x[i] += v[i] * dt;
+            }
+        });
         Ok(StepStats {
             evaluations: 2,
             substeps: 1,

@@ -20,6 +20,7 @@
 //! The stage loop is also the bootstrap of the history methods
 //! ([`Rk4Stages`]): they restart a particle that has no history by one RK4 step.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::{Real, Vector, c};
@@ -157,10 +158,13 @@ impl<V: Vector> Integrator<V> for Rk4<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        fit(&mut self.a1, x.len());
-        system.acceleration(t, x, v, &mut self.a1);
-        self.stages.run(t, dt, x, v, &self.a1, system);
-        self.stages.apply_all(x, v);
+        let Self { stages, a1 } = self;
+        for_each_chunk(x, v, system, |x, v, system| {
+            fit(a1, x.len());
+            system.acceleration(t, x, v, a1);
+            stages.run(t, dt, x, v, a1, system);
+            stages.apply_all(x, v);
+        });
         Ok(StepStats {
             evaluations: 4,
             substeps: 1,

@@ -13,6 +13,7 @@
 //!   time-reversible. The popular choice of game physics engines, and
 //!   Tickwork's default.
 
+use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
 use crate::vector::Vector;
@@ -61,12 +62,15 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        fit(&mut self.accel, x.len());
-        system.acceleration(t, x, v, &mut self.accel);
-        for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(&self.accel) {
-            *v += *a * dt;
-            *x += *v * dt;
-        }
+        let accel = &mut self.accel;
+        for_each_chunk(x, v, system, |x, v, system| {
+            fit(accel, x.len());
+            system.acceleration(t, x, v, accel);
+            for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(accel.iter()) {
+                *v += *a * dt;
+                *x += *v * dt;
+            }
+        });
         Ok(StepStats {
             evaluations: 1,
             substeps: 1,
