@@ -53,6 +53,18 @@ pub struct StepStats {
     pub bootstrapped: u32,
 }
 
+impl StepStats {
+    /// The report of a plain one-step method that called the system `evaluations` times.
+    #[must_use]
+    pub(crate) fn single(evaluations: u32) -> Self {
+        Self {
+            evaluations,
+            substeps: 1,
+            ..Self::default()
+        }
+    }
+}
+
 /// Why a step could not be taken. The state is left as it was before the step.
 #[derive(Clone, Debug, PartialEq)]
 pub enum StepError {

@@ -24,7 +24,7 @@
 //! is reported as [`StepError::NotConverged`]; there is no line search, so a
 //! strongly nonlinear force at a large step may also fail, and says so.
 
-use crate::integrator::{StepError, fit};
+use crate::integrator::{StepError, StepStats, fit};
 use crate::system::System;
 use crate::vector::{Real, Vector};
 
@@ -65,14 +65,6 @@ pub(crate) struct Coefficients<R> {
     pub cx: R,
     pub cv: R,
     pub ca: R,
-}
-
-/// What a solve cost.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct SolveStats {
-    pub evaluations: u32,
-    pub newton_iterations: u32,
-    pub krylov_iterations: u32,
 }
 
 /// Buffers of the solver; the method fills `base_x`, `base_v`, `rhs` and the
@@ -316,22 +308,34 @@ impl<V: Vector> NewtonKrylov<V> {
         }
     }
 
-    /// Runs Newton from the initial guess in `u`. On success `u`, `x1`, `v1`
-    /// hold the solution and `accel_at_solution` the acceleration there.
-    pub(crate) fn solve(
+    /// Runs Newton from the initial guess in `u` and, on success, writes the
+    /// end state into `x` and `v`. `extra_evaluations` are the method's own
+    /// (a start acceleration), added to the report. On failure `x` and `v`
+    /// are untouched.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_into(
         &mut self,
         method: &'static str,
         k: Coefficients<V::Real>,
         config: &NewtonKrylovConfig,
         system: &mut dyn System<V>,
-    ) -> Result<SolveStats, StepError> {
-        let mut stats = SolveStats::default();
+        x: &mut [V],
+        v: &mut [V],
+        extra_evaluations: u32,
+    ) -> Result<StepStats, StepError> {
+        let mut stats = StepStats {
+            evaluations: extra_evaluations,
+            substeps: 1,
+            ..StepStats::default()
+        };
         loop {
             let residual = self.evaluate_residual(&k, system);
             stats.evaluations += 1;
             let scale = 1.0 + rms(&self.u);
             let relative = residual / scale;
             if relative <= config.tolerance {
+                x.copy_from_slice(&self.x1);
+                v.copy_from_slice(&self.v1);
                 return Ok(stats);
             }
             if stats.newton_iterations >= config.max_newton_iterations || !relative.is_finite() {

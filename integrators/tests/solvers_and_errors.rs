@@ -213,3 +213,49 @@ fn registry_evaluation_counts_match_what_steps_report_on_a_linear_problem() {
         assert_eq!(stats.evaluations, info.evaluations, "{}: {stats:?}", info.name);
     }
 }
+
+#[test]
+fn newmark_parameters_select_the_family_member() {
+    use tickwork_integrators::NewmarkBeta;
+    let steps = 200;
+    let dt = 0.05;
+    let run = |method: &mut dyn Integrator<f64>| {
+        let (mut x, mut v) = (vec![1.0], vec![0.0]);
+        let mut energies = Vec::new();
+        for n in 0..steps {
+            method
+                .step(n as f64 * dt, dt, &mut x, &mut v, &mut Oscillator { k: 1.0, b: 0.0 })
+                .unwrap();
+            energies.push(0.5 * (x[0] * x[0] + v[0] * v[0]));
+        }
+        (x[0], v[0], energies)
+    };
+    // beta = 0, gamma = 1/2 is the explicit central difference: velocity Verlet.
+    let (x_cd, v_cd, _) = run(&mut NewmarkBeta::with_parameters(0.0, 0.5));
+    let (x_vv, v_vv, _) = run(build::<f64>("velocity_verlet").unwrap().as_mut());
+    assert!(
+        (x_cd - x_vv).abs() < 1e-9 && (v_cd - v_vv).abs() < 1e-9,
+        "{x_cd} {x_vv}"
+    );
+    // The default (average acceleration) conserves the oscillator's energy to
+    // the solver tolerance: it is the trapezoidal rule.
+    let (_, _, energies) = run(&mut NewmarkBeta::new());
+    assert!(
+        energies.iter().all(|e| (e - 0.5).abs() < 1e-9),
+        "average acceleration keeps energy"
+    );
+    // gamma > 1/2 damps numerically, every step, and is first order.
+    let mut damped = NewmarkBeta::with_parameters(0.3025, 0.6);
+    assert_eq!(damped.info().order, 1);
+    assert!(!damped.info().reversible);
+    let (_, _, energies) = run(&mut damped);
+    assert!(energies.windows(2).all(|w| w[1] < w[0]), "numerical damping");
+    // Theory for small h omega: damping ratio (gamma - 1/2) h omega / 2, so the
+    // energy decays as exp(-(gamma - 1/2) h omega^2 t).
+    let expected = 0.5 * (-(0.6 - 0.5) * dt * (steps as f64 * dt)).exp();
+    let last = energies[steps - 1];
+    assert!(
+        (last - expected).abs() < 0.01 * expected,
+        "damped to {last}, theory {expected}"
+    );
+}

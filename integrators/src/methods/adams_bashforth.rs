@@ -125,10 +125,8 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
         self.newest = oldest;
         self.history.record(t + dt, dt, x, v);
         Ok(StepStats {
-            evaluations,
-            substeps: 1,
             bootstrapped: starting as u32,
-            ..StepStats::default()
+            ..StepStats::single(evaluations)
         })
     }
 

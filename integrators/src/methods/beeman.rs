@@ -131,10 +131,8 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         core::mem::swap(&mut self.accel, &mut self.accel_end);
         self.history.record(t + dt, dt, x, v);
         Ok(StepStats {
-            evaluations,
-            substeps: 1,
             bootstrapped: starting as u32,
-            ..StepStats::default()
+            ..StepStats::single(evaluations)
         })
     }
 

@@ -70,10 +70,6 @@ impl<V: Vector> Integrator<V> for ExplicitEuler<V> {
                 *v += *a * dt;
             }
         });
-        Ok(StepStats {
-            evaluations: 1,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(1))
     }
 }

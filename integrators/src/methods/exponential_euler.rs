@@ -115,11 +115,7 @@ impl<V: Vector> Integrator<V> for ExponentialEuler<V> {
                 *v = *v * decay + g * h_phi1;
             }
         });
-        Ok(StepStats {
-            evaluations: 1,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(1))
     }
 }
 

@@ -93,10 +93,6 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
                 }
             }
         });
-        Ok(StepStats {
-            evaluations: 3,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(3))
     }
 }

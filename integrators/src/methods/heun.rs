@@ -91,10 +91,6 @@ impl<V: Vector> Integrator<V> for Heun<V> {
                 v[i] = (v1[i] + v2) * c(0.5);
             }
         });
-        Ok(StepStats {
-            evaluations: 2,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(2))
     }
 }

@@ -103,15 +103,6 @@ impl<V: Vector> Integrator<V> for ImplicitEuler<V> {
             cv: V::Real::ONE,
             ca: dt,
         };
-        let stats = s.solve(INFO.name, k, &self.config, system)?;
-        x.copy_from_slice(&s.x1);
-        v.copy_from_slice(&s.v1);
-        Ok(StepStats {
-            evaluations: stats.evaluations,
-            newton_iterations: stats.newton_iterations,
-            krylov_iterations: stats.krylov_iterations,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        s.solve_into(INFO.name, k, &self.config, system, x, v, 0)
     }
 }

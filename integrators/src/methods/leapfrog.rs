@@ -93,11 +93,7 @@ impl<V: Vector> Integrator<V> for Leapfrog<V> {
             *v += *a * half;
         }
         self.history.record(t + dt, dt, x, v);
-        Ok(StepStats {
-            evaluations,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(evaluations))
     }
 
     fn swap_remove(&mut self, index: usize) {

@@ -86,10 +86,6 @@ impl<V: Vector> Integrator<V> for Midpoint<V> {
                 v[i] += accel[i] * dt;
             }
         });
-        Ok(StepStats {
-            evaluations: 2,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(2))
     }
 }

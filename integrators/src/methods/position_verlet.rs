@@ -103,10 +103,8 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
         }
         self.history.record(t + dt, dt, x, v);
         Ok(StepStats {
-            evaluations,
-            substeps: 1,
             bootstrapped: starting as u32,
-            ..StepStats::default()
+            ..StepStats::single(evaluations)
         })
     }
 

@@ -91,10 +91,6 @@ impl<V: Vector> Integrator<V> for PredictorCorrectorEuler<V> {
                 x[i] += v[i] * dt;
             }
         });
-        Ok(StepStats {
-            evaluations: 2,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(2))
     }
 }

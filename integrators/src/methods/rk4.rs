@@ -165,10 +165,6 @@ impl<V: Vector> Integrator<V> for Rk4<V> {
             stages.run(t, dt, x, v, a1, system);
             stages.apply_all(x, v);
         });
-        Ok(StepStats {
-            evaluations: 4,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(4))
     }
 }

@@ -71,10 +71,6 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
                 *x += *v * dt;
             }
         });
-        Ok(StepStats {
-            evaluations: 1,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(1))
     }
 }

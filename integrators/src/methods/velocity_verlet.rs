@@ -98,11 +98,7 @@ impl<V: Vector> Integrator<V> for VelocityVerlet<V> {
         }
         core::mem::swap(&mut self.accel, &mut self.accel_end);
         self.history.record(t + dt, dt, x, v);
-        Ok(StepStats {
-            evaluations,
-            substeps: 1,
-            ..StepStats::default()
-        })
+        Ok(StepStats::single(evaluations))
     }
 
     fn swap_remove(&mut self, index: usize) {
