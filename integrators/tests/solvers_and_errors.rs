@@ -259,3 +259,24 @@ fn newmark_parameters_select_the_family_member() {
         "damped to {last}, theory {expected}"
     );
 }
+
+#[test]
+fn every_method_steps_an_empty_world_and_then_grows() {
+    // A game starts with no particles and spawns them later.
+    for info in tickwork_integrators::METHODS {
+        let mut method = build::<f64>(info.name).unwrap();
+        let mut system = Oscillator { k: 1.0, b: 0.1 };
+        let (mut x, mut v): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        let stats = method.step(0.0, 0.1, &mut x, &mut v, &mut system).expect("empty step");
+        assert_eq!(stats.bootstrapped, 0, "{}", info.name);
+        x.push(1.0);
+        v.push(0.0);
+        for n in 1..11 {
+            method
+                .step(n as f64 * 0.1, 0.1, &mut x, &mut v, &mut system)
+                .expect("step");
+        }
+        let (x_exact, _) = system.exact(1.0, 0.0, 1.0);
+        assert!((x[0] - x_exact).abs() < 0.05, "{}: {} vs {x_exact}", info.name, x[0]);
+    }
+}
