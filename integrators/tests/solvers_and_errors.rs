@@ -280,3 +280,40 @@ fn every_method_steps_an_empty_world_and_then_grows() {
         assert!((x[0] - x_exact).abs() < 0.05, "{}: {} vs {x_exact}", info.name, x[0]);
     }
 }
+
+#[test]
+fn restarted_gmres_reaches_the_same_implicit_solution() {
+    // A chain of 12 particles joined by stiff springs: the Jacobian has many
+    // distinct eigenvalues, so a Krylov space of 2 needs restarts.
+    let k = 2500.0;
+    let mut chain = |_t: f64, x: &[f64], _v: &[f64], a: &mut [f64]| {
+        a.fill(0.0);
+        for i in 0..x.len() - 1 {
+            let force = k * (x[i + 1] - x[i] - 1.0);
+            a[i] += force;
+            a[i + 1] -= force;
+        }
+    };
+    let x0: Vec<f64> = (0..12)
+        .map(|i| i as f64 * 1.0 + if i % 3 == 0 { 0.2 } else { -0.1 })
+        .collect();
+    let solve = |restart: usize, chain: &mut dyn System<f64>| {
+        let config = NewtonKrylovConfig {
+            restart,
+            ..NewtonKrylovConfig::for_real::<f64>()
+        };
+        let mut method = ImplicitEuler::<f64>::with_config(config);
+        let (mut x, mut v) = (x0.clone(), vec![0.0; 12]);
+        let stats = method.step(0.0, 1.0 / 30.0, &mut x, &mut v, chain).expect("converges");
+        (x, stats)
+    };
+    let (x_full, full) = solve(30, &mut chain);
+    let (x_restarted, restarted) = solve(2, &mut chain);
+    assert!(
+        restarted.krylov_iterations > full.krylov_iterations,
+        "{restarted:?} vs {full:?}"
+    );
+    for (a, b) in x_full.iter().zip(&x_restarted) {
+        assert!((a - b).abs() < 1e-8, "{a} vs {b}");
+    }
+}
