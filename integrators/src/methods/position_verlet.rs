@@ -22,8 +22,10 @@
 //! - Order 2 for positions, 1 for the estimated velocities; 1 for positions
 //!   with velocity-dependent forces.
 //! - Cost: 1 force evaluation per step (4 on a step where a particle starts).
-//! - Stability: symplectic and time-reversible on velocity-independent forces;
-//!   stable on the oscillator for `h omega < 2`.
+//! - Stability: symplectic and time-reversible on velocity-independent forces
+//!   (as a map of the last two positions: swapping them runs it backwards;
+//!   negating the estimated velocity does not, because the estimate lags by
+//!   half a step); stable on the oscillator for `h omega < 2`.
 
 use crate::history::{History, swap_remove_in};
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
