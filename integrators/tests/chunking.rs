@@ -56,7 +56,7 @@ fn run(name: &str, pointwise: bool, n: usize) -> (Vec<Vec3A>, Vec<Vec3A>, usize)
 
 #[test]
 fn chunked_steps_are_bit_identical_to_whole_slice_steps() {
-    let n = 5000; // two full chunks and a partial one
+    let n = 5000; // nine full chunks and a partial one
     let mut chunked_methods = 0;
     for info in METHODS {
         let (x_whole, v_whole, calls_whole) = run(info.name, false, n);

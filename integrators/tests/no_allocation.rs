@@ -59,7 +59,7 @@ fn steady_state_steps_allocate_nothing() {
     assert_eq!(allocations() - before, 1);
     drop(probe);
     let dt = 1.0 / 60.0;
-    // 256 particles in one piece, 5000 in chunks of 2048 and a partial one.
+    // 256 particles in one piece, 5000 in chunks of 512 and a partial one.
     for (count, pointwise) in [(256, false), (5000, true)] {
         for info in METHODS {
             let mut method: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
