@@ -20,9 +20,9 @@
 //! for the step's angular velocity, angular momentum updated exactly when
 //! torque-free) and [`AngularRk4`].
 
-mod exponential_map;
-mod quaternion_euler;
-mod rk4;
+pub mod exponential_map;
+pub mod quaternion_euler;
+pub mod rk4;
 
 use core::fmt::Debug;
 use core::ops::{Add, Mul};

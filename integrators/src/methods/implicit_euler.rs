@@ -22,7 +22,7 @@
 //!   the lecture recommends it for damping, not for orbits.
 //!
 //! A solve that does not converge is reported as
-//! [`StepError::NotConverged`](crate::StepError::NotConverged) and the state is
+//! [`StepError::NotConverged`] and the state is
 //! left unchanged.
 
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step};

@@ -18,7 +18,7 @@
 //!   nor reversible, so energy drifts slowly over very long runs.
 //!
 //! The stage loop is also the bootstrap of the history methods
-//! ([`Rk4Stages`]): they restart a particle that has no history by one RK4 step.
+//! (`Rk4Stages`): they restart a particle that has no history by one RK4 step.
 
 use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
