@@ -80,15 +80,32 @@ impl<V: Vector> History<V> {
         self.depth[i] >= required
     }
 
-    /// Records the state a step ended with; every particle gains one step.
+    /// Records what the step wrote for particle `i`, which gains one step of
+    /// history. Called from the step's last per-particle loop, so the record
+    /// costs no pass of its own.
+    #[inline]
+    pub(crate) fn note(&mut self, i: usize, x: V, v: V) {
+        self.last_positions[i] = x;
+        self.last_velocities[i] = v;
+        self.depth[i] = self.depth[i].saturating_add(1);
+    }
+
+    /// Closes a step in which every particle was [noted](History::note).
+    pub(crate) fn close(&mut self, t_end: V::Real, dt: V::Real) {
+        self.last_dt = Some(dt);
+        self.last_end = Some(t_end);
+    }
+
+    /// Notes every particle and closes the step, in a pass of its own: for
+    /// methods whose last loop is too busy to take the notes (measured: Adams-
+    /// Bashforth 4 ran 1.7x slower with the notes inside its lag loop).
     pub(crate) fn record(&mut self, t_end: V::Real, dt: V::Real, x: &[V], v: &[V]) {
         self.last_positions.copy_from_slice(x);
         self.last_velocities.copy_from_slice(v);
-        for d in &mut self.depth {
-            *d = d.saturating_add(1);
+        for depth in &mut self.depth {
+            *depth = depth.saturating_add(1);
         }
-        self.last_dt = Some(dt);
-        self.last_end = Some(t_end);
+        self.close(t_end, dt);
     }
 
     /// Follows `Vec::swap_remove(index)` on the particle columns.

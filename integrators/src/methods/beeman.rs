@@ -125,11 +125,12 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
             } else {
                 self.predicted_v[i]
             };
+            self.history.note(i, x[i], v[i]);
         }
         // (previous, current, end) <- (current, end, free)
         core::mem::swap(&mut self.accel_previous, &mut self.accel);
         core::mem::swap(&mut self.accel, &mut self.accel_end);
-        self.history.record(t + dt, dt, x, v);
+        self.history.close(t + dt, dt);
         Ok(StepStats {
             bootstrapped: starting as u32,
             ..StepStats::single(evaluations)

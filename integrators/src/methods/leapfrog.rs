@@ -89,10 +89,11 @@ impl<V: Vector> Integrator<V> for Leapfrog<V> {
             x[i] += v[i] * dt;
         }
         system.acceleration(t + dt, x, v, &mut self.accel);
-        for (v, a) in v.iter_mut().zip(&self.accel) {
-            *v += *a * half;
+        for i in 0..n {
+            v[i] += self.accel[i] * half;
+            self.history.note(i, x[i], v[i]);
         }
-        self.history.record(t + dt, dt, x, v);
+        self.history.close(t + dt, dt);
         Ok(StepStats::single(evaluations))
     }
 

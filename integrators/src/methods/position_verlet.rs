@@ -102,8 +102,9 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
             self.previous_x[i] = x[i];
             x[i] = new_x;
             v[i] = new_v;
+            self.history.note(i, new_x, new_v);
         }
-        self.history.record(t + dt, dt, x, v);
+        self.history.close(t + dt, dt);
         Ok(StepStats {
             bootstrapped: starting as u32,
             ..StepStats::single(evaluations)

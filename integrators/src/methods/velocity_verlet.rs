@@ -95,9 +95,10 @@ impl<V: Vector> Integrator<V> for VelocityVerlet<V> {
         system.acceleration(t + dt, x, &self.predicted_v, &mut self.accel_end);
         for i in 0..n {
             v[i] += (self.accel[i] + self.accel_end[i]) * half;
+            self.history.note(i, x[i], v[i]);
         }
         core::mem::swap(&mut self.accel, &mut self.accel_end);
-        self.history.record(t + dt, dt, x, v);
+        self.history.close(t + dt, dt);
         Ok(StepStats::single(evaluations))
     }
 
