@@ -7,8 +7,9 @@
 //! - Order 2 for positions and velocities, also with drag.
 //! - Cost: 1 force evaluation per step; started by one RK4 step (4 evaluations).
 //! - Stability: its stability region touches the imaginary axis only at 0, so
-//!   on the undamped oscillator energy grows slowly for every `h` (by about
-//!   `(h omega)^4 / 4` per step); on linear drag stable for `h b < 1`.
+//!   on the undamped oscillator the amplitude grows slowly for every `h` (by a
+//!   factor of about `1 + (h omega)^4 / 4` per step); on linear drag stable for
+//!   `h b < 1`.
 //!
 //! The implementation is shared with AB3 and AB4 in
 //! [`AdamsBashforth`](crate::AdamsBashforth).

@@ -9,9 +9,9 @@
 //!
 //! - Order 2 for positions and velocities, with or without drag.
 //! - Cost: 2 force evaluations per step.
-//! - Stability: on the undamped oscillator the amplification factor exceeds 1
-//!   by `(h omega)^4 / 4`, so energy creeps up slowly for every `h`; on linear
-//!   drag stable for `h b <= 2`.
+//! - Stability: on the undamped oscillator the squared amplification factor is
+//!   `1 + (h omega)^4 / 4`, so energy creeps up by that factor every step, for
+//!   every `h`; on linear drag stable for `h b <= 2`.
 
 use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
