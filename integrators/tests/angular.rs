@@ -1,6 +1,9 @@
 //! Angular integration against theory: unit norm, conservation laws of the
 //! free top, the intermediate-axis flip, and convergence order.
 
+mod common;
+
+use common::slope;
 use glam::{DQuat, DVec3};
 use tickwork_integrators::angular::{
     ANGULAR_METHODS, AngularIntegrator, Bodies, TorqueFree, angular_momentum, build_angular, rotational_energy,
@@ -98,11 +101,7 @@ fn angular_methods_converge_at_their_stated_order() {
                 (w - reference).length()
             })
             .collect();
-        let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
-        let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-        let (mx, my) = (xs.iter().sum::<f64>() / 5.0, ys.iter().sum::<f64>() / 5.0);
-        let slope = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum::<f64>()
-            / xs.iter().map(|x| (x - mx) * (x - mx)).sum::<f64>();
+        let slope = slope(&dts, &errors);
         println!("{}: slope {slope:.3}, errors {errors:?}", info.name);
         assert!(
             (slope - f64::from(info.order)).abs() <= 0.15,
