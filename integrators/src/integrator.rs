@@ -1,5 +1,6 @@
 //! The interface every method implements, and what a step reports.
 
+use core::any::Any;
 use core::fmt;
 
 use crate::system::System;
@@ -155,9 +156,21 @@ impl std::error::Error for StepError {}
 /// removed, and are reused otherwise, so steady-state steps allocate nothing.
 /// Dynamic dispatch happens once per step (and once per force evaluation),
 /// never per particle.
-pub trait Integrator<V: Vector>: Send {
+pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
     /// The method's description (orders, cost, flags).
     fn info(&self) -> MethodInfo;
+
+    /// Whether stepping disjoint sub-slices separately (in any order, on any
+    /// thread, each with its own copy of the method) gives bit-identical
+    /// results to one whole-slice step, for a pointwise system.
+    ///
+    /// True for the explicit self-starting methods, which keep no per-particle
+    /// state between steps. The engine uses it to fuse its own per-particle
+    /// work (colliders, ageing) into cache-sized chunks and to spread chunks
+    /// over threads. Default: false.
+    fn splits_pointwise(&self) -> bool {
+        false
+    }
 
     /// Advances `positions` and `velocities` from time `t` to `t + dt`.
     ///
@@ -213,5 +226,42 @@ pub(crate) fn check_step<V: Vector>(
 pub(crate) fn fit<V: Vector>(buffer: &mut Vec<V>, n: usize) {
     if buffer.len() != n {
         buffer.resize(n, V::ZERO);
+    }
+}
+
+/// Copying a method's whole state (history, cached accelerations, settings),
+/// for snapshots and for per-thread copies.
+///
+/// Implemented for every `Integrator + Clone`; method authors never write it.
+pub trait IntegratorState<V: Vector> {
+    /// A boxed copy of the method and everything it remembers.
+    fn clone_boxed(&self) -> Box<dyn Integrator<V>>;
+
+    /// The method as `Any`, so a state can be copied into a method of the same type.
+    fn as_any(&self) -> &dyn Any;
+
+    /// Overwrites this method's state with `source`'s, reusing this method's
+    /// buffers (no allocation once they are large enough). Returns false,
+    /// leaving `self` unchanged, when `source` is a different method type.
+    fn copy_state_from(&mut self, source: &dyn Integrator<V>) -> bool;
+}
+
+impl<V: Vector, T: Integrator<V> + Clone + 'static> IntegratorState<V> for T {
+    fn clone_boxed(&self) -> Box<dyn Integrator<V>> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn copy_state_from(&mut self, source: &dyn Integrator<V>) -> bool {
+        match source.as_any().downcast_ref::<T>() {
+            Some(source) => {
+                self.clone_from(source);
+                true
+            }
+            None => false,
+        }
     }
 }

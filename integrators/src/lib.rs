@@ -48,7 +48,7 @@ mod registry;
 mod system;
 mod vector;
 
-pub use integrator::{Integrator, MethodInfo, StepError, StepStats};
+pub use integrator::{Integrator, IntegratorState, MethodInfo, StepError, StepStats};
 pub use methods::adams_bashforth::AdamsBashforth;
 pub use methods::adams_bashforth2::AdamsBashforth2;
 pub use methods::adams_bashforth3::AdamsBashforth3;

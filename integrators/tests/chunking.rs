@@ -74,3 +74,74 @@ fn chunked_steps_are_bit_identical_to_whole_slice_steps() {
     // The explicit self-starting methods took the chunked path.
     assert_eq!(chunked_methods, 8);
 }
+
+/// Steps the particles as separate sub-slices, each with its own copy of the
+/// method, the way the engine spreads chunks over threads.
+fn run_split(name: &str, n: usize, pieces: usize) -> (Vec<Vec3A>, Vec<Vec3A>) {
+    let prototype: Box<dyn Integrator<Vec3A>> = build(name).expect("registered");
+    let mut methods: Vec<Box<dyn Integrator<Vec3A>>> = (0..pieces).map(|_| prototype.clone_boxed()).collect();
+    let charges: Vec<f32> = (0..n).map(|i| (i % 13) as f32 - 6.0).collect();
+    let mut x: Vec<Vec3A> = (0..n).map(|i| Vec3A::new(i as f32 * 0.01, 1.0, 0.0)).collect();
+    let mut v: Vec<Vec3A> = (0..n).map(|i| Vec3A::new(0.0, (i % 5) as f32, 1.0)).collect();
+    let dt = 1.0 / 60.0;
+    let size = n.div_ceil(pieces);
+    for step in 0..30 {
+        for (k, ((xs, vs), method)) in x.chunks_mut(size).zip(v.chunks_mut(size)).zip(&mut methods).enumerate() {
+            let mut system = Charged {
+                charges: charges[k * size..k * size + xs.len()].to_vec(),
+                pointwise: true,
+                calls: 0,
+            };
+            method.step(step as f32 * dt, dt, xs, vs, &mut system).expect("step");
+        }
+    }
+    (x, v)
+}
+
+#[test]
+fn methods_that_split_pointwise_give_identical_results_on_sub_slices() {
+    let n = 3001;
+    let mut splitting = Vec::new();
+    for info in METHODS {
+        let method: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
+        if !method.splits_pointwise() {
+            continue;
+        }
+        splitting.push(info.name);
+        let (x_whole, v_whole, _) = run(info.name, true, n);
+        let (x_split, v_split) = run_split(info.name, n, 7);
+        assert!(
+            x_whole.iter().zip(&x_split).chain(v_whole.iter().zip(&v_split)).all(|(a, b)| a == b),
+            "{}: sub-slice steps differ from the whole-slice step",
+            info.name
+        );
+    }
+    assert_eq!(splitting.len(), 8, "{splitting:?}");
+}
+
+#[test]
+fn copied_state_continues_bit_identically() {
+    // A copy taken mid-run (history, cached accelerations) continues exactly as
+    // the original: what world snapshots rely on.
+    for info in METHODS {
+        let mut a: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
+        let mut b: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
+        let mut system = Charged { charges: vec![1.0, -2.0, 3.0], pointwise: false, calls: 0 };
+        let mut x = vec![Vec3A::ZERO, Vec3A::X, Vec3A::Y];
+        let mut v = vec![Vec3A::Z, Vec3A::ZERO, Vec3A::X];
+        let dt = 0.01;
+        for step in 0..5 {
+            a.step(step as f32 * dt, dt, &mut x, &mut v, &mut system).expect("step");
+        }
+        assert!(b.copy_state_from(a.as_ref()), "{}", info.name);
+        let (mut x2, mut v2) = (x.clone(), v.clone());
+        for step in 5..20 {
+            a.step(step as f32 * dt, dt, &mut x, &mut v, &mut system).expect("step");
+            b.step(step as f32 * dt, dt, &mut x2, &mut v2, &mut system).expect("step");
+        }
+        assert_eq!((x, v), (x2, v2), "{}", info.name);
+    }
+    let mut euler: Box<dyn Integrator<Vec3A>> = build("explicit_euler").expect("registered");
+    let rk4: Box<dyn Integrator<Vec3A>> = build("rk4").expect("registered");
+    assert!(!euler.copy_state_from(rk4.as_ref()), "different method types must not copy");
+}

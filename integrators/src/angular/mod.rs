@@ -178,7 +178,7 @@ pub struct AngularMethodInfo {
 }
 
 /// A time-integration method for orientations and angular velocities.
-pub trait AngularIntegrator<Q: Rotation>: Send {
+pub trait AngularIntegrator<Q: Rotation>: Send + AngularState<Q> {
     /// The method's description.
     fn info(&self) -> AngularMethodInfo;
 
@@ -267,4 +267,18 @@ pub(crate) fn check_bodies<Q: Rotation>(
         }
     }
     Ok(())
+}
+
+/// Copying an angular method's whole state, for snapshots.
+///
+/// Implemented for every `AngularIntegrator + Clone`.
+pub trait AngularState<Q: Rotation> {
+    /// A boxed copy of the method and everything it remembers.
+    fn clone_boxed(&self) -> Box<dyn AngularIntegrator<Q>>;
+}
+
+impl<Q: Rotation, T: AngularIntegrator<Q> + Clone + 'static> AngularState<Q> for T {
+    fn clone_boxed(&self) -> Box<dyn AngularIntegrator<Q>> {
+        Box::new(self.clone())
+    }
 }

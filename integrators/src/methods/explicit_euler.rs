@@ -52,6 +52,10 @@ impl<V: Vector> Integrator<V> for ExplicitEuler<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

@@ -90,6 +90,10 @@ impl<V: Vector> Integrator<V> for ExponentialEuler<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

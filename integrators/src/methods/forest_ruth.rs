@@ -61,6 +61,10 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

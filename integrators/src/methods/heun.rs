@@ -63,6 +63,10 @@ impl<V: Vector> Integrator<V> for Heun<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

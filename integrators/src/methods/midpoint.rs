@@ -59,6 +59,10 @@ impl<V: Vector> Integrator<V> for Midpoint<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

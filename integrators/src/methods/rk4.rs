@@ -149,6 +149,10 @@ impl<V: Vector> Integrator<V> for Rk4<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,

@@ -53,6 +53,10 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
         INFO
     }
 
+    fn splits_pointwise(&self) -> bool {
+        true
+    }
+
     fn step(
         &mut self,
         t: V::Real,
