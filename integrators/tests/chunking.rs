@@ -111,7 +111,11 @@ fn methods_that_split_pointwise_give_identical_results_on_sub_slices() {
         let (x_whole, v_whole, _) = run(info.name, true, n);
         let (x_split, v_split) = run_split(info.name, n, 7);
         assert!(
-            x_whole.iter().zip(&x_split).chain(v_whole.iter().zip(&v_split)).all(|(a, b)| a == b),
+            x_whole
+                .iter()
+                .zip(&x_split)
+                .chain(v_whole.iter().zip(&v_split))
+                .all(|(a, b)| a == b),
             "{}: sub-slice steps differ from the whole-slice step",
             info.name
         );
@@ -126,7 +130,11 @@ fn copied_state_continues_bit_identically() {
     for info in METHODS {
         let mut a: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
         let mut b: Box<dyn Integrator<Vec3A>> = build(info.name).expect("registered");
-        let mut system = Charged { charges: vec![1.0, -2.0, 3.0], pointwise: false, calls: 0 };
+        let mut system = Charged {
+            charges: vec![1.0, -2.0, 3.0],
+            pointwise: false,
+            calls: 0,
+        };
         let mut x = vec![Vec3A::ZERO, Vec3A::X, Vec3A::Y];
         let mut v = vec![Vec3A::Z, Vec3A::ZERO, Vec3A::X];
         let dt = 0.01;
@@ -137,11 +145,15 @@ fn copied_state_continues_bit_identically() {
         let (mut x2, mut v2) = (x.clone(), v.clone());
         for step in 5..20 {
             a.step(step as f32 * dt, dt, &mut x, &mut v, &mut system).expect("step");
-            b.step(step as f32 * dt, dt, &mut x2, &mut v2, &mut system).expect("step");
+            b.step(step as f32 * dt, dt, &mut x2, &mut v2, &mut system)
+                .expect("step");
         }
         assert_eq!((x, v), (x2, v2), "{}", info.name);
     }
     let mut euler: Box<dyn Integrator<Vec3A>> = build("explicit_euler").expect("registered");
     let rk4: Box<dyn Integrator<Vec3A>> = build("rk4").expect("registered");
-    assert!(!euler.copy_state_from(rk4.as_ref()), "different method types must not copy");
+    assert!(
+        !euler.copy_state_from(rk4.as_ref()),
+        "different method types must not copy"
+    );
 }

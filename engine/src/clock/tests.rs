@@ -1,0 +1,304 @@
+//! The clock is pure: every behaviour is tested here without a world or a window.
+
+use proptest::prelude::*;
+
+use super::*;
+
+fn clock(config: ClockConfig) -> FixedClock {
+    FixedClock::new(config).expect("valid config")
+}
+
+#[test]
+fn sixty_hz_display_runs_one_step_per_frame_and_time_is_exact() {
+    let mut c = FixedClock::default();
+    let mut total = 0;
+    for _ in 0..3600 {
+        total += c.advance(1.0 / 60.0).expect("frame").steps;
+    }
+    // Rounding 1/60 s to nanoseconds loses a third of a ns per frame, so the
+    // last frame may still be pending; never more than one.
+    assert!((3599..=3600).contains(&total), "{total}");
+    let (n, d) = c.exact_time();
+    assert_eq!(n * 60, d * u128::from(total));
+    let mut c = FixedClock::default();
+    c.step(3600);
+    assert_eq!(c.exact_time(), (60, 1));
+    assert_eq!(c.time(), 60.0);
+}
+
+#[test]
+fn simulated_time_is_n_steps_exactly_for_awkward_rates() {
+    let mut c = clock(ClockConfig {
+        rate: Rate::hz_f64(59.94).expect("rate"),
+        ..ClockConfig::default()
+    });
+    c.step(1_000_003);
+    // 1_000_003 * 50 / 2997 seconds, in lowest terms.
+    let (n, d) = c.exact_time();
+    assert_eq!(n * 2997, d * 1_000_003 * 50);
+}
+
+#[test]
+fn frames_shorter_than_a_step_accumulate_and_alpha_tracks_the_remainder() {
+    let mut c = clock(ClockConfig {
+        rate: Rate::hz(10).expect("rate"),
+        ..ClockConfig::default()
+    });
+    let f = c.advance(0.025).expect("frame");
+    assert_eq!((f.steps, f.alpha), (0, 0.25));
+    let f = c.advance(0.05).expect("frame");
+    assert_eq!((f.steps, f.alpha), (0, 0.75));
+    let f = c.advance(0.05).expect("frame");
+    assert_eq!(f.steps, 1);
+    assert!((f.alpha - 0.25).abs() < 1e-12);
+}
+
+#[test]
+fn fixed_steps_report_ticks_and_times() {
+    let mut c = clock(ClockConfig {
+        rate: Rate::hz(4).expect("rate"),
+        max_frame_time: 1.0,
+        ..ClockConfig::default()
+    });
+    let f = c.advance(0.5).expect("frame");
+    let steps: Vec<FixedStep> = f.fixed_steps().collect();
+    assert_eq!(
+        steps,
+        vec![
+            FixedStep {
+                tick: 0,
+                time: 0.0,
+                dt: 0.25
+            },
+            FixedStep {
+                tick: 1,
+                time: 0.25,
+                dt: 0.25
+            }
+        ]
+    );
+}
+
+#[test]
+fn bad_frame_durations_are_errors_and_change_nothing() {
+    let mut c = FixedClock::default();
+    c.advance(0.01).expect("frame");
+    let before = c.clone().backlog();
+    for bad in [-0.001, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let err = c.advance(bad).expect_err("rejected");
+        assert!(matches!(err, ClockError::InvalidFrameTime { value } if value.to_bits() == bad.to_bits()));
+        assert!(err.to_string().starts_with("invalid frame duration: "), "{err}");
+    }
+    assert_eq!(c.backlog(), before);
+    assert_eq!(
+        c.advance(-1.5).map(|_| ()).unwrap_err().to_string(),
+        "invalid frame duration: -1.5 s (must be finite and not negative)"
+    );
+}
+
+#[test]
+fn bad_settings_are_errors() {
+    for (config, field) in [
+        (
+            ClockConfig {
+                max_frame_time: 0.0,
+                ..ClockConfig::default()
+            },
+            "max_frame_time",
+        ),
+        (
+            ClockConfig {
+                time_scale: f64::NAN,
+                ..ClockConfig::default()
+            },
+            "time_scale",
+        ),
+        (
+            ClockConfig {
+                max_steps_per_frame: 0,
+                ..ClockConfig::default()
+            },
+            "max_steps_per_frame",
+        ),
+    ] {
+        let err = FixedClock::new(config).expect_err("rejected");
+        assert!(err.to_string().contains(field), "{err}");
+    }
+    let mut c = FixedClock::default();
+    assert_eq!(
+        c.set_time_scale(-2.0).unwrap_err().to_string(),
+        "invalid clock setting time_scale: -2 (expected a finite number above zero)"
+    );
+}
+
+#[test]
+fn drop_policy_cuts_a_long_stall_and_reports_it() {
+    let mut c = FixedClock::default(); // 60 Hz, 0.25 s max frame, 8 steps cap
+    let f = c.advance(10.0).expect("frame");
+    assert_eq!(f.steps, 8);
+    // 10 s real: 9.75 s cut by max_frame_time, then 0.25 s = 15 steps of which 7 dropped.
+    assert!((f.dropped - (9.75 + 7.0 / 60.0)).abs() < 1e-9, "{}", f.dropped);
+    assert!((f.effective_speed - 8.0 / 60.0 / 10.0).abs() < 1e-12);
+    // Next frames are normal again: no burst.
+    let f = c.advance(1.0 / 60.0).expect("frame");
+    assert_eq!(f.steps, 1);
+    assert_eq!(f.dropped, 0.0);
+}
+
+#[test]
+fn catch_up_policy_pays_the_debt_over_following_frames_within_the_cap() {
+    let mut c = clock(ClockConfig {
+        hitch_policy: HitchPolicy::CatchUp,
+        ..ClockConfig::default()
+    });
+    let f = c.advance(10.0).expect("frame");
+    assert_eq!(f.steps, 8);
+    assert!((f.dropped - 9.75).abs() < 1e-9, "only the max-frame cut is dropped");
+    // 15 steps were owed; 7 remain and run next frame with this frame's own step.
+    let f = c.advance(1.0 / 60.0).expect("frame");
+    assert_eq!(f.steps, 8);
+    let f = c.advance(1.0 / 60.0).expect("frame");
+    assert_eq!(f.steps, 1);
+    assert!(c.tick() == 17 || c.tick() == 16, "{}", c.tick());
+}
+
+#[test]
+fn slow_down_policy_slows_following_frames_and_recovers() {
+    let mut c = clock(ClockConfig {
+        hitch_policy: HitchPolicy::SlowDown,
+        ..ClockConfig::default()
+    });
+    // A machine that can only show 4 frames per second: each frame needs 15 steps.
+    let f = c.advance(0.25).expect("frame");
+    assert_eq!(f.steps, 8);
+    // The next slow frame is dilated to what the cap simulates: no time dropped.
+    let f = c.advance(0.25).expect("frame");
+    // 8 steps' worth of time (7 when the dilated time rounds just below).
+    assert!((7..=8).contains(&f.steps), "{}", f.steps);
+    assert!(f.dropped < 1e-9, "{}", f.dropped);
+    assert!((f.effective_speed - 8.0 / 15.0).abs() < 0.07, "{}", f.effective_speed);
+    // Back to 60 fps: speed recovers to 1 within a few dozen frames.
+    for _ in 0..40 {
+        c.advance(1.0 / 60.0).expect("frame");
+    }
+    let ticks = c.tick();
+    let mut steps = 0;
+    for _ in 0..60 {
+        steps += c.advance(1.0 / 60.0).expect("frame").steps;
+    }
+    assert!((59..=60).contains(&steps), "{steps} after {ticks}");
+}
+
+#[test]
+fn time_scale_changes_the_number_of_steps_not_their_size() {
+    let mut c = clock(ClockConfig {
+        time_scale: 0.25,
+        ..ClockConfig::default()
+    });
+    let mut steps = 0;
+    for _ in 0..240 {
+        let f = c.advance(1.0 / 60.0).expect("frame");
+        steps += f.steps;
+        assert!(f.fixed_steps().all(|s| s.dt == 1.0 / 60.0));
+    }
+    assert!((59..=60).contains(&steps), "{steps}");
+    c.set_time_scale(2.0).expect("scale");
+    let f = c.advance(1.0 / 60.0).expect("frame");
+    assert!((2..=3).contains(&f.steps));
+    assert!((f.effective_speed - 2.0).abs() < 0.6);
+}
+
+#[test]
+fn pause_stops_time_single_step_runs_exactly_one() {
+    let mut c = FixedClock::default();
+    c.advance(0.02).expect("frame");
+    let alpha = c.alpha();
+    c.pause();
+    assert!(c.is_paused());
+    assert_eq!(c.advance(1.0).expect("frame").steps, 0);
+    assert_eq!(c.alpha(), alpha);
+    assert!(c.single_step());
+    let f = c.advance(0.001).expect("frame");
+    assert_eq!((f.steps, f.alpha), (1, alpha));
+    assert_eq!(c.advance(0.5).expect("frame").steps, 0);
+    c.resume();
+    assert!(!c.single_step(), "ignored while running");
+    assert_eq!(c.advance(1.0 / 60.0).expect("frame").steps, 1);
+}
+
+#[test]
+fn step_n_runs_steps_outside_real_time() {
+    let mut c = FixedClock::default();
+    let f = c.step(5);
+    assert_eq!((f.steps, f.first_tick, c.tick()), (5, 0, 5));
+    assert_eq!(c.backlog(), 0.0);
+}
+
+#[test]
+fn changing_the_rate_keeps_time_continuous() {
+    let mut c = FixedClock::default();
+    c.step(30); // 0.5 s at 60 Hz
+    c.set_rate(Rate::hz(100).expect("rate"));
+    c.step(25); // + 0.25 s at 100 Hz
+    assert_eq!(c.exact_time(), (3, 4));
+    assert_eq!(c.dt(), 0.01);
+    c.set_rate(Rate::seconds(1.0 / 3.0).expect("rate"));
+    c.step(3);
+    assert_eq!(c.exact_time(), (7, 4));
+    // Accumulated time carries over the change.
+    let mut c = clock(ClockConfig {
+        rate: Rate::hz(10).expect("rate"),
+        ..ClockConfig::default()
+    });
+    c.advance(0.05).expect("frame");
+    c.set_rate(Rate::hz(20).expect("rate"));
+    assert_eq!(c.advance(0.0).expect("frame").steps, 1);
+}
+
+proptest! {
+    /// For any sequence of frames that never hitch, simulated time never runs
+    /// ahead of the time fed in and never lags it by a step or more; alpha is
+    /// the remainder as a fraction of a step.
+    #[test]
+    fn simulated_time_follows_accepted_time(frames in prop::collection::vec(0.0f64..0.05, 1..400), hz in 1u32..480) {
+        let mut c = clock(ClockConfig {
+            rate: Rate::hz(hz).expect("rate"),
+            max_steps_per_frame: u32::MAX,
+            ..ClockConfig::default()
+        });
+        let dt = 1.0 / f64::from(hz);
+        let mut fed = 0.0;
+        for d in frames {
+            let f = c.advance(d).expect("frame");
+            fed += d;
+            prop_assert!((0.0..1.0).contains(&f.alpha));
+            prop_assert_eq!(f.dropped, 0.0);
+            let simulated = c.time();
+            // Nanosecond rounding of each frame: allow 1 ns per frame.
+            prop_assert!(simulated <= fed + 1e-9 * 400.0, "ahead: {} > {}", simulated, fed);
+            prop_assert!(fed - simulated < dt + 1e-9 * 400.0, "lags: {} vs {}", simulated, fed);
+            prop_assert!((fed - simulated - f.alpha * dt).abs() < 1e-6);
+        }
+    }
+
+    /// With hitches and any policy, alpha stays in range, the step cap holds,
+    /// and simulated time never runs ahead of accepted time.
+    #[test]
+    fn hitch_guard_holds_for_any_frames(
+        frames in prop::collection::vec(prop_oneof![0.0f64..0.05, 0.0f64..20.0], 1..200),
+        policy in prop_oneof![Just(HitchPolicy::Drop), Just(HitchPolicy::SlowDown), Just(HitchPolicy::CatchUp)],
+        cap in 1u32..20,
+    ) {
+        let mut c = clock(ClockConfig { hitch_policy: policy, max_steps_per_frame: cap, ..ClockConfig::default() });
+        for d in frames {
+            let f = c.advance(d).expect("frame");
+            prop_assert!(f.steps <= cap);
+            prop_assert!((0.0..1.0).contains(&f.alpha));
+            prop_assert!(f.dropped >= 0.0 && f.dropped <= d + 1e-9);
+            prop_assert!(c.time() <= c.accepted_time() + 1e-9);
+            if policy != HitchPolicy::CatchUp {
+                prop_assert!(c.backlog() < c.dt());
+            }
+        }
+    }
+}
