@@ -8,8 +8,23 @@
 //! Determinism: the same scene, seed and per-tick inputs give bit-identical
 //! states, whatever the frame timing and the number of threads.
 #![warn(missing_docs)]
+#![allow(clippy::needless_range_loop)]
 
 pub mod clock;
+pub mod colliders;
+pub mod emitter;
+pub mod energy;
+pub mod forces;
+pub mod input;
+mod step;
+pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource};
+pub use colliders::{BoxCollider, Collider, Material, Plane, SphereCollisions};
+pub use emitter::Emitter;
+pub use energy::Energy;
+pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};
+pub use input::{InputLog, InputQueue};
+pub use step::{CHUNK, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
+pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};

@@ -1,0 +1,71 @@
+//! Colliders: contact responses applied after each integration step.
+//!
+//! Pointwise colliders (a plane, a box) treat each particle alone and run
+//! inside the engine's cache-sized chunks, right after the chunk is
+//! integrated. Their response is computed for every particle and selected by
+//! the contact test rather than branched on: when particles rest on a floor
+//! the contact test flips unpredictably, and a mispredicted branch made the
+//! whole step about 3x slower in measurements.
+//!
+//! Particle-particle collisions need neighbours and run once over the world
+//! through a uniform grid ([`SphereCollisions`]).
+
+mod aabb;
+mod contact;
+mod plane;
+mod spheres;
+
+use core::fmt;
+
+use glam::Vec3A;
+
+pub use aabb::BoxCollider;
+pub use contact::Material;
+pub use plane::Plane;
+pub use spheres::SphereCollisions;
+
+/// The particle columns a collider may read and change.
+#[derive(Debug)]
+pub struct ContactColumns<'a> {
+    /// Positions (moved out of contact).
+    pub position: &'a mut [Vec3A],
+    /// Velocities (reflected with restitution and friction).
+    pub velocity: &'a mut [Vec3A],
+    /// Radii.
+    pub radius: &'a [f32],
+    /// Inverse masses (0 = immovable, never moved).
+    pub inverse_mass: &'a [f32],
+}
+
+/// A collider.
+pub trait Collider: Send + Sync + fmt::Debug {
+    /// Short name for diagnostics and scene files (`"plane"`).
+    fn name(&self) -> &'static str;
+
+    /// Whether each particle is resolved alone (default: true). If so,
+    /// [`resolve_range`](Self::resolve_range) is called on chunks, possibly
+    /// from several threads; otherwise [`resolve_world`](Self::resolve_world)
+    /// once per step.
+    fn is_pointwise(&self) -> bool {
+        true
+    }
+
+    /// Resolves contacts of the particles in `columns` (a chunk of the world).
+    fn resolve_range(&self, columns: ContactColumns<'_>) {
+        let _ = columns;
+    }
+
+    /// Resolves contacts over the whole world (default: `resolve_range`).
+    fn resolve_world(&mut self, columns: ContactColumns<'_>) {
+        self.resolve_range(columns);
+    }
+
+    /// A boxed copy, for world snapshots.
+    fn clone_boxed(&self) -> Box<dyn Collider>;
+}
+
+impl Clone for Box<dyn Collider> {
+    fn clone(&self) -> Self {
+        self.clone_boxed()
+    }
+}

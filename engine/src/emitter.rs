@@ -1,0 +1,86 @@
+//! Emitters: sources that spawn particles at a steady rate.
+
+use glam::{Quat, Vec3};
+use rand::RngExt;
+use rand_pcg::Pcg32;
+
+use crate::world::{Colour, Particle};
+
+/// Spawns `rate` particles per second from a point, in a cone around
+/// `direction`, with the world's seeded generator (so runs are reproducible).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emitter {
+    /// Where particles appear.
+    pub position: Vec3,
+    /// Axis of the cone of launch directions (normalised on use; default: `+y`).
+    pub direction: Vec3,
+    /// Half-angle of the cone, radians (default: `0.3`).
+    pub spread: f32,
+    /// Launch speed, m/s (default: `5.0`).
+    pub speed: f32,
+    /// Relative random variation of the speed, in `[0, 1]` (default: `0.2`).
+    pub speed_jitter: f32,
+    /// Particles per second (default: `100.0`).
+    pub rate: f32,
+    /// Seconds each particle lives (default: `3.0`).
+    pub lifetime: f32,
+    /// Colour of the particles (default: a warm orange).
+    pub colour: Colour,
+    /// Radius of the particles, m (default: `0.03`).
+    pub radius: f32,
+    /// Mass of the particles, kg (default: `0.01`).
+    pub mass: f32,
+    /// Fraction of a particle owed from previous steps, in `[0, 1)`.
+    pub(crate) owed: f32,
+}
+
+impl Default for Emitter {
+    fn default() -> Self {
+        Self {
+            position: Vec3::ZERO,
+            direction: Vec3::Y,
+            spread: 0.3,
+            speed: 5.0,
+            speed_jitter: 0.2,
+            rate: 100.0,
+            lifetime: 3.0,
+            colour: [255, 160, 60, 255],
+            radius: 0.03,
+            mass: 0.01,
+            owed: 0.0,
+        }
+    }
+}
+
+impl Emitter {
+    /// The particles due in a step of `dt`: `rate * dt` plus what was owed,
+    /// rounded down; the remainder is owed to the next step.
+    pub(crate) fn due(&mut self, dt: f32) -> u32 {
+        let total = self.owed + self.rate * dt;
+        let whole = total.floor();
+        self.owed = total - whole;
+        whole as u32
+    }
+
+    /// One particle with a random direction in the cone (uniform over the
+    /// cap's solid angle) and a jittered speed.
+    pub(crate) fn particle(&self, rng: &mut Pcg32) -> Particle {
+        let axis = self.direction.try_normalize().unwrap_or(Vec3::Y);
+        let cos_max = self.spread.cos();
+        let cos_theta = 1.0 - rng.random::<f32>() * (1.0 - cos_max);
+        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        let phi = rng.random::<f32>() * core::f32::consts::TAU;
+        let local = Vec3::new(sin_theta * phi.cos(), cos_theta, sin_theta * phi.sin());
+        let direction = Quat::from_rotation_arc(Vec3::Y, axis) * local;
+        let speed = self.speed * (1.0 + self.speed_jitter * (2.0 * rng.random::<f32>() - 1.0));
+        Particle {
+            position: self.position,
+            velocity: direction * speed,
+            mass: self.mass,
+            immovable: false,
+            radius: self.radius,
+            colour: self.colour,
+            lifetime: Some(self.lifetime),
+        }
+    }
+}

@@ -1,0 +1,58 @@
+//! Air resistance: linear (`-b v`, low speeds) and quadratic (`-c |v| v`, high speeds).
+
+use glam::Vec3A;
+
+use super::Force;
+
+/// Linear drag `a = -b v` (an acceleration, so it slows every particle alike).
+///
+/// Exponential Euler integrates it exactly, at any `b h`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearDrag {
+    /// The rate `b`, 1/s (a velocity decays as `e^(-b t)`).
+    pub rate: f32,
+}
+
+impl Force for LinearDrag {
+    fn name(&self) -> &'static str {
+        "linear_drag"
+    }
+
+    fn linear_drag(&self) -> f32 {
+        self.rate
+    }
+
+    fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
+        for (a, v) in out.iter_mut().zip(v) {
+            *a -= *v * self.rate;
+        }
+    }
+
+    fn clone_boxed(&self) -> Box<dyn Force> {
+        Box::new(*self)
+    }
+}
+
+/// Quadratic drag `a = -c |v| v`, the regime of a thrown ball or a falling
+/// body at terminal speed `sqrt(g / c)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuadraticDrag {
+    /// The coefficient `c`, 1/m.
+    pub coefficient: f32,
+}
+
+impl Force for QuadraticDrag {
+    fn name(&self) -> &'static str {
+        "quadratic_drag"
+    }
+
+    fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
+        for (a, v) in out.iter_mut().zip(v) {
+            *a -= *v * (self.coefficient * v.length());
+        }
+    }
+
+    fn clone_boxed(&self) -> Box<dyn Force> {
+        Box::new(*self)
+    }
+}

@@ -1,0 +1,139 @@
+//! Force generators, evaluated for the whole world inside the integrator's
+//! acceleration callback.
+//!
+//! A [`Force`] adds accelerations to a slice of particles. Forces that depend
+//! only on each particle's own state (gravity, drag, wind, fixed attractors)
+//! say so with [`Force::is_pointwise`]; when every force is pointwise the
+//! engine steps the world in cache-sized chunks (and spreads chunks over
+//! threads), which is what keeps a million-particle step near memory speed.
+//! Springs and n-body gravity couple particles and are evaluated on the whole
+//! trial state, so multi-stage methods (midpoint, RK4) stay correct.
+
+mod attractor;
+mod drag;
+mod gravity;
+mod nbody;
+mod springs;
+mod wind;
+
+use core::fmt;
+
+use glam::Vec3A;
+use tickwork_integrators::System;
+
+pub use attractor::Attractor;
+pub use drag::{LinearDrag, QuadraticDrag};
+pub use gravity::Gravity;
+pub use nbody::NBody;
+pub use springs::{Spring, SpringEnd, Springs};
+pub use wind::Wind;
+
+use crate::world::Entities;
+
+/// A force generator. Accelerations are in m/s^2; a force that is physically a
+/// force (springs) divides by mass with the inverse masses it is given.
+pub trait Force: Send + Sync + fmt::Debug {
+    /// Short name for diagnostics and scene files (`"gravity"`).
+    fn name(&self) -> &'static str;
+
+    /// Whether a particle's acceleration depends only on its own position and
+    /// velocity (default: true).
+    fn is_pointwise(&self) -> bool {
+        true
+    }
+
+    /// The part of the force that is linear drag `-b v`, for exponential
+    /// Euler, which integrates it exactly (default: 0).
+    fn linear_drag(&self) -> f32 {
+        0.0
+    }
+
+    /// Resolves entity handles to rows; called once per step before the
+    /// integrator runs (handles of despawned entities are dropped here).
+    fn prepare(&mut self, entities: &Entities) {
+        let _ = entities;
+    }
+
+    /// Adds this force's accelerations to `out` for the particles in rows
+    /// `first .. first + out.len()`, whose trial positions, velocities and
+    /// inverse masses are `x`, `v`, `inverse_mass`. Non-pointwise forces are
+    /// always called with the whole world (`first == 0`).
+    fn accumulate(&self, t: f32, first: usize, x: &[Vec3A], v: &[Vec3A], inverse_mass: &[f32], out: &mut [Vec3A]);
+
+    /// Potential energy of the whole world under this force, in joules, for
+    /// diagnostics (default: 0, for non-conservative forces).
+    fn potential_energy(&self, x: &[Vec3A], inverse_mass: &[f32]) -> f64 {
+        let _ = (x, inverse_mass);
+        0.0
+    }
+
+    /// A boxed copy, for world snapshots.
+    fn clone_boxed(&self) -> Box<dyn Force>;
+}
+
+impl Clone for Box<dyn Force> {
+    fn clone(&self) -> Self {
+        self.clone_boxed()
+    }
+}
+
+/// The world's forces seen as the integrator's [`System`]: the sum of every
+/// force, zeroed for immovable particles (inverse mass 0).
+pub(crate) struct ForceField<'a> {
+    pub forces: &'a [Box<dyn Force>],
+    /// Inverse masses of the rows the integrator is stepping.
+    pub inverse_mass: &'a [f32],
+    /// Row of the first particle the integrator is stepping.
+    pub offset: usize,
+    pub pointwise: bool,
+    pub drag: f32,
+}
+
+impl<'a> ForceField<'a> {
+    pub fn new(forces: &'a [Box<dyn Force>], inverse_mass: &'a [f32], offset: usize) -> Self {
+        Self {
+            forces,
+            inverse_mass,
+            offset,
+            pointwise: forces.iter().all(|f| f.is_pointwise()),
+            drag: forces.iter().map(|f| f.linear_drag()).sum(),
+        }
+    }
+}
+
+impl System<Vec3A> for ForceField<'_> {
+    fn acceleration(&mut self, t: f32, x: &[Vec3A], v: &[Vec3A], out: &mut [Vec3A]) {
+        self.acceleration_range(t, 0, x, v, out);
+    }
+
+    fn acceleration_range(&mut self, t: f32, first: usize, x: &[Vec3A], v: &[Vec3A], out: &mut [Vec3A]) {
+        let inverse_mass = &self.inverse_mass[first..first + out.len()];
+        out.fill(Vec3A::ZERO);
+        for force in self.forces {
+            force.accumulate(t, self.offset + first, x, v, inverse_mass, out);
+        }
+        // Immovable particles do not accelerate (a select, not a branch).
+        for (a, &w) in out.iter_mut().zip(inverse_mass) {
+            *a = if w > 0.0 { *a } else { Vec3A::ZERO };
+        }
+    }
+
+    fn linear_drag(&self) -> f32 {
+        self.drag
+    }
+
+    fn is_pointwise(&self) -> bool {
+        self.pointwise
+    }
+}
+
+/// `1 / w`, or 0 for an immovable particle (which is no source of gravity:
+/// use an [`Attractor`] for a fixed sun).
+#[inline]
+pub(crate) fn mass_of(inverse_mass: f32) -> f64 {
+    if inverse_mass > 0.0 {
+        1.0 / f64::from(inverse_mass)
+    } else {
+        0.0
+    }
+}

@@ -1,0 +1,422 @@
+//! The fixed step: what happens to the world once per tick of the clock.
+//!
+//! ```text
+//! previous <- current                       (for interpolation)
+//! x, v     <- integrator(t, dt, x, v, forces)
+//! colliders, ageing, expiry
+//! emitters and queued spawns/despawns
+//! the game's fixed systems (then their queued commands)
+//! check: every position and velocity finite
+//! ```
+//!
+//! When every force and collider is pointwise and the method
+//! [splits](tickwork_integrators::Integrator::splits_pointwise), the first
+//! three lines run fused, one cache-sized chunk of 512 particles at a time:
+//! each chunk is copied, integrated, collided and aged while it sits in L1,
+//! so a million-particle step reads and writes each column about once. Above
+//! [`WorldConfig::parallel_threshold`](crate::world::WorldConfig) particles,
+//! contiguous lanes of chunks run on rayon's threads, each with its own copy
+//! of the method; results are bit-identical to the serial step because each
+//! particle's arithmetic is the same.
+
+use core::fmt;
+
+use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
+use tickwork_integrators::angular::{Bodies, TorqueFree};
+use tickwork_integrators::{Integrator, StepError};
+
+use crate::clock::FixedStep;
+use crate::colliders::{Collider, ContactColumns};
+use crate::forces::{Force, ForceField};
+use crate::world::{Entity, Lane, World};
+
+/// Particles integrated together in the fused step: 512 `Vec3A` positions and
+/// velocities are 16 KiB, half of a 32 KiB L1 data cache (measured best among
+/// 256 to 4096 on the integrators' benchmark).
+pub const CHUNK: usize = 512;
+
+/// What a step did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepReport {
+    /// Force evaluations per particle.
+    pub evaluations: u32,
+    /// Particles whose lifetime ran out.
+    pub expired: u32,
+    /// Entities spawned (emitters and queued spawns).
+    pub spawned: u32,
+    /// Entities despawned from the queue.
+    pub despawned: u32,
+    /// Whether the fused chunked path ran.
+    pub fused: bool,
+    /// Lanes (threads) the fused path used.
+    pub lanes: u32,
+}
+
+/// A step that failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimulationError {
+    /// The integrator refused or failed (bad `dt`, a solver that did not converge).
+    Integrator {
+        /// The tick of the step.
+        tick: u64,
+        /// What the method said.
+        error: StepError,
+    },
+    /// A position or velocity became NaN or infinite (an explosion: a step too
+    /// large for the method's stability, or a force that divides by zero).
+    NonFinite {
+        /// The tick of the step.
+        tick: u64,
+        /// The first entity (in row order) with a non-finite value.
+        entity: Entity,
+        /// `"position"` or `"velocity"`.
+        field: &'static str,
+        /// The value.
+        value: Vec3,
+    },
+}
+
+impl fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Integrator { tick, error } => write!(f, "step {tick}: {error}"),
+            Self::NonFinite {
+                tick,
+                entity,
+                field,
+                value,
+            } => write!(
+                f,
+                "step {tick}: {entity} has a non-finite {field} {value}; the step is too large for the \
+                 integrator's stability, or a force diverged"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+/// The particle columns one lane steps.
+struct LaneColumns<'a> {
+    x: &'a mut [Vec3A],
+    v: &'a mut [Vec3A],
+    previous: &'a mut [Vec3A],
+    age: &'a mut [f32],
+    lifetime: &'a [f32],
+    radius: &'a [f32],
+    inverse_mass: &'a [f32],
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct LaneOutcome {
+    evaluations: u32,
+    first_bad: Option<usize>,
+}
+
+fn merge(a: Result<LaneOutcome, StepError>, b: Result<LaneOutcome, StepError>) -> Result<LaneOutcome, StepError> {
+    let (a, b) = (a?, b?);
+    Ok(LaneOutcome {
+        evaluations: a.evaluations.max(b.evaluations),
+        first_bad: match (a.first_bad, b.first_bad) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        },
+    })
+}
+
+/// Copy, integrate, collide and age one lane, chunk by chunk.
+#[allow(clippy::too_many_arguments)]
+fn step_lane(
+    method: &mut dyn Integrator<Vec3A>,
+    forces: &[Box<dyn Force>],
+    colliders: &[Box<dyn Collider>],
+    t: f32,
+    dt: f32,
+    offset: usize,
+    c: LaneColumns<'_>,
+    expired: &mut Vec<u32>,
+) -> Result<LaneOutcome, StepError> {
+    let mut outcome = LaneOutcome::default();
+    let n = c.x.len();
+    let mut start = 0;
+    while start < n {
+        let end = (start + CHUNK).min(n);
+        let r = start..end;
+        let (x, v) = (&mut c.x[r.clone()], &mut c.v[r.clone()]);
+        c.previous[r.clone()].copy_from_slice(x);
+        let mut field = ForceField::new(forces, &c.inverse_mass[r.clone()], offset + start);
+        let stats = method.step(t, dt, x, v, &mut field)?;
+        outcome.evaluations = outcome.evaluations.max(stats.evaluations);
+        for collider in colliders {
+            collider.resolve_range(ContactColumns {
+                position: x,
+                velocity: v,
+                radius: &c.radius[r.clone()],
+                inverse_mass: &c.inverse_mass[r.clone()],
+            });
+        }
+        for (i, (age, &lifetime)) in c.age[r.clone()].iter_mut().zip(&c.lifetime[r.clone()]).enumerate() {
+            *age += dt;
+            if *age >= lifetime {
+                expired.push((offset + start + i) as u32);
+            }
+        }
+        if outcome.first_bad.is_none() {
+            let finite = x
+                .iter()
+                .zip(v.iter())
+                .fold(true, |ok, (x, v)| ok & x.is_finite() & v.is_finite());
+            if !finite {
+                outcome.first_bad = first_non_finite(x, v).map(|i| offset + start + i);
+            }
+        }
+        start = end;
+    }
+    Ok(outcome)
+}
+
+fn first_non_finite(x: &[Vec3A], v: &[Vec3A]) -> Option<usize> {
+    x.iter().zip(v).position(|(x, v)| !x.is_finite() || !v.is_finite())
+}
+
+impl World {
+    /// Runs one fixed step. `step` comes from the clock
+    /// ([`Frame::fixed_steps`](crate::clock::Frame::fixed_steps)) or is made
+    /// by hand for tools.
+    ///
+    /// # Errors
+    /// [`SimulationError`] when the integrator fails (the particles are then
+    /// unchanged by it) or a position or velocity became non-finite (the
+    /// world is left as the step made it, to inspect; restore a snapshot to
+    /// go on).
+    pub fn step(&mut self, step: FixedStep) -> Result<StepReport, SimulationError> {
+        self.step_with(step, |_, _| {})
+    }
+
+    /// [`step`](Self::step), running the game's fixed systems after the
+    /// physics: `systems(world, step)` sees the stepped world and may queue
+    /// spawns and despawns, which are applied before the step returns.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step).
+    pub fn step_with(
+        &mut self,
+        step: FixedStep,
+        mut systems: impl FnMut(&mut World, &FixedStep),
+    ) -> Result<StepReport, SimulationError> {
+        let tick = step.tick;
+        let (t, dt) = (step.time as f32, step.dt as f32);
+        let mut report = StepReport::default();
+        for force in &mut self.forces {
+            force.prepare(&self.entities);
+        }
+        self.integrate(t, dt, tick, &mut report)?;
+        self.step_rigid_bodies(t, dt, tick)?;
+        self.expire(&mut report);
+        self.emit(dt);
+        let (spawned, despawned) = self.apply_queued();
+        self.tick = tick + 1;
+        self.time = step.time + step.dt;
+        systems(self, &step);
+        let (spawned_by_game, despawned_by_game) = self.apply_queued();
+        report.spawned = spawned + spawned_by_game;
+        report.despawned = despawned + despawned_by_game;
+        Ok(report)
+    }
+
+    fn integrate(&mut self, t: f32, dt: f32, tick: u64, report: &mut StepReport) -> Result<(), SimulationError> {
+        let fused = self.integrator.splits_pointwise()
+            && self.forces.iter().all(|f| f.is_pointwise())
+            && self.colliders.iter().all(|c| c.is_pointwise());
+        let integrator_error = |error| SimulationError::Integrator { tick, error };
+        self.expired_rows.clear();
+        let p = &mut self.particles;
+        let n = p.position.len();
+        let outcome = if fused {
+            let threads = rayon::current_num_threads();
+            let lanes = if n >= self.config.parallel_threshold {
+                threads.min(n.div_ceil(CHUNK)).max(1)
+            } else {
+                1
+            };
+            report.fused = true;
+            report.lanes = lanes as u32;
+            let columns = LaneColumns {
+                x: &mut p.position,
+                v: &mut p.velocity,
+                previous: &mut p.previous_position,
+                age: &mut p.age,
+                lifetime: &p.lifetime,
+                radius: &p.radius,
+                inverse_mass: &p.inverse_mass,
+            };
+            let (forces, colliders) = (&self.forces[..], &self.colliders[..]);
+            if lanes == 1 {
+                step_lane(
+                    self.integrator.as_mut(),
+                    forces,
+                    colliders,
+                    t,
+                    dt,
+                    0,
+                    columns,
+                    &mut self.expired_rows,
+                )
+            } else {
+                while self.lanes.len() < lanes {
+                    self.lanes.push(Lane {
+                        method: self.integrator.clone_boxed(),
+                        expired: Vec::new(),
+                    });
+                }
+                let len = n.div_ceil(lanes).div_ceil(CHUNK) * CHUNK;
+                let outcome = columns
+                    .x
+                    .par_chunks_mut(len)
+                    .zip(columns.v.par_chunks_mut(len))
+                    .zip(columns.previous.par_chunks_mut(len))
+                    .zip(columns.age.par_chunks_mut(len))
+                    .zip(columns.lifetime.par_chunks(len))
+                    .zip(columns.radius.par_chunks(len))
+                    .zip(columns.inverse_mass.par_chunks(len))
+                    .zip(self.lanes.par_iter_mut())
+                    .enumerate()
+                    .map(
+                        |(k, (((((((x, v), previous), age), lifetime), radius), inverse_mass), lane))| {
+                            lane.expired.clear();
+                            let c = LaneColumns {
+                                x,
+                                v,
+                                previous,
+                                age,
+                                lifetime,
+                                radius,
+                                inverse_mass,
+                            };
+                            step_lane(
+                                lane.method.as_mut(),
+                                forces,
+                                colliders,
+                                t,
+                                dt,
+                                k * len,
+                                c,
+                                &mut lane.expired,
+                            )
+                        },
+                    )
+                    .reduce(|| Ok(LaneOutcome::default()), merge);
+                for lane in &self.lanes[..lanes] {
+                    self.expired_rows.extend_from_slice(&lane.expired);
+                }
+                outcome
+            }
+            .map_err(integrator_error)?
+        } else {
+            p.previous_position.copy_from_slice(&p.position);
+            let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
+            let stats = self
+                .integrator
+                .step(t, dt, &mut p.position, &mut p.velocity, &mut field)
+                .map_err(integrator_error)?;
+            for collider in &mut self.colliders {
+                collider.resolve_world(ContactColumns {
+                    position: &mut p.position,
+                    velocity: &mut p.velocity,
+                    radius: &p.radius,
+                    inverse_mass: &p.inverse_mass,
+                });
+            }
+            for (row, (age, &lifetime)) in p.age.iter_mut().zip(&p.lifetime).enumerate() {
+                *age += dt;
+                if *age >= lifetime {
+                    self.expired_rows.push(row as u32);
+                }
+            }
+            LaneOutcome {
+                evaluations: stats.evaluations,
+                first_bad: first_non_finite(&p.position, &p.velocity),
+            }
+        };
+        report.evaluations = outcome.evaluations;
+        if let Some(row) = outcome.first_bad {
+            let (x, v) = (p.position[row], p.velocity[row]);
+            let (field, value) = if x.is_finite() {
+                ("velocity", v)
+            } else {
+                ("position", x)
+            };
+            return Err(SimulationError::NonFinite {
+                tick,
+                entity: self.entities.rows()[row],
+                field,
+                value: value.into(),
+            });
+        }
+        Ok(())
+    }
+
+    fn step_rigid_bodies(&mut self, t: f32, dt: f32, tick: u64) -> Result<(), SimulationError> {
+        if self.rigid.is_empty() {
+            return Ok(());
+        }
+        let r = &mut self.rigid;
+        r.previous_orientation.copy_from_slice(&r.orientation);
+        let bodies = Bodies {
+            orientations: &mut r.orientation,
+            angular_velocities: &mut r.angular_velocity,
+            inertia: &r.inertia,
+        };
+        self.angular
+            .step(t, dt, bodies, &mut TorqueFree)
+            .map_err(|error| SimulationError::Integrator { tick, error })?;
+        if let Some(k) = r
+            .orientation
+            .iter()
+            .zip(&r.angular_velocity)
+            .position(|(q, w)| !q.is_finite() || !w.is_finite())
+        {
+            let row = r.owner[k] as usize;
+            return Err(SimulationError::NonFinite {
+                tick,
+                entity: self.entities.rows()[row],
+                field: "angular_velocity",
+                value: r.angular_velocity[k],
+            });
+        }
+        Ok(())
+    }
+
+    fn expire(&mut self, report: &mut StepReport) {
+        if self.expired_rows.is_empty() {
+            return;
+        }
+        // Rows ascend (lanes are contiguous and in order); turn them into
+        // handles first, since each despawn moves the last row.
+        self.expired.clear();
+        let rows = self.entities.rows();
+        self.expired
+            .extend(self.expired_rows.iter().map(|&row| rows[row as usize]));
+        for k in 0..self.expired.len() {
+            let entity = self.expired[k];
+            if self.despawn(entity).is_ok() {
+                report.expired += 1;
+            }
+        }
+    }
+
+    fn emit(&mut self, dt: f32) {
+        for k in 0..self.emitters.len() {
+            let due = self.emitters[k].due(dt);
+            for _ in 0..due {
+                let particle = self.emitters[k].particle(&mut self.rng);
+                // Emitter particles are valid by construction (finite, positive mass).
+                if particle.validate().is_ok() {
+                    let entity = self.entities.reserve();
+                    self.queue.push(crate::world::Command::Spawn(entity, particle));
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,747 @@
+//! The ECS-lite world: generational entities over struct-of-arrays columns.
+//!
+//! Every entity is a particle (position, velocity, mass, radius, colour, age,
+//! lifetime); rigid bodies add an orientation in a second table; games add
+//! their own typed [`Component`] columns. Rows are dense and removal is
+//! `swap_remove`, so spawn and despawn are O(1) and every column stays a
+//! contiguous slice the integrator can step in one call. The integrator's
+//! per-particle history follows the same swap.
+
+mod columns;
+mod entity;
+mod particles;
+mod rigid;
+
+use core::fmt;
+
+use glam::{Quat, Vec3, Vec3A};
+use rand::SeedableRng;
+use rand_pcg::Pcg32;
+use tickwork_integrators::angular::{AngularIntegrator, build_angular};
+use tickwork_integrators::{Integrator, UnknownMethod, build};
+
+pub use columns::Component;
+pub use entity::{Entities, Entity, EntityError};
+pub use particles::{Colour, Particle, Particles, SpawnError};
+pub use rigid::{RigidBodies, RigidBody};
+
+use crate::colliders::Collider;
+use crate::emitter::Emitter;
+use crate::forces::Force;
+use columns::Columns;
+
+/// Settings of a new [`World`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldConfig {
+    /// The integrator, by registry name or alias (default: `"semi_implicit_euler"`).
+    pub integrator: String,
+    /// The angular integrator for rigid bodies (default: `"exponential_map"`).
+    pub angular_integrator: String,
+    /// Seed of the world's random generator (emitters, games) (default: `0`).
+    pub seed: u64,
+    /// Particle count from which a step is spread over rayon's threads, when
+    /// the forces and the method allow it (default: `65536`; thread dispatch
+    /// costs microseconds, more than stepping a few thousand particles).
+    pub parallel_threshold: usize,
+}
+
+impl Default for WorldConfig {
+    fn default() -> Self {
+        Self {
+            integrator: "semi_implicit_euler".into(),
+            angular_integrator: "exponential_map".into(),
+            seed: 0,
+            parallel_threshold: 65_536,
+        }
+    }
+}
+
+/// A request to change an entity that failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WorldError {
+    /// The handle names no live entity.
+    Entity(EntityError),
+    /// A value is invalid (the field is named).
+    Invalid {
+        /// The entity.
+        entity: Entity,
+        /// What was wrong.
+        error: SpawnError,
+    },
+    /// The component type was never registered.
+    UnregisteredComponent {
+        /// The type's name.
+        type_name: &'static str,
+    },
+}
+
+impl fmt::Display for WorldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Entity(e) => e.fmt(f),
+            Self::Invalid { entity, error } => write!(f, "{entity}: {error}"),
+            Self::UnregisteredComponent { type_name } => {
+                write!(
+                    f,
+                    "component {type_name} is not registered; call World::register::<{type_name}>() first"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for WorldError {}
+
+impl From<EntityError> for WorldError {
+    fn from(e: EntityError) -> Self {
+        Self::Entity(e)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Command {
+    Spawn(Entity, Particle),
+    SpawnRigid(Entity, RigidBody),
+    Despawn(Entity),
+}
+
+/// One thread's share of a parallel step: its copy of the method and its
+/// list of expired rows. Kept between steps so nothing is allocated.
+pub(crate) struct Lane {
+    pub method: Box<dyn Integrator<Vec3A>>,
+    pub expired: Vec<u32>,
+}
+
+impl Clone for Lane {
+    fn clone(&self) -> Self {
+        Self {
+            method: self.method.clone_boxed(),
+            expired: self.expired.clone(),
+        }
+    }
+}
+
+/// Mutable access to the position and velocity columns and one game column,
+/// row by row (all slices have the same length; `entities[i]` owns row `i`).
+#[derive(Debug)]
+pub struct QueryMut<'a, T> {
+    /// The entity of each row.
+    pub entities: &'a [Entity],
+    /// Positions.
+    pub position: &'a mut [Vec3A],
+    /// Velocities.
+    pub velocity: &'a mut [Vec3A],
+    /// The game's column.
+    pub component: &'a mut [T],
+}
+
+/// The particle world. See the [module docs](self).
+pub struct World {
+    pub(crate) entities: Entities,
+    pub(crate) particles: Particles,
+    pub(crate) rigid: RigidBodies,
+    columns: Columns,
+    pub(crate) forces: Vec<Box<dyn Force>>,
+    pub(crate) colliders: Vec<Box<dyn Collider>>,
+    pub(crate) emitters: Vec<Emitter>,
+    pub(crate) integrator: Box<dyn Integrator<Vec3A>>,
+    pub(crate) angular: Box<dyn AngularIntegrator<Quat>>,
+    pub(crate) queue: Vec<Command>,
+    pub(crate) rng: Pcg32,
+    pub(crate) tick: u64,
+    pub(crate) time: f64,
+    pub(crate) config: WorldConfig,
+    // Scratch reused by every step.
+    pub(crate) lanes: Vec<Lane>,
+    pub(crate) expired_rows: Vec<u32>,
+    pub(crate) expired: Vec<Entity>,
+}
+
+impl Clone for World {
+    fn clone(&self) -> Self {
+        Self {
+            entities: self.entities.clone(),
+            particles: self.particles.clone(),
+            rigid: self.rigid.clone(),
+            columns: self.columns.clone(),
+            forces: self.forces.clone(),
+            colliders: self.colliders.clone(),
+            emitters: self.emitters.clone(),
+            integrator: self.integrator.clone_boxed(),
+            angular: self.angular.clone_boxed(),
+            queue: self.queue.clone(),
+            rng: self.rng.clone(),
+            tick: self.tick,
+            time: self.time,
+            config: self.config.clone(),
+            lanes: Vec::new(),
+            expired_rows: Vec::new(),
+            expired: Vec::new(),
+        }
+    }
+
+    /// Copies `source` into `self`, reusing this world's buffers (no
+    /// allocation once they are large enough), which is what makes a
+    /// snapshot every step affordable.
+    fn clone_from(&mut self, source: &Self) {
+        self.entities.clone_from(&source.entities);
+        self.particles.clone_from(&source.particles);
+        self.rigid.clone_from(&source.rigid);
+        self.columns.clone_from(&source.columns);
+        self.forces.clone_from(&source.forces);
+        self.colliders.clone_from(&source.colliders);
+        self.emitters.clone_from(&source.emitters);
+        if !self.integrator.copy_state_from(source.integrator.as_ref()) {
+            self.integrator = source.integrator.clone_boxed();
+            self.lanes.clear();
+        }
+        self.angular = source.angular.clone_boxed();
+        self.queue.clone_from(&source.queue);
+        self.rng.clone_from(&source.rng);
+        self.tick = source.tick;
+        self.time = source.time;
+        self.config.clone_from(&source.config);
+    }
+}
+
+impl fmt::Debug for World {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("World")
+            .field("entities", &self.entities.len())
+            .field("rigid_bodies", &self.rigid.len())
+            .field("integrator", &self.integrator.info().name)
+            .field("forces", &self.forces)
+            .field("colliders", &self.colliders)
+            .field("tick", &self.tick)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Default for World {
+    fn default() -> Self {
+        Self::new(WorldConfig::default()).unwrap_or_else(|_| unreachable!("the default methods are registered"))
+    }
+}
+
+/// A copy of a whole world (entities, columns, forces, integrator history,
+/// random generator), taken by [`World::snapshot`] and put back by
+/// [`World::restore`].
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    world: World,
+}
+
+impl Snapshot {
+    /// The tick the snapshot was taken at.
+    #[must_use]
+    pub fn tick(&self) -> u64 {
+        self.world.tick
+    }
+}
+
+impl World {
+    /// An empty world.
+    ///
+    /// # Errors
+    /// [`UnknownMethod`] when an integrator name is not registered (the
+    /// message lists the valid names).
+    pub fn new(config: WorldConfig) -> Result<Self, UnknownMethod> {
+        let integrator = build::<Vec3A>(&config.integrator)?;
+        let angular = build_angular::<Quat>(&config.angular_integrator)?;
+        Ok(Self {
+            entities: Entities::default(),
+            particles: Particles::default(),
+            rigid: RigidBodies::default(),
+            columns: Columns::default(),
+            forces: Vec::new(),
+            colliders: Vec::new(),
+            emitters: Vec::new(),
+            integrator,
+            angular,
+            queue: Vec::new(),
+            rng: Pcg32::seed_from_u64(config.seed),
+            tick: 0,
+            time: 0.0,
+            config,
+            lanes: Vec::new(),
+            expired_rows: Vec::new(),
+            expired: Vec::new(),
+        })
+    }
+
+    // ---- entities -------------------------------------------------------
+
+    /// Spawns a particle now.
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the invalid field; nothing is spawned.
+    pub fn spawn(&mut self, particle: Particle) -> Result<Entity, SpawnError> {
+        particle.validate()?;
+        let entity = self.entities.reserve();
+        self.bind(entity, &particle);
+        Ok(entity)
+    }
+
+    /// Spawns a rigid body now.
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the invalid field; nothing is spawned.
+    pub fn spawn_rigid(&mut self, body: RigidBody) -> Result<Entity, SpawnError> {
+        body.validate()?;
+        let entity = self.entities.reserve();
+        self.bind_rigid(entity, &body);
+        Ok(entity)
+    }
+
+    fn bind(&mut self, entity: Entity, particle: &Particle) -> usize {
+        let row = self.entities.bind(entity);
+        self.particles.push(particle);
+        self.columns.push_defaults();
+        row
+    }
+
+    fn bind_rigid(&mut self, entity: Entity, body: &RigidBody) {
+        let row = self.bind(entity, &body.particle);
+        self.particles.rigid_row[row] = self.rigid.len() as u32;
+        self.rigid.push(row, body);
+    }
+
+    /// Despawns an entity now: its row is swap-removed from every column and
+    /// from the integrator's history.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn despawn(&mut self, entity: Entity) -> Result<(), EntityError> {
+        let row = self.entities.row(entity)?;
+        let body = self.particles.rigid_row[row];
+        if body != u32::MAX {
+            let body = body as usize;
+            self.rigid.swap_remove(body);
+            if let Some(&owner) = self.rigid.owner.get(body) {
+                self.particles.rigid_row[owner as usize] = body as u32;
+            }
+        }
+        self.entities.swap_remove(entity)?;
+        self.particles.swap_remove(row);
+        self.columns.swap_remove(row);
+        self.integrator.swap_remove(row);
+        if let Some(&moved_body) = self.particles.rigid_row.get(row)
+            && moved_body != u32::MAX
+        {
+            self.rigid.owner[moved_body as usize] = row as u32;
+        }
+        Ok(())
+    }
+
+    /// Queues a spawn for the end of the current (or next) step; the handle is
+    /// valid at once but names a live entity only after the step.
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the invalid field; nothing is queued.
+    pub fn queue_spawn(&mut self, particle: Particle) -> Result<Entity, SpawnError> {
+        particle.validate()?;
+        let entity = self.entities.reserve();
+        self.queue.push(Command::Spawn(entity, particle));
+        Ok(entity)
+    }
+
+    /// Queues a rigid-body spawn (see [`queue_spawn`](Self::queue_spawn)).
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the invalid field; nothing is queued.
+    pub fn queue_spawn_rigid(&mut self, body: RigidBody) -> Result<Entity, SpawnError> {
+        body.validate()?;
+        let entity = self.entities.reserve();
+        self.queue.push(Command::SpawnRigid(entity, body));
+        Ok(entity)
+    }
+
+    /// Queues a despawn for the end of the current (or next) step.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names neither a live nor a queued entity.
+    pub fn queue_despawn(&mut self, entity: Entity) -> Result<(), EntityError> {
+        match self.entities.row(entity) {
+            Ok(_) | Err(EntityError::Pending { .. }) => {
+                self.queue.push(Command::Despawn(entity));
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Applies queued spawns and despawns in the order they were queued.
+    /// Returns `(spawned, despawned)`. Despawning an entity that is already
+    /// gone by then (despawned twice) is skipped.
+    pub fn apply_queued(&mut self) -> (u32, u32) {
+        let (mut spawned, mut despawned) = (0, 0);
+        let mut queue = core::mem::take(&mut self.queue);
+        for command in queue.drain(..) {
+            match command {
+                Command::Spawn(entity, particle) => {
+                    self.bind(entity, &particle);
+                    spawned += 1;
+                }
+                Command::SpawnRigid(entity, body) => {
+                    self.bind_rigid(entity, &body);
+                    spawned += 1;
+                }
+                Command::Despawn(entity) => {
+                    if self.despawn(entity).is_ok() {
+                        despawned += 1;
+                    }
+                }
+            }
+        }
+        // Give the (empty) buffer back so its capacity is reused.
+        if self.queue.is_empty() {
+            self.queue = queue;
+        }
+        (spawned, despawned)
+    }
+
+    /// The entity allocator (handles and rows).
+    #[must_use]
+    pub fn entities(&self) -> &Entities {
+        &self.entities
+    }
+
+    /// Number of live entities (particles, including rigid bodies).
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.entities.len()
+    }
+
+    /// Whether no entity lives.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.entities.is_empty()
+    }
+
+    /// Whether the handle names a live entity.
+    #[must_use]
+    pub fn contains(&self, entity: Entity) -> bool {
+        self.entities.contains(entity)
+    }
+
+    /// The row of a live entity in every column.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn row(&self, entity: Entity) -> Result<usize, EntityError> {
+        self.entities.row(entity)
+    }
+
+    // ---- particle data ----------------------------------------------------
+
+    /// The particle columns.
+    #[must_use]
+    pub fn particles(&self) -> &Particles {
+        &self.particles
+    }
+
+    /// The particle columns, to change in place (a game's own fixed systems).
+    /// Changing positions this way is seen as a teleport by history methods
+    /// but not by interpolation; prefer [`teleport`](Self::teleport).
+    pub fn particles_mut(&mut self) -> &mut Particles {
+        &mut self.particles
+    }
+
+    /// The rigid-body columns.
+    #[must_use]
+    pub fn rigid_bodies(&self) -> &RigidBodies {
+        &self.rigid
+    }
+
+    /// The rigid-body columns, to change in place.
+    pub fn rigid_bodies_mut(&mut self) -> &mut RigidBodies {
+        &mut self.rigid
+    }
+
+    /// An entity's position.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn position(&self, entity: Entity) -> Result<Vec3, EntityError> {
+        Ok(self.particles.position[self.row(entity)?].into())
+    }
+
+    /// An entity's velocity.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn velocity(&self, entity: Entity) -> Result<Vec3, EntityError> {
+        Ok(self.particles.velocity[self.row(entity)?].into())
+    }
+
+    /// A rigid body's orientation (identity for a plain particle).
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn orientation(&self, entity: Entity) -> Result<Quat, EntityError> {
+        let body = self.particles.rigid_row[self.row(entity)?];
+        Ok(self
+            .rigid
+            .orientation
+            .get(body as usize)
+            .copied()
+            .unwrap_or(Quat::IDENTITY))
+    }
+
+    /// Sets an entity's velocity (an impulse, a thrust).
+    ///
+    /// # Errors
+    /// [`WorldError`] for a dead handle or a non-finite velocity.
+    pub fn set_velocity(&mut self, entity: Entity, velocity: Vec3) -> Result<(), WorldError> {
+        let row = self.row(entity)?;
+        particles::check_vector("velocity", velocity).map_err(|error| WorldError::Invalid { entity, error })?;
+        self.particles.velocity[row] = velocity.into();
+        Ok(())
+    }
+
+    /// Moves an entity to `position` outside the step. Its previous position
+    /// moves too, so interpolation does not streak across the jump, and
+    /// `teleported_at` records the tick for trails.
+    ///
+    /// # Errors
+    /// [`WorldError`] for a dead handle or a non-finite position.
+    pub fn teleport(&mut self, entity: Entity, position: Vec3) -> Result<(), WorldError> {
+        let row = self.row(entity)?;
+        particles::check_vector("position", position).map_err(|error| WorldError::Invalid { entity, error })?;
+        self.particles.position[row] = position.into();
+        self.particles.previous_position[row] = position.into();
+        self.particles.teleported_at[row] = self.tick;
+        Ok(())
+    }
+
+    // ---- game columns -----------------------------------------------------
+
+    /// Adds a column of `T` to every entity (default values). Registering twice is a no-op.
+    pub fn register<T: Component>(&mut self) {
+        self.columns.register::<T>(self.entities.len());
+    }
+
+    /// Sets an entity's `T`.
+    ///
+    /// # Errors
+    /// [`WorldError`] for a dead handle or an unregistered `T`.
+    pub fn insert<T: Component>(&mut self, entity: Entity, value: T) -> Result<(), WorldError> {
+        *self.get_mut::<T>(entity)? = value;
+        Ok(())
+    }
+
+    /// An entity's `T`.
+    ///
+    /// # Errors
+    /// [`WorldError`] for a dead handle or an unregistered `T`.
+    pub fn get<T: Component>(&self, entity: Entity) -> Result<&T, WorldError> {
+        let row = self.row(entity)?;
+        let column = self.columns.get::<T>().ok_or_else(unregistered::<T>)?;
+        Ok(&column[row])
+    }
+
+    /// An entity's `T`, mutable.
+    ///
+    /// # Errors
+    /// [`WorldError`] for a dead handle or an unregistered `T`.
+    pub fn get_mut<T: Component>(&mut self, entity: Entity) -> Result<&mut T, WorldError> {
+        let row = self.row(entity)?;
+        let column = self.columns.get_mut::<T>().ok_or_else(unregistered::<T>)?;
+        Ok(&mut column[row])
+    }
+
+    /// The whole column of `T`, row-aligned with the particle columns.
+    ///
+    /// # Errors
+    /// [`WorldError::UnregisteredComponent`] for an unregistered `T`.
+    pub fn column<T: Component>(&self) -> Result<&[T], WorldError> {
+        self.columns.get::<T>().map(Vec::as_slice).ok_or_else(unregistered::<T>)
+    }
+
+    /// Positions, velocities and the column of `T`, mutable, row by row.
+    ///
+    /// # Errors
+    /// [`WorldError::UnregisteredComponent`] for an unregistered `T`.
+    pub fn query_mut<T: Component>(&mut self) -> Result<QueryMut<'_, T>, WorldError> {
+        let component = self.columns.get_mut::<T>().ok_or_else(unregistered::<T>)?;
+        Ok(QueryMut {
+            entities: self.entities.rows(),
+            position: &mut self.particles.position,
+            velocity: &mut self.particles.velocity,
+            component,
+        })
+    }
+
+    // ---- forces, colliders, emitters, methods -----------------------------
+
+    /// Adds a force generator.
+    pub fn add_force(&mut self, force: impl Force + 'static) {
+        self.forces.push(Box::new(force));
+    }
+
+    /// The force generators, to inspect, change or remove.
+    pub fn forces_mut(&mut self) -> &mut Vec<Box<dyn Force>> {
+        &mut self.forces
+    }
+
+    /// The force generators.
+    #[must_use]
+    pub fn forces(&self) -> &[Box<dyn Force>] {
+        &self.forces
+    }
+
+    /// Adds a collider.
+    pub fn add_collider(&mut self, collider: impl Collider + 'static) {
+        self.colliders.push(Box::new(collider));
+    }
+
+    /// The colliders, to inspect, change or remove.
+    pub fn colliders_mut(&mut self) -> &mut Vec<Box<dyn Collider>> {
+        &mut self.colliders
+    }
+
+    /// Adds an emitter.
+    pub fn add_emitter(&mut self, emitter: Emitter) {
+        self.emitters.push(emitter);
+    }
+
+    /// The emitters, to move or change.
+    pub fn emitters_mut(&mut self) -> &mut Vec<Emitter> {
+        &mut self.emitters
+    }
+
+    /// Switches the integrator by name. History starts afresh: multi-step
+    /// methods bootstrap again.
+    ///
+    /// # Errors
+    /// [`UnknownMethod`] listing the valid names; the integrator is unchanged.
+    pub fn set_integrator(&mut self, name: &str) -> Result<(), UnknownMethod> {
+        self.integrator = build::<Vec3A>(name)?;
+        self.lanes.clear();
+        self.config.integrator = self.integrator.info().name.to_owned();
+        Ok(())
+    }
+
+    /// The integrator in use.
+    #[must_use]
+    pub fn integrator(&self) -> &dyn Integrator<Vec3A> {
+        self.integrator.as_ref()
+    }
+
+    /// Switches the angular integrator by name.
+    ///
+    /// # Errors
+    /// [`UnknownMethod`] listing the valid names; the method is unchanged.
+    pub fn set_angular_integrator(&mut self, name: &str) -> Result<(), UnknownMethod> {
+        self.angular = build_angular::<Quat>(name)?;
+        self.config.angular_integrator = self.angular.info().name.to_owned();
+        Ok(())
+    }
+
+    /// The angular integrator in use.
+    #[must_use]
+    pub fn angular_integrator(&self) -> &dyn AngularIntegrator<Quat> {
+        self.angular.as_ref()
+    }
+
+    /// The world's seeded random generator; games that draw from it stay
+    /// deterministic and snapshots capture it.
+    pub fn rng(&mut self) -> &mut Pcg32 {
+        &mut self.rng
+    }
+
+    /// The next tick to run.
+    #[must_use]
+    pub fn tick(&self) -> u64 {
+        self.tick
+    }
+
+    /// Simulated time at the end of the last step, in seconds.
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The settings the world was made with (integrator names follow switches).
+    #[must_use]
+    pub fn config(&self) -> &WorldConfig {
+        &self.config
+    }
+
+    // ---- snapshots ----------------------------------------------------------
+
+    /// A copy of the whole state.
+    #[must_use]
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot { world: self.clone() }
+    }
+
+    /// Overwrites `snapshot` with the current state, reusing its buffers.
+    pub fn snapshot_into(&self, snapshot: &mut Snapshot) {
+        snapshot.world.clone_from(self);
+    }
+
+    /// Puts back a snapshot's state (buffers reused). Forces, colliders and
+    /// emitters come back as they were too.
+    pub fn restore(&mut self, snapshot: &Snapshot) {
+        self.clone_from(&snapshot.world);
+    }
+
+    /// A 64-bit FNV-1a hash of the simulated state (tick, entities, every
+    /// particle and rigid-body column, the random generator), for comparing
+    /// runs bit for bit.
+    #[must_use]
+    pub fn state_hash(&self) -> u64 {
+        let mut h = Fnv::default();
+        h.u64(self.tick);
+        for e in self.entities.rows() {
+            h.u64(e.to_bits());
+        }
+        let p = &self.particles;
+        for column in [&p.position, &p.velocity, &p.previous_position] {
+            for x in column {
+                h.f32s(&x.to_array());
+            }
+        }
+        for column in [&p.inverse_mass, &p.radius, &p.age, &p.lifetime] {
+            h.f32s(column);
+        }
+        for (q, w) in self.rigid.orientation.iter().zip(&self.rigid.angular_velocity) {
+            h.f32s(&q.to_array());
+            h.f32s(&w.to_array());
+        }
+        h.u64(rand::Rng::next_u64(&mut self.rng.clone()));
+        h.0
+    }
+}
+
+fn unregistered<T>() -> WorldError {
+    WorldError::UnregisteredComponent {
+        type_name: core::any::type_name::<T>(),
+    }
+}
+
+/// FNV-1a, 64 bits: simple, fast enough, and stable across platforms and runs.
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+    fn f32s(&mut self, values: &[f32]) {
+        for v in values {
+            self.bytes(&v.to_bits().to_le_bytes());
+        }
+    }
+}

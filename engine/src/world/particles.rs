@@ -1,0 +1,210 @@
+//! The particle columns (struct of arrays) and what a spawn describes.
+
+use core::fmt;
+
+use glam::{Vec3, Vec3A};
+
+/// An sRGB colour with alpha, 8 bits per channel (what the GPU reads).
+pub type Colour = [u8; 4];
+
+/// A particle to spawn. Fields state their defaults; use struct update syntax:
+///
+/// ```
+/// # use tickwork_engine::world::Particle;
+/// # use glam::Vec3;
+/// let ball = Particle { position: Vec3::new(0.0, 2.0, 0.0), radius: 0.2, ..Particle::default() };
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Particle {
+    /// Position in metres (default: origin).
+    pub position: Vec3,
+    /// Velocity in metres per second (default: zero).
+    pub velocity: Vec3,
+    /// Mass in kilograms, above zero (default: `1.0`). Ignored when `immovable`.
+    pub mass: f32,
+    /// Infinite mass: no force accelerates it and collisions do not move it;
+    /// it keeps its velocity (a moving platform) (default: `false`).
+    pub immovable: bool,
+    /// Radius in metres for drawing and collisions, not negative (default: `0.05`).
+    pub radius: f32,
+    /// Colour (default: white, opaque).
+    pub colour: Colour,
+    /// Seconds until the particle expires, above zero; `None` lives forever (default: `None`).
+    pub lifetime: Option<f32>,
+}
+
+impl Default for Particle {
+    fn default() -> Self {
+        Self {
+            position: Vec3::ZERO,
+            velocity: Vec3::ZERO,
+            mass: 1.0,
+            immovable: false,
+            radius: 0.05,
+            colour: [255, 255, 255, 255],
+            lifetime: None,
+        }
+    }
+}
+
+/// A spawn refused because a field is invalid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpawnError {
+    /// The field at fault (`"mass"`, `"position.y"`, ...).
+    pub field: &'static str,
+    /// The value given.
+    pub value: f32,
+    /// What is required.
+    pub expected: &'static str,
+}
+
+impl fmt::Display for SpawnError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "invalid particle {}: {} (expected {})",
+            self.field, self.value, self.expected
+        )
+    }
+}
+
+impl std::error::Error for SpawnError {}
+
+impl Particle {
+    /// Checks every field; the first invalid one is the error.
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the field: NaN or infinite coordinates, a mass
+    /// that is not finite and above zero (unless `immovable`), a negative or
+    /// non-finite radius, a lifetime that is not finite and above zero.
+    pub fn validate(&self) -> Result<(), SpawnError> {
+        check_vector("position", self.position)?;
+        check_vector("velocity", self.velocity)?;
+        if !self.immovable && !(self.mass.is_finite() && self.mass > 0.0) {
+            return Err(SpawnError {
+                field: "mass",
+                value: self.mass,
+                expected: "a finite mass above zero, or immovable: true",
+            });
+        }
+        if !(self.radius.is_finite() && self.radius >= 0.0) {
+            return Err(SpawnError {
+                field: "radius",
+                value: self.radius,
+                expected: "a finite radius, not negative",
+            });
+        }
+        if let Some(lifetime) = self.lifetime
+            && !(lifetime.is_finite() && lifetime > 0.0)
+        {
+            return Err(SpawnError {
+                field: "lifetime",
+                value: lifetime,
+                expected: "finite seconds above zero",
+            });
+        }
+        Ok(())
+    }
+
+    /// `1 / mass`, or 0 for an immovable particle.
+    #[must_use]
+    pub fn inverse_mass(&self) -> f32 {
+        if self.immovable { 0.0 } else { 1.0 / self.mass }
+    }
+}
+
+pub(crate) fn check_vector(field: &'static str, v: Vec3) -> Result<(), SpawnError> {
+    const NAMES: [[&str; 3]; 4] = [
+        ["position.x", "position.y", "position.z"],
+        ["velocity.x", "velocity.y", "velocity.z"],
+        ["angular_velocity.x", "angular_velocity.y", "angular_velocity.z"],
+        ["inertia.x", "inertia.y", "inertia.z"],
+    ];
+    let names = match field {
+        "position" => NAMES[0],
+        "velocity" => NAMES[1],
+        "angular_velocity" => NAMES[2],
+        _ => NAMES[3],
+    };
+    for (value, name) in v.to_array().into_iter().zip(names) {
+        if !value.is_finite() {
+            return Err(SpawnError {
+                field: name,
+                value,
+                expected: "a finite number",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The particle columns: one `Vec` per field, all the same length, row `i`
+/// of each belonging to the entity in row `i` of [`Entities`](super::Entities).
+///
+/// Hot columns (read or written by every step) come first and are kept small:
+/// `Vec3A` (16 bytes, SIMD-aligned) for vectors, `f32` for scalars.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Particles {
+    /// Positions now.
+    pub position: Vec<Vec3A>,
+    /// Velocities now.
+    pub velocity: Vec<Vec3A>,
+    /// Positions at the start of the last step, for interpolation.
+    pub previous_position: Vec<Vec3A>,
+    /// `1 / mass`; 0 = immovable.
+    pub inverse_mass: Vec<f32>,
+    /// Radius in metres.
+    pub radius: Vec<f32>,
+    /// Seconds since spawn.
+    pub age: Vec<f32>,
+    /// Seconds to live; `f32::INFINITY` = forever.
+    pub lifetime: Vec<f32>,
+    /// sRGB colour with alpha.
+    pub colour: Vec<Colour>,
+    /// The tick at which the particle was last teleported (`u64::MAX` = never),
+    /// so interpolation and trails do not streak across the jump.
+    pub teleported_at: Vec<u64>,
+    /// Row in the rigid-body table, or `u32::MAX` for a plain particle.
+    pub(crate) rigid_row: Vec<u32>,
+}
+
+impl Particles {
+    /// Number of rows.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// Whether there are no rows.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    pub(crate) fn push(&mut self, p: &Particle) {
+        let x = Vec3A::from(p.position);
+        self.position.push(x);
+        self.velocity.push(Vec3A::from(p.velocity));
+        self.previous_position.push(x);
+        self.inverse_mass.push(p.inverse_mass());
+        self.radius.push(p.radius);
+        self.age.push(0.0);
+        self.lifetime.push(p.lifetime.unwrap_or(f32::INFINITY));
+        self.colour.push(p.colour);
+        self.teleported_at.push(u64::MAX);
+        self.rigid_row.push(u32::MAX);
+    }
+
+    pub(crate) fn swap_remove(&mut self, row: usize) {
+        self.position.swap_remove(row);
+        self.velocity.swap_remove(row);
+        self.previous_position.swap_remove(row);
+        self.inverse_mass.swap_remove(row);
+        self.radius.swap_remove(row);
+        self.age.swap_remove(row);
+        self.lifetime.swap_remove(row);
+        self.colour.swap_remove(row);
+        self.teleported_at.swap_remove(row);
+        self.rigid_row.swap_remove(row);
+    }
+}
