@@ -30,8 +30,9 @@ pub struct Emitter {
     pub radius: f32,
     /// Mass of the particles, kg (default: `0.01`).
     pub mass: f32,
-    /// Fraction of a particle owed from previous steps, in `[0, 1)`.
-    pub(crate) owed: f32,
+    /// Fraction of a particle owed from previous steps, in `[0, 1)` (state,
+    /// kept so a rate of 90/s at 60 Hz alternates 1 and 2 particles; default: `0.0`).
+    pub owed: f32,
 }
 
 impl Default for Emitter {

@@ -139,7 +139,12 @@ impl<E: Serialize + for<'de> Deserialize<'de> + Clone> InputLog<E> {
             message,
         };
         let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
-        ron::from_str(&text).map_err(|e| error(format!("{}:{}: {}", e.span.start.line, e.span.start.col, e.code)))
+        ron::from_str(&text).map_err(|e| {
+            error(format!(
+                "line {}, column {}: {}",
+                e.span.start.line, e.span.start.col, e.code
+            ))
+        })
     }
 }
 

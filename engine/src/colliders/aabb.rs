@@ -77,8 +77,4 @@ impl Collider for BoxCollider {
             }
         }
     }
-
-    fn clone_boxed(&self) -> Box<dyn Collider> {
-        Box::new(*self)
-    }
 }

@@ -15,6 +15,7 @@ mod contact;
 mod plane;
 mod spheres;
 
+use core::any::Any;
 use core::fmt;
 
 use glam::Vec3A;
@@ -38,7 +39,7 @@ pub struct ContactColumns<'a> {
 }
 
 /// A collider.
-pub trait Collider: Send + Sync + fmt::Debug {
+pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// Short name for diagnostics and scene files (`"plane"`).
     fn name(&self) -> &'static str;
 
@@ -59,13 +60,42 @@ pub trait Collider: Send + Sync + fmt::Debug {
     fn resolve_world(&mut self, columns: ContactColumns<'_>) {
         self.resolve_range(columns);
     }
+}
 
-    /// A boxed copy, for world snapshots.
+/// Copying a collider, for world snapshots. Implemented for every `Collider + Clone`.
+pub trait ColliderState {
+    /// A boxed copy.
     fn clone_boxed(&self) -> Box<dyn Collider>;
+    /// The collider as `Any`, to copy into a collider of the same type.
+    fn as_any(&self) -> &dyn Any;
+    /// Overwrites `self` with `source` if they are the same type, reusing
+    /// buffers; returns false otherwise.
+    fn copy_state_from(&mut self, source: &dyn Collider) -> bool;
+}
+
+impl<T: Collider + Clone + 'static> ColliderState for T {
+    fn clone_boxed(&self) -> Box<dyn Collider> {
+        Box::new(self.clone())
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn copy_state_from(&mut self, source: &dyn Collider) -> bool {
+        source
+            .as_any()
+            .downcast_ref::<T>()
+            .map(|s| self.clone_from(s))
+            .is_some()
+    }
 }
 
 impl Clone for Box<dyn Collider> {
     fn clone(&self) -> Self {
         self.clone_boxed()
+    }
+    fn clone_from(&mut self, source: &Self) {
+        if !self.copy_state_from(source.as_ref()) {
+            *self = source.clone_boxed();
+        }
     }
 }

@@ -47,8 +47,4 @@ impl Collider for Plane {
             resolve(x, v, n, gap, w > 0.0, self.material);
         }
     }
-
-    fn clone_boxed(&self) -> Box<dyn Collider> {
-        Box::new(*self)
-    }
 }

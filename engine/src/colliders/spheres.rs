@@ -154,8 +154,4 @@ impl Collider for SphereCollisions {
             }
         }
     }
-
-    fn clone_boxed(&self) -> Box<dyn Collider> {
-        Box::new(self.clone())
-    }
 }

@@ -43,8 +43,4 @@ impl Force for Attractor {
             })
             .sum()
     }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
-    }
 }

@@ -27,10 +27,6 @@ impl Force for LinearDrag {
             *a -= *v * self.rate;
         }
     }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
-    }
 }
 
 /// Quadratic drag `a = -c |v| v`, the regime of a thrown ball or a falling
@@ -50,9 +46,5 @@ impl Force for QuadraticDrag {
         for (a, v) in out.iter_mut().zip(v) {
             *a -= *v * (self.coefficient * v.length());
         }
-    }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
     }
 }

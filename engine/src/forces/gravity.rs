@@ -38,8 +38,4 @@ impl Force for Gravity {
             .map(|(x, &w)| -mass_of(w) * g.dot(Vec3::from(*x).as_dvec3()))
             .sum()
     }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
-    }
 }

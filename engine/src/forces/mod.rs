@@ -16,6 +16,7 @@ mod nbody;
 mod springs;
 mod wind;
 
+use core::any::Any;
 use core::fmt;
 
 use glam::Vec3A;
@@ -32,7 +33,7 @@ use crate::world::Entities;
 
 /// A force generator. Accelerations are in m/s^2; a force that is physically a
 /// force (springs) divides by mass with the inverse masses it is given.
-pub trait Force: Send + Sync + fmt::Debug {
+pub trait Force: Send + Sync + fmt::Debug + ForceState {
     /// Short name for diagnostics and scene files (`"gravity"`).
     fn name(&self) -> &'static str;
 
@@ -66,14 +67,43 @@ pub trait Force: Send + Sync + fmt::Debug {
         let _ = (x, inverse_mass);
         0.0
     }
+}
 
-    /// A boxed copy, for world snapshots.
+/// Copying a force, for world snapshots. Implemented for every `Force + Clone`.
+pub trait ForceState {
+    /// A boxed copy.
     fn clone_boxed(&self) -> Box<dyn Force>;
+    /// The force as `Any`, to copy into a force of the same type.
+    fn as_any(&self) -> &dyn Any;
+    /// Overwrites `self` with `source` if they are the same type, reusing
+    /// buffers; returns false otherwise.
+    fn copy_state_from(&mut self, source: &dyn Force) -> bool;
+}
+
+impl<T: Force + Clone + 'static> ForceState for T {
+    fn clone_boxed(&self) -> Box<dyn Force> {
+        Box::new(self.clone())
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn copy_state_from(&mut self, source: &dyn Force) -> bool {
+        source
+            .as_any()
+            .downcast_ref::<T>()
+            .map(|s| self.clone_from(s))
+            .is_some()
+    }
 }
 
 impl Clone for Box<dyn Force> {
     fn clone(&self) -> Self {
         self.clone_boxed()
+    }
+    fn clone_from(&mut self, source: &Self) {
+        if !self.copy_state_from(source.as_ref()) {
+            *self = source.clone_boxed();
+        }
     }
 }
 

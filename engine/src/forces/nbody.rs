@@ -83,8 +83,4 @@ impl Force for NBody {
         }
         u
     }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
-    }
 }

@@ -36,11 +36,24 @@ const ANCHOR: u32 = u32::MAX;
 
 /// A set of springs, evaluated as one force. Springs whose particle was
 /// despawned are dropped at the next step.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct Springs {
     springs: Vec<Spring>,
     /// Rows of both ends (`ANCHOR` for an anchor), refreshed by `prepare`.
     rows: Vec<[u32; 2]>,
+}
+
+impl Clone for Springs {
+    fn clone(&self) -> Self {
+        Self {
+            springs: self.springs.clone(),
+            rows: self.rows.clone(),
+        }
+    }
+    fn clone_from(&mut self, source: &Self) {
+        self.springs.clone_from(&source.springs);
+        self.rows.clone_from(&source.rows);
+    }
 }
 
 impl Springs {
@@ -137,9 +150,5 @@ impl Force for Springs {
                 0.5 * f64::from(s.stiffness) * stretch * stretch
             })
             .sum()
-    }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(self.clone())
     }
 }

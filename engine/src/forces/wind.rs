@@ -30,8 +30,4 @@ impl Force for Wind {
             *a += (w - *v) * self.rate;
         }
     }
-
-    fn clone_boxed(&self) -> Box<dyn Force> {
-        Box::new(*self)
-    }
 }

@@ -92,7 +92,7 @@ struct Slot {
 /// Rows are dense (0..len) and follow `swap_remove`: removing row `r` moves
 /// the last row into `r`, and the moved entity's slot is updated, so every
 /// operation is O(1).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Debug, Default, PartialEq, Eq)]
 pub struct Entities {
     slots: Vec<Slot>,
     free: Vec<u32>,
@@ -227,3 +227,5 @@ mod tests {
         );
     }
 }
+
+clone_fields!(Entities { slots, free, rows });

@@ -80,7 +80,8 @@ impl Particle {
     pub fn validate(&self) -> Result<(), SpawnError> {
         check_vector("position", self.position)?;
         check_vector("velocity", self.velocity)?;
-        if !self.immovable && !(self.mass.is_finite() && self.mass > 0.0) {
+        let valid_mass = self.mass.is_finite() && self.mass > 0.0;
+        if !(self.immovable || valid_mass) {
             return Err(SpawnError {
                 field: "mass",
                 value: self.mass,
@@ -143,7 +144,7 @@ pub(crate) fn check_vector(field: &'static str, v: Vec3) -> Result<(), SpawnErro
 ///
 /// Hot columns (read or written by every step) come first and are kept small:
 /// `Vec3A` (16 bytes, SIMD-aligned) for vectors, `f32` for scalars.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct Particles {
     /// Positions now.
     pub position: Vec<Vec3A>,
@@ -208,3 +209,16 @@ impl Particles {
         self.rigid_row.swap_remove(row);
     }
 }
+
+clone_fields!(Particles {
+    position,
+    velocity,
+    previous_position,
+    inverse_mass,
+    radius,
+    age,
+    lifetime,
+    colour,
+    teleported_at,
+    rigid_row,
+});

@@ -91,7 +91,7 @@ impl RigidBody {
 }
 
 /// The rigid-body columns. Row `k` belongs to the particle in row `owner[k]`.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct RigidBodies {
     /// The particle row of each body.
     pub owner: Vec<u32>,
@@ -139,3 +139,12 @@ impl RigidBodies {
         self.half_extents.swap_remove(row);
     }
 }
+
+clone_fields!(RigidBodies {
+    owner,
+    orientation,
+    previous_orientation,
+    angular_velocity,
+    inertia,
+    half_extents
+});

@@ -275,10 +275,29 @@ pub(crate) fn check_bodies<Q: Rotation>(
 pub trait AngularState<Q: Rotation> {
     /// A boxed copy of the method and everything it remembers.
     fn clone_boxed(&self) -> Box<dyn AngularIntegrator<Q>>;
+
+    /// The method as `Any`, so a state can be copied into a method of the same type.
+    fn as_any(&self) -> &dyn core::any::Any;
+
+    /// Overwrites this method's state with `source`'s, reusing buffers.
+    /// Returns false, leaving `self` unchanged, for a different method type.
+    fn copy_state_from(&mut self, source: &dyn AngularIntegrator<Q>) -> bool;
 }
 
 impl<Q: Rotation, T: AngularIntegrator<Q> + Clone + 'static> AngularState<Q> for T {
     fn clone_boxed(&self) -> Box<dyn AngularIntegrator<Q>> {
         Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn core::any::Any {
+        self
+    }
+
+    fn copy_state_from(&mut self, source: &dyn AngularIntegrator<Q>) -> bool {
+        source
+            .as_any()
+            .downcast_ref::<T>()
+            .map(|s| self.clone_from(s))
+            .is_some()
     }
 }

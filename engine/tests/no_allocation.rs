@@ -1,0 +1,157 @@
+//! Steady-state steps allocate nothing: a counting global allocator, counted
+//! per thread so that tests running in parallel do not disturb each other.
+
+use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|count| count.set(count.get() + 1));
+        unsafe { SystemAllocator.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { SystemAllocator.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|count| count.set(count.get() + 1));
+        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+use glam::Vec3;
+use tickwork_engine::{
+    Attractor, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, Spring, SpringEnd, Springs,
+    World, WorldConfig,
+};
+
+fn scene(method: &str, coupled: bool) -> World {
+    let mut w = World::new(WorldConfig {
+        integrator: method.into(),
+        ..WorldConfig::default()
+    })
+    .expect("known");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_force(Attractor {
+        position: Vec3::new(0.0, 5.0, 0.0),
+        gm: 1.0,
+        softening: 0.1,
+    });
+    w.add_collider(Plane::floor(0.0, Material::default()));
+    let entities: Vec<_> = (0..3000)
+        .map(|i| {
+            let p = Particle {
+                position: Vec3::new((i % 50) as f32 * 0.1, 0.5 + (i / 50) as f32 * 0.1, 0.0),
+                velocity: Vec3::new(0.0, (i % 7) as f32, 0.0),
+                radius: 0.04,
+                ..Particle::default()
+            };
+            w.spawn(p).expect("spawn")
+        })
+        .collect();
+    if coupled {
+        let springs = entities
+            .windows(2)
+            .map(|p| Spring {
+                a: SpringEnd::Entity(p[0]),
+                b: SpringEnd::Entity(p[1]),
+                stiffness: 10.0,
+                rest_length: 0.1,
+                damping: 0.1,
+            })
+            .collect();
+        w.add_force(Springs::new(springs));
+        w.add_collider(SphereCollisions::new(Material::default()));
+    }
+    w
+}
+
+#[test]
+fn steady_state_steps_allocate_nothing() {
+    for (method, coupled) in [
+        ("semi_implicit_euler", false),
+        ("rk4", false),
+        ("velocity_verlet", false),
+        ("semi_implicit_euler", true),
+        ("adams_bashforth3", true),
+    ] {
+        let mut w = scene(method, coupled);
+        let dt = 1.0 / 60.0;
+        for tick in 0..5 {
+            w.step(FixedStep {
+                tick,
+                time: tick as f64 * dt,
+                dt,
+            })
+            .expect("step");
+        }
+        let before = allocations();
+        for tick in 5..25 {
+            w.step(FixedStep {
+                tick,
+                time: tick as f64 * dt,
+                dt,
+            })
+            .expect("step");
+        }
+        assert_eq!(allocations() - before, 0, "{method} (coupled: {coupled}) allocated");
+    }
+}
+
+fn allocations_per_snapshot(particles_scale: bool) -> usize {
+    let mut w = scene("adams_bashforth2", true);
+    if particles_scale {
+        for i in 0..30_000 {
+            w.spawn(Particle {
+                position: Vec3::new(i as f32, 100.0, 0.0),
+                ..Particle::default()
+            })
+            .expect("spawn");
+        }
+    }
+    let mut snapshot = w.snapshot();
+    for tick in 0..5 {
+        w.step(FixedStep {
+            tick,
+            time: tick as f64 / 60.0,
+            dt: 1.0 / 60.0,
+        })
+        .expect("step");
+    }
+    w.snapshot_into(&mut snapshot);
+    let before = allocations();
+    for tick in 5..10 {
+        w.step(FixedStep {
+            tick,
+            time: tick as f64 / 60.0,
+            dt: 1.0 / 60.0,
+        })
+        .expect("step");
+        w.snapshot_into(&mut snapshot);
+    }
+    (allocations() - before) / 5
+}
+
+#[test]
+fn snapshots_into_existing_buffers_reuse_the_particle_columns() {
+    // The world's columns, forces and colliders reuse their buffers; the
+    // integrator's scratch is copied by its derived Clone (a fixed number of
+    // buffers, whatever the particle count).
+    let small = allocations_per_snapshot(false);
+    let large = allocations_per_snapshot(true);
+    assert_eq!(small, large, "allocations must not grow with the particle count");
+    assert!(small <= 24, "{small} allocations per snapshot");
+}
