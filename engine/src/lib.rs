@@ -16,6 +16,7 @@ pub mod emitter;
 pub mod energy;
 pub mod forces;
 pub mod input;
+pub mod scene;
 mod step;
 pub mod world;
 
@@ -25,6 +26,7 @@ pub use emitter::Emitter;
 pub use energy::Energy;
 pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};
 pub use input::{InputLog, InputQueue};
+pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
 pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};

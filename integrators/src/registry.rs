@@ -36,17 +36,29 @@ pub const METHODS: &[MethodInfo] = &[
 pub struct UnknownMethod {
     /// The name as given.
     pub name: String,
+    /// The canonical names that would have been accepted.
+    pub valid: Vec<&'static str>,
+}
+
+impl UnknownMethod {
+    /// An unknown name among the linear methods of [`METHODS`].
+    #[must_use]
+    pub fn new(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            valid: METHODS.iter().map(|m| m.name).collect(),
+        }
+    }
 }
 
 impl fmt::Display for UnknownMethod {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "unknown integrator '{}'; valid names are: ", self.name)?;
-        for (i, method) in METHODS.iter().enumerate() {
-            if i > 0 {
-                f.write_str(", ")?;
-            }
-            f.write_str(method.name)?;
-        }
+        write!(
+            f,
+            "unknown integrator '{}'; valid names are: {}",
+            self.name,
+            self.valid.join(", ")
+        )?;
         write!(f, " (aliases are listed by `tickwork integrators`)")
     }
 }
@@ -78,7 +90,7 @@ pub fn find(name: &str) -> Result<&'static MethodInfo, UnknownMethod> {
     METHODS
         .iter()
         .find(|m| same_name(name, m.name) || m.aliases.iter().any(|alias| same_name(name, alias)))
-        .ok_or_else(|| UnknownMethod { name: name.to_owned() })
+        .ok_or_else(|| UnknownMethod::new(name))
 }
 
 /// Builds a method by name or alias, with its default settings.

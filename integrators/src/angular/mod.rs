@@ -208,7 +208,10 @@ pub fn build_angular<Q: Rotation>(name: &str) -> Result<Box<dyn AngularIntegrato
     let info = ANGULAR_METHODS
         .iter()
         .find(|m| m.name == key || m.aliases.contains(&key.as_str()))
-        .ok_or_else(|| UnknownMethod { name: name.to_owned() })?;
+        .ok_or_else(|| UnknownMethod {
+            name: name.to_owned(),
+            valid: ANGULAR_METHODS.iter().map(|m| m.name).collect(),
+        })?;
     Ok(match info.name {
         "quaternion_euler" => Box::new(QuaternionEuler::new()),
         "exponential_map" => Box::new(ExponentialMap::new()),

@@ -1,0 +1,517 @@
+//! The scene file format: serde types that mirror the RON text.
+//!
+//! Values are checked while they are read (finite vectors, positive masses,
+//! known integrator names, spring ends that exist), so an error carries the
+//! line and column where the bad value is, and the field path.
+
+use core::cell::Cell;
+use core::fmt;
+
+use serde::de::{self, Deserializer};
+use serde::{Deserialize, Serialize};
+
+thread_local! {
+    /// Number of particles in the scene being read, for checking spring ends
+    /// (set by the second pass of `Scene::parse`; `usize::MAX` = not checked).
+    pub(crate) static PARTICLE_COUNT: Cell<usize> = const { Cell::new(usize::MAX) };
+}
+
+macro_rules! checked_f32 {
+    ($(#[$doc:meta])* $name:ident, $check:expr, $expected:literal) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+        pub struct $name(pub f32);
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                let value = f32::deserialize(d)?;
+                let check: fn(f32) -> bool = $check;
+                if check(value) {
+                    Ok(Self(value))
+                } else {
+                    Err(de::Error::custom(format_args!(concat!("expected ", $expected, ", got {}"), value)))
+                }
+            }
+        }
+    };
+}
+
+checked_f32!(
+    /// A finite number.
+    Finite,
+    |v| v.is_finite(),
+    "a finite number"
+);
+checked_f32!(
+    /// A finite number above zero.
+    Positive,
+    |v| v.is_finite() && v > 0.0,
+    "a finite number above zero"
+);
+checked_f32!(
+    /// A finite number, not negative.
+    NonNegative,
+    |v| v.is_finite() && v >= 0.0,
+    "a finite number, not negative"
+);
+checked_f32!(
+    /// A number in `[0, 1]`.
+    Unit,
+    |v| (0.0..=1.0).contains(&v),
+    "a number from 0 to 1"
+);
+
+/// A vector `(x, y, z)` of finite numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Vector(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Vector {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = <[f32; 3]>::deserialize(d)?;
+        if let Some(bad) = v.iter().position(|c| !c.is_finite()) {
+            return Err(de::Error::custom(format_args!(
+                "expected finite coordinates, got {} for {}",
+                v[bad],
+                ["x", "y", "z"][bad]
+            )));
+        }
+        Ok(Self(v))
+    }
+}
+
+impl From<Vector> for glam::Vec3 {
+    fn from(v: Vector) -> Self {
+        glam::Vec3::from_array(v.0)
+    }
+}
+
+/// An integrator name that the registry knows.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MethodName(pub String);
+
+impl<'de> Deserialize<'de> for MethodName {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        match tickwork_integrators::find(&name) {
+            Ok(info) => Ok(Self(info.name.to_owned())),
+            Err(unknown) => Err(de::Error::custom(unknown)),
+        }
+    }
+}
+
+/// The index of a particle in the scene's `particles` list.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ParticleIndex(pub usize);
+
+impl<'de> Deserialize<'de> for ParticleIndex {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let index = usize::deserialize(d)?;
+        let count = PARTICLE_COUNT.with(Cell::get);
+        if index >= count {
+            return Err(de::Error::custom(format_args!(
+                "particle index {index} is out of range: the scene lists {count} particles"
+            )));
+        }
+        Ok(Self(index))
+    }
+}
+
+/// The fixed step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum RateSpec {
+    /// Steps per second.
+    Hz(Positive),
+    /// Step in seconds.
+    Dt(Positive),
+}
+
+/// A scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Name shown in titles and summaries (default: the file name).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// One line saying what the scene shows (default: empty).
+    #[serde(default)]
+    pub description: String,
+    /// The integrator (default: `"semi_implicit_euler"`).
+    #[serde(default = "default_integrator")]
+    pub integrator: MethodName,
+    /// The fixed step (default: `Hz(60)`).
+    #[serde(default = "default_rate")]
+    pub rate: RateSpec,
+    /// Seed of the world's random generator (default: `0`).
+    #[serde(default)]
+    pub seed: u64,
+    /// Simulated seconds a headless run lasts unless told otherwise (default: `10.0`).
+    #[serde(default = "default_duration")]
+    pub duration: Positive,
+    /// How a renderer should frame the scene (default: 2D, centred, 10 m tall).
+    #[serde(default)]
+    pub camera: CameraHint,
+    /// Force generators (default: none).
+    #[serde(default)]
+    pub forces: Vec<ForceSpec>,
+    /// Colliders (default: none).
+    #[serde(default)]
+    pub colliders: Vec<ColliderSpec>,
+    /// Particles, one by one; springs refer to them by index (default: none).
+    #[serde(default)]
+    pub particles: Vec<ParticleSpec>,
+    /// Blocks of particles on a lattice (default: none).
+    #[serde(default)]
+    pub lattices: Vec<LatticeSpec>,
+    /// Emitters (default: none).
+    #[serde(default)]
+    pub emitters: Vec<EmitterSpec>,
+    /// Rigid bodies (default: none).
+    #[serde(default)]
+    pub rigid_bodies: Vec<RigidBodySpec>,
+}
+
+fn default_integrator() -> MethodName {
+    MethodName("semi_implicit_euler".into())
+}
+fn default_rate() -> RateSpec {
+    RateSpec::Hz(Positive(60.0))
+}
+fn default_duration() -> Positive {
+    Positive(10.0)
+}
+
+/// Projection hint for renderers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Projection {
+    /// Orthographic, looking down -z (default).
+    #[default]
+    TwoD,
+    /// Perspective orbit camera.
+    ThreeD,
+}
+
+/// Where a renderer should look.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraHint {
+    /// 2D or 3D (default: `TwoD`).
+    #[serde(default)]
+    pub projection: Projection,
+    /// The point looked at (default: origin).
+    #[serde(default = "origin")]
+    pub target: Vector,
+    /// Visible height in metres (2D) or distance from the target (3D) (default: `10.0`).
+    #[serde(default = "ten")]
+    pub extent: Positive,
+    /// Orbit angles in degrees, yaw and pitch (3D) (default: `(30, 20)`).
+    #[serde(default = "default_angles")]
+    pub angles: (Finite, Finite),
+}
+
+impl Default for CameraHint {
+    fn default() -> Self {
+        Self {
+            projection: Projection::TwoD,
+            target: origin(),
+            extent: ten(),
+            angles: default_angles(),
+        }
+    }
+}
+
+fn origin() -> Vector {
+    Vector([0.0; 3])
+}
+fn ten() -> Positive {
+    Positive(10.0)
+}
+fn default_angles() -> (Finite, Finite) {
+    (Finite(30.0), Finite(20.0))
+}
+
+/// A force generator.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ForceSpec {
+    /// Uniform gravity, m/s^2.
+    Gravity(Vector),
+    /// `a = -rate v`.
+    LinearDrag {
+        /// 1/s.
+        rate: NonNegative,
+    },
+    /// `a = -coefficient |v| v`.
+    QuadraticDrag {
+        /// 1/m.
+        coefficient: NonNegative,
+    },
+    /// `a = rate (velocity - v)`.
+    Wind {
+        /// Air velocity, m/s.
+        velocity: Vector,
+        /// 1/s.
+        rate: NonNegative,
+    },
+    /// A fixed point mass.
+    Attractor {
+        /// Where.
+        position: Vector,
+        /// `G M`, m^3/s^2.
+        gm: Finite,
+        /// Softening length, m (default: 0).
+        #[serde(default = "zero")]
+        softening: NonNegative,
+    },
+    /// Mutual gravity of all particles.
+    NBody {
+        /// Gravitational constant.
+        g: Finite,
+        /// Softening length, m (default: 0).
+        #[serde(default = "zero")]
+        softening: NonNegative,
+    },
+    /// A damped spring.
+    Spring {
+        /// First end.
+        a: EndSpec,
+        /// Second end.
+        b: EndSpec,
+        /// N/m.
+        stiffness: NonNegative,
+        /// m.
+        rest_length: NonNegative,
+        /// N s/m (default: 0).
+        #[serde(default = "zero")]
+        damping: NonNegative,
+    },
+}
+
+fn zero() -> NonNegative {
+    NonNegative(0.0)
+}
+
+/// One end of a spring.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum EndSpec {
+    /// The particle at this index of `particles`.
+    Particle(ParticleIndex),
+    /// A fixed point.
+    Anchor(Vector),
+}
+
+/// Bounce and friction (defaults: restitution 0.5, friction 0).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// In `[0, 1]` (default: `0.5`).
+    #[serde(default = "half")]
+    pub restitution: Unit,
+    /// Coulomb coefficient (default: `0.0`).
+    #[serde(default = "zero")]
+    pub friction: NonNegative,
+}
+
+impl Default for MaterialSpec {
+    fn default() -> Self {
+        Self {
+            restitution: half(),
+            friction: zero(),
+        }
+    }
+}
+
+fn half() -> Unit {
+    Unit(0.5)
+}
+
+/// A collider.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ColliderSpec {
+    /// An infinite plane `normal . x >= offset`.
+    Plane {
+        /// Normal into the free side (normalised on load).
+        normal: Vector,
+        /// Offset along the normal (default: 0).
+        #[serde(default)]
+        offset: f32,
+        /// Material (default: restitution 0.5, no friction).
+        #[serde(default)]
+        material: MaterialSpec,
+    },
+    /// An axis-aligned box.
+    Box {
+        /// Lower corner.
+        min: Vector,
+        /// Upper corner.
+        max: Vector,
+        /// Keep particles inside (true) or outside (default: true).
+        #[serde(default = "yes")]
+        inside: bool,
+        /// Material.
+        #[serde(default)]
+        material: MaterialSpec,
+    },
+    /// Particle-particle collisions.
+    Spheres {
+        /// Material.
+        #[serde(default)]
+        material: MaterialSpec,
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// A colour `(r, g, b, a)`, each from 0 to 1, sRGB.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ColourSpec(pub Unit, pub Unit, pub Unit, pub Unit);
+
+impl ColourSpec {
+    /// As 8-bit sRGB.
+    #[must_use]
+    pub fn to_rgba8(self) -> [u8; 4] {
+        [self.0, self.1, self.2, self.3].map(|c| (c.0 * 255.0).round() as u8)
+    }
+}
+
+fn white() -> ColourSpec {
+    ColourSpec(Unit(1.0), Unit(1.0), Unit(1.0), Unit(1.0))
+}
+
+/// A particle.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleSpec {
+    /// m.
+    pub position: Vector,
+    /// m/s (default: zero).
+    #[serde(default = "origin")]
+    pub velocity: Vector,
+    /// kg (default: 1).
+    #[serde(default = "one")]
+    pub mass: Positive,
+    /// Infinite mass (default: false).
+    #[serde(default)]
+    pub immovable: bool,
+    /// m (default: 0.05).
+    #[serde(default = "small_radius")]
+    pub radius: NonNegative,
+    /// Colour (default: white).
+    #[serde(default = "white")]
+    pub colour: ColourSpec,
+    /// Seconds to live (default: forever).
+    #[serde(default)]
+    pub lifetime: Option<Positive>,
+}
+
+fn one() -> Positive {
+    Positive(1.0)
+}
+fn small_radius() -> NonNegative {
+    NonNegative(0.05)
+}
+
+/// A block of identical particles on a lattice: `count` along each axis,
+/// `spacing` apart, starting at `origin`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LatticeSpec {
+    /// First particle's position.
+    pub origin: Vector,
+    /// Particles along x, y, z.
+    pub count: (u32, u32, u32),
+    /// Distance between neighbours, m.
+    pub spacing: Positive,
+    /// Every particle's velocity (default: zero).
+    #[serde(default = "origin")]
+    pub velocity: Vector,
+    /// kg (default: 1).
+    #[serde(default = "one")]
+    pub mass: Positive,
+    /// m (default: 0.05).
+    #[serde(default = "small_radius")]
+    pub radius: NonNegative,
+    /// Colour (default: white).
+    #[serde(default = "white")]
+    pub colour: ColourSpec,
+}
+
+/// An emitter.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmitterSpec {
+    /// Where particles appear.
+    pub position: Vector,
+    /// Launch direction (default: +y).
+    #[serde(default = "up")]
+    pub direction: Vector,
+    /// Cone half-angle, degrees (default: 15).
+    #[serde(default = "fifteen")]
+    pub spread_degrees: NonNegative,
+    /// m/s.
+    pub speed: NonNegative,
+    /// Relative speed variation, 0 to 1 (default: 0.2).
+    #[serde(default = "fifth")]
+    pub speed_jitter: Unit,
+    /// Particles per second.
+    pub rate: NonNegative,
+    /// Seconds each particle lives.
+    pub lifetime: Positive,
+    /// Colour (default: orange).
+    #[serde(default = "orange")]
+    pub colour: ColourSpec,
+    /// m (default: 0.03).
+    #[serde(default = "tiny_radius")]
+    pub radius: NonNegative,
+    /// kg (default: 0.01).
+    #[serde(default = "centigram")]
+    pub mass: Positive,
+}
+
+fn up() -> Vector {
+    Vector([0.0, 1.0, 0.0])
+}
+fn fifteen() -> NonNegative {
+    NonNegative(15.0)
+}
+fn fifth() -> Unit {
+    Unit(0.2)
+}
+fn orange() -> ColourSpec {
+    ColourSpec(Unit(1.0), Unit(0.63), Unit(0.24), Unit(1.0))
+}
+fn tiny_radius() -> NonNegative {
+    NonNegative(0.03)
+}
+fn centigram() -> Positive {
+    Positive(0.01)
+}
+
+/// A rigid body.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBodySpec {
+    /// Centre of mass.
+    pub particle: ParticleSpec,
+    /// Quaternion `(x, y, z, w)` (default: identity).
+    #[serde(default = "identity")]
+    pub orientation: (Finite, Finite, Finite, Finite),
+    /// rad/s, world frame (default: zero).
+    #[serde(default = "origin")]
+    pub angular_velocity: Vector,
+    /// Half extents of a solid box, m; the inertia follows from them and the mass.
+    pub half_extents: Vector,
+}
+
+fn identity() -> (Finite, Finite, Finite, Finite) {
+    (Finite(0.0), Finite(0.0), Finite(0.0), Finite(1.0))
+}
+
+impl fmt::Display for RateSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Hz(hz) => write!(f, "{} Hz", hz.0),
+            Self::Dt(dt) => write!(f, "dt = {} s", dt.0),
+        }
+    }
+}
