@@ -74,3 +74,123 @@ fn an_unknown_subcommand_is_an_error_naming_it() {
     assert!(stderr.contains("unrecognized subcommand 'integrater'"), "{stderr}");
     assert!(stderr.contains("integrators"), "suggests the right one: {stderr}");
 }
+
+fn scene(name: &str) -> String {
+    format!("{}/../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn temp_path(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("tickwork-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    let _ = std::fs::remove_file(&path);
+    path
+}
+
+#[test]
+fn sim_trace_of_the_projectile_matches_the_closed_form() {
+    let trace = temp_path("projectile.csv");
+    let output = tickwork(&[
+        "sim",
+        &scene("projectile.ron"),
+        "--trace",
+        trace.to_str().expect("utf-8"),
+        "--every",
+        "10",
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let summary = String::from_utf8(output.stdout).expect("utf-8");
+    assert!(summary.contains("steps       150 (t = 2.500000 s)"), "{summary}");
+    assert!(summary.contains("integrator  velocity_verlet"), "{summary}");
+    let text = std::fs::read_to_string(&trace).expect("trace written");
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("step,t,entity,generation,x,y,z,vx,vy,vz,qx,qy,qz,qw,wx,wy,wz")
+    );
+    let (v0, g) = ([7.5f64, 12.990381, 0.0], -9.81f64);
+    let mut rows = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let num = |i: usize| f[i].parse::<f64>().expect("number");
+        let t = num(1);
+        assert_eq!(num(0) as u64 % 10, 0);
+        assert!((num(4) - v0[0] * t).abs() < 1e-4, "{line}");
+        assert!((num(5) - (v0[1] * t + 0.5 * g * t * t)).abs() < 2e-4, "{line}");
+        assert!((num(8) - (v0[1] + g * t)).abs() < 1e-4, "{line}");
+        rows += 1;
+    }
+    assert_eq!(rows, 16, "the initial state and every 10th of 150 steps");
+    // The trace is not overwritten without --force.
+    let again = tickwork(&[
+        "sim",
+        &scene("projectile.ron"),
+        "--trace",
+        trace.to_str().expect("utf-8"),
+    ]);
+    assert!(!again.status.success());
+    let message = String::from_utf8_lossy(&again.stderr);
+    assert!(message.ends_with("exists; pass --force to overwrite it\n"), "{message}");
+}
+
+#[test]
+fn sim_reports_energy_drift_by_integrator() {
+    let drift = |method: &str| {
+        let output = tickwork(&[
+            "sim",
+            &scene("kepler.ron"),
+            "--integrator",
+            method,
+            "--until",
+            "31.4159",
+        ]);
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let text = String::from_utf8(output.stdout).expect("utf-8");
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("energy"))
+            .expect("energy line")
+            .to_owned();
+        let value = line
+            .rsplit("drift ")
+            .next()
+            .expect("drift")
+            .trim_end_matches(')')
+            .to_owned();
+        value.parse::<f64>().unwrap_or_else(|_| panic!("{line}"))
+    };
+    assert!(drift("velocity_verlet").abs() < 1e-4);
+    assert!(
+        drift("explicit_euler") > 0.3,
+        "explicit Euler gains energy and spirals out"
+    );
+}
+
+#[test]
+fn sim_errors_say_what_was_wrong() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["sim", "no/such.ron"], "tickwork: no/such.ron: cannot read the scene:"),
+        (
+            &["sim", &scene("projectile.ron"), "--integrator", "rk5"],
+            "tickwork: unknown integrator 'rk5'; valid names",
+        ),
+        (
+            &["sim", &scene("projectile.ron"), "--dt", "-0.1"],
+            "tickwork: --dt: invalid step in seconds: -0.1",
+        ),
+        (
+            &["sim", &scene("projectile.ron"), "--until", "NaN"],
+            "tickwork: --until: NaN is not a finite time",
+        ),
+        (
+            &["sim", &scene("projectile.ron"), "--every", "0"],
+            "tickwork: --every: must be at least 1",
+        ),
+    ];
+    for (args, expected) in cases {
+        let output = tickwork(args);
+        assert!(!output.status.success(), "{args:?}");
+        let message = String::from_utf8_lossy(&output.stderr);
+        assert!(message.starts_with(expected), "{args:?}: {message}");
+    }
+}

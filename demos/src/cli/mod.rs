@@ -1,6 +1,7 @@
 //! The `tickwork` command line: one file per subcommand.
 
 pub mod integrators;
+pub mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -18,13 +19,19 @@ pub struct Cli {
 pub enum Command {
     /// List every integration method with its order, cost and properties.
     Integrators(integrators::IntegratorsArgs),
+    /// Run a scene headless (no window, no GPU): a CSV trace and a summary.
+    Sim(sim::SimArgs),
 }
 
 /// Runs the command line; returns the process exit code.
 pub fn run(cli: Cli) -> std::process::ExitCode {
     let result = match cli.command {
-        Some(Command::Integrators(args)) => integrators::run(&args, &mut std::io::stdout().lock()),
-        None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock()),
+        Some(Command::Integrators(args)) => {
+            integrators::run(&args, &mut std::io::stdout().lock()).map_err(|e| e.to_string())
+        }
+        Some(Command::Sim(args)) => sim::run(&args, &mut std::io::stdout().lock()),
+        None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
+            .map_err(|e| e.to_string()),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

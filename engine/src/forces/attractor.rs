@@ -37,6 +37,7 @@ impl Force for Attractor {
         let eps2 = f64::from(self.softening).powi(2);
         x.iter()
             .zip(inverse_mass)
+            .filter(|&(_, &w)| w > 0.0)
             .map(|(x, &w)| {
                 let r2 = (Vec3::from(*x).as_dvec3() - p).length_squared() + eps2;
                 -f64::from(self.gm) * mass_of(w) / r2.sqrt()

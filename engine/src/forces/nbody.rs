@@ -76,7 +76,7 @@ impl Force for NBody {
         for i in 0..x.len() {
             for j in i + 1..x.len() {
                 let r2 = (Vec3::from(x[j]) - Vec3::from(x[i])).as_dvec3().length_squared() + eps2;
-                if r2 > 0.0 {
+                if r2 > 0.0 && inverse_mass[i] > 0.0 && inverse_mass[j] > 0.0 {
                     u -= f64::from(self.g) * mass_of(inverse_mass[i]) * mass_of(inverse_mass[j]) / r2.sqrt();
                 }
             }
