@@ -376,3 +376,40 @@ fn free_rigid_body_keeps_its_energy_and_turns() {
         momentum(&w)
     );
 }
+
+#[test]
+fn particle_slides_down_an_inclined_plane_at_g_sin_theta() {
+    // A 30 degree frictionless incline: the particle stays on the plane and
+    // accelerates along it at g sin 30 = 4.905 m/s^2.
+    let theta = 30f32.to_radians();
+    let normal = Vec3::new(-theta.sin(), theta.cos(), 0.0);
+    let mut w = world("semi_implicit_euler");
+    w.add_force(Gravity::EARTH);
+    w.add_collider(Plane {
+        normal,
+        offset: 0.0,
+        material: Material {
+            restitution: 0.0,
+            friction: 0.0,
+        },
+    });
+    let p = w
+        .spawn(Particle {
+            radius: 0.0,
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let dt = 1.0 / 240.0;
+    for tick in 0..480 {
+        w.step(step_at(tick, dt)).expect("step");
+        assert!(normal.dot(w.position(p).expect("alive")) > -1e-5, "fell through");
+    }
+    let v = w.velocity(p).expect("alive");
+    let along = Vec3::new(-theta.cos(), -theta.sin(), 0.0);
+    assert!(
+        (v.dot(along) - 9.81 * theta.sin() * 2.0).abs() < 0.05,
+        "{v}: {}",
+        v.dot(along)
+    );
+    assert!(v.dot(normal).abs() < 1e-3);
+}

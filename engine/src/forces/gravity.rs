@@ -23,6 +23,10 @@ impl Force for Gravity {
         "gravity"
     }
 
+    fn uniform_acceleration(&self) -> Option<Vec3A> {
+        Some(self.acceleration.into())
+    }
+
     fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], _v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
         let g = Vec3A::from(self.acceleration);
         for a in out {

@@ -49,6 +49,13 @@ pub trait Force: Send + Sync + fmt::Debug + ForceState {
         0.0
     }
 
+    /// The acceleration when it is the same for every particle (gravity), so
+    /// the force field can start from it instead of adding it in a pass of
+    /// its own (default: `None`).
+    fn uniform_acceleration(&self) -> Option<Vec3A> {
+        None
+    }
+
     /// Resolves entity handles to rows; called once per step before the
     /// integrator runs (handles of despawned entities are dropped here).
     fn prepare(&mut self, entities: &Entities) {
@@ -117,6 +124,8 @@ pub(crate) struct ForceField<'a> {
     pub offset: usize,
     pub pointwise: bool,
     pub drag: f32,
+    /// Sum of the uniform accelerations, the starting value of every particle's.
+    pub uniform: Vec3A,
 }
 
 impl<'a> ForceField<'a> {
@@ -127,6 +136,7 @@ impl<'a> ForceField<'a> {
             offset,
             pointwise: forces.iter().all(|f| f.is_pointwise()),
             drag: forces.iter().map(|f| f.linear_drag()).sum(),
+            uniform: forces.iter().filter_map(|f| f.uniform_acceleration()).sum(),
         }
     }
 }
@@ -138,8 +148,8 @@ impl System<Vec3A> for ForceField<'_> {
 
     fn acceleration_range(&mut self, t: f32, first: usize, x: &[Vec3A], v: &[Vec3A], out: &mut [Vec3A]) {
         let inverse_mass = &self.inverse_mass[first..first + out.len()];
-        out.fill(Vec3A::ZERO);
-        for force in self.forces {
+        out.fill(self.uniform);
+        for force in self.forces.iter().filter(|f| f.uniform_acceleration().is_none()) {
             force.accumulate(t, self.offset + first, x, v, inverse_mass, out);
         }
         // Immovable particles do not accelerate (a select, not a branch).

@@ -70,11 +70,19 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
         for_each_chunk(x, v, system, |x, v, system| {
             fit(accel, x.len());
             system.acceleration(t, x, v, accel);
-            for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(accel.iter()) {
-                *v += *a * dt;
-                *x += *v * dt;
-            }
+            kick_drift(x, v, accel, dt);
         });
         Ok(StepStats::single(1))
+    }
+}
+
+/// `v += a h; x += v h`. A function of its own so that the slices and `h`
+/// arrive as arguments the compiler knows do not alias: inside the closure,
+/// `h` was reloaded from memory on every iteration (measured 2x slower).
+#[inline]
+fn kick_drift<V: Vector>(x: &mut [V], v: &mut [V], a: &[V], h: V::Real) {
+    for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(a) {
+        *v += *a * h;
+        *x += *v * h;
     }
 }

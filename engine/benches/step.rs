@@ -1,0 +1,208 @@
+//! A full fixed step of the engine (forces, integration, a ground plane,
+//! ageing, bookkeeping) at 1k, 100k and 1M particles, on one thread and on
+//! rayon's threads, beside a memory-bandwidth baseline over the same bytes
+//! measured in the same run; and 10k particles with the collision grid.
+//!
+//! Run: `cargo bench -p tickwork-engine --bench step`, then
+//! `scripts/bench-report engine` for the README table.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::{Vec3, Vec3A};
+use rayon::ThreadPool;
+use tickwork_engine::{
+    FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, World, WorldConfig,
+};
+
+/// Particles on a lattice above a floor, falling, under gravity and drag.
+fn rain(n: usize, integrator: &str, collisions: bool) -> World {
+    let config = WorldConfig {
+        integrator: integrator.into(),
+        parallel_threshold: 65_536,
+        ..WorldConfig::default()
+    };
+    let mut w = World::new(config).expect("registered");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.1,
+        },
+    ));
+    let side = (n as f64).cbrt().ceil() as usize;
+    let spacing = if collisions { 0.05 } else { 0.02 };
+    for i in 0..n {
+        let (a, b, c) = (i % side, (i / side) % side, i / (side * side));
+        let p = Particle {
+            position: Vec3::new(a as f32, 0.5 + c as f32, b as f32) * spacing,
+            velocity: Vec3::new(((i % 13) as f32 - 6.0) * 0.1, (i % 7) as f32 * 0.2, 0.0),
+            radius: 0.02,
+            lifetime: Some(1e6),
+            ..Particle::default()
+        };
+        w.spawn(p).expect("valid");
+    }
+    if collisions {
+        w.add_collider(SphereCollisions::new(Material {
+            restitution: 0.3,
+            friction: 0.0,
+        }));
+    }
+    w
+}
+
+/// Steps `iters` times, rebuilding the world (untimed) every 10 s of game
+/// time, before velocities under drag decay to subnormal numbers.
+/// The loop runs inside the pool, so no step pays for waking a pool thread.
+fn timed_steps(pool: &ThreadPool, world: &mut World, make: &(dyn Fn() -> World + Sync), iters: u64) -> Duration {
+    let dt = 1.0 / 60.0;
+    pool.install(|| {
+        let mut total = Duration::ZERO;
+        for _ in 0..iters {
+            if world.tick() >= 600 {
+                *world = make();
+            }
+            let step = FixedStep {
+                tick: world.tick(),
+                time: world.tick() as f64 * dt,
+                dt,
+            };
+            let start = Instant::now();
+            world.step(step).expect("step");
+            total += start.elapsed();
+        }
+        total
+    })
+}
+
+/// One pass that reads and writes the bytes a fused step must: position and
+/// velocity (read, write), previous position (write), age (read, write),
+/// inverse mass, radius, lifetime (read). No physics: the memory floor.
+struct Columns {
+    x: Vec<Vec3A>,
+    v: Vec<Vec3A>,
+    previous: Vec<Vec3A>,
+    age: Vec<f32>,
+    inverse_mass: Vec<f32>,
+    radius: Vec<f32>,
+    lifetime: Vec<f32>,
+}
+
+impl Columns {
+    fn new(n: usize) -> Self {
+        Self {
+            x: vec![Vec3A::ONE; n],
+            v: vec![Vec3A::X; n],
+            previous: vec![Vec3A::ZERO; n],
+            age: vec![0.0; n],
+            inverse_mass: vec![1.0; n],
+            radius: vec![0.02; n],
+            lifetime: vec![1e6; n],
+        }
+    }
+}
+
+// One loop on purpose: the baseline touches every byte in a single pass.
+#[allow(clippy::manual_memcpy)]
+fn touch(x: &mut [Vec3A], v: &mut [Vec3A], p: &mut [Vec3A], age: &mut [f32], w: &[f32], r: &[f32], l: &[f32]) {
+    for i in 0..x.len() {
+        p[i] = x[i];
+        let s = w[i] + r[i] + l[i];
+        v[i] *= 0.999_9;
+        x[i] += v[i] * s * 1e-9;
+        age[i] += 1.0 / 60.0;
+    }
+}
+
+fn baseline(threads: usize, c: &mut Columns) {
+    let n = c.x.len();
+    if threads == 1 {
+        touch(
+            &mut c.x,
+            &mut c.v,
+            &mut c.previous,
+            &mut c.age,
+            &c.inverse_mass,
+            &c.radius,
+            &c.lifetime,
+        );
+        return;
+    }
+    let half = n / 2;
+    let (x0, x1) = c.x.split_at_mut(half);
+    let (v0, v1) = c.v.split_at_mut(half);
+    let (p0, p1) = c.previous.split_at_mut(half);
+    let (a0, a1) = c.age.split_at_mut(half);
+    let (w0, w1) = c.inverse_mass.split_at(half);
+    let (r0, r1) = c.radius.split_at(half);
+    let (l0, l1) = c.lifetime.split_at(half);
+    rayon::join(
+        || touch(x0, v0, p0, a0, w0, r0, l0),
+        || touch(x1, v1, p1, a1, w1, r1, l1),
+    );
+}
+
+fn engine_step(c: &mut Criterion) {
+    let pools: Vec<(&str, ThreadPool)> = [("1t", 1), ("2t", 2)]
+        .into_iter()
+        .map(|(name, threads)| {
+            (
+                name,
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("pool"),
+            )
+        })
+        .collect();
+    for n in [1_000usize, 100_000, 1_000_000] {
+        let mut group = c.benchmark_group(format!("engine_step_{n}"));
+        group.throughput(Throughput::Elements(n as u64));
+        if n >= 100_000 {
+            group.sample_size(10);
+            group.warm_up_time(Duration::from_millis(500));
+            group.measurement_time(Duration::from_secs(3));
+        }
+        for (name, pool) in &pools {
+            let mut columns = Columns::new(n);
+            group.bench_function(format!("baseline_{name}"), |b| {
+                b.iter_custom(|iters| {
+                    pool.install(|| {
+                        let start = Instant::now();
+                        for _ in 0..iters {
+                            baseline(pool.current_num_threads(), black_box(&mut columns));
+                        }
+                        start.elapsed()
+                    })
+                });
+            });
+            for method in ["semi_implicit_euler", "rk4", "velocity_verlet"] {
+                if n == 1_000_000 && method == "velocity_verlet" && *name == "2t" {
+                    continue; // history methods step the whole slice on one thread
+                }
+                let make = || rain(n, method, false);
+                let mut world = make();
+                group.bench_function(format!("{method}_{name}"), |b| {
+                    b.iter_custom(|iters| timed_steps(pool, &mut world, &make, iters));
+                });
+            }
+        }
+        group.finish();
+    }
+    let mut group = c.benchmark_group("engine_collisions_10000");
+    group.throughput(Throughput::Elements(10_000));
+    let make = || rain(10_000, "semi_implicit_euler", true);
+    let mut world = make();
+    let (_, pool) = &pools[0];
+    group.bench_function("semi_implicit_euler_grid_1t", |b| {
+        b.iter_custom(|iters| timed_steps(pool, &mut world, &make, iters));
+    });
+    group.finish();
+}
+
+criterion_group!(benches, engine_step);
+criterion_main!(benches);
