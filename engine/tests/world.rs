@@ -402,3 +402,20 @@ fn teleport_moves_the_previous_position_too() {
         "{err}"
     );
 }
+
+#[test]
+fn switching_integrators_at_run_time_bootstraps_history_afresh() {
+    let mut w = world("semi_implicit_euler");
+    w.add_force(Gravity::EARTH);
+    chain(&mut w, 4, true);
+    for tick in 0..10 {
+        assert_eq!(w.step(step_at(tick, 0.01)).expect("step").evaluations, 1);
+    }
+    w.set_integrator("ab4").expect("alias of adams_bashforth4");
+    assert_eq!(w.config().integrator, "adams_bashforth4");
+    // Three RK4 starting steps (four evaluations each) build the history, then one per step.
+    let evaluations: Vec<u32> = (10..16)
+        .map(|tick| w.step(step_at(tick, 0.01)).expect("step").evaluations)
+        .collect();
+    assert_eq!(evaluations, vec![4, 4, 4, 1, 1, 1]);
+}

@@ -3,7 +3,8 @@
 //! Each step the particles are bucketed by grid cell (cell size = the largest
 //! diameter, so touching spheres are in the same or adjacent cells) with a
 //! counting sort into a hashed table of `2^k >= 2 n` buckets. Each particle
-//! then tests the particles of higher row in the 27 cells around it. Contacts
+//! then tests the particles of higher row in the 27 cells around it, so
+//! every touching pair is found exactly once. Contacts
 //! are resolved one pair at a time in row order (Gauss-Seidel), which is
 //! deterministic: the same state always gives the same result. The cost is
 //! O(n) for evenly spread particles, so 100k particles stay practical.
@@ -21,6 +22,8 @@ pub struct SphereCollisions {
     pub material: Material,
     /// Bucket of each particle (scratch, reused).
     bucket: Vec<u32>,
+    /// Grid cell of each particle (scratch), to skip hash collisions.
+    cell: Vec<IVec3>,
     /// Row order sorted by bucket (scratch).
     sorted: Vec<u32>,
     /// Start of each bucket in `sorted`, plus one end marker (scratch).
@@ -45,6 +48,17 @@ impl SphereCollisions {
         self.contacts
     }
 }
+
+/// The 27 cells around and including a cell.
+const NEIGHBOURS: [IVec3; 27] = {
+    let mut cells = [IVec3::ZERO; 27];
+    let mut m = 0;
+    while m < 27 {
+        cells[m as usize] = IVec3::new(m % 3 - 1, (m / 3) % 3 - 1, m / 9 - 1);
+        m += 1;
+    }
+    cells
+};
 
 #[inline]
 fn hash(cell: IVec3, mask: u32) -> u32 {
@@ -76,8 +90,10 @@ impl Collider for SphereCollisions {
         let cell_of = |x: Vec3A| (x * inv_cell).floor().as_ivec3();
 
         // Counting sort of rows by bucket.
+        self.cell.clear();
+        self.cell.extend(c.position.iter().map(|x| cell_of(*x)));
         self.bucket.clear();
-        self.bucket.extend(c.position.iter().map(|x| hash(cell_of(*x), mask)));
+        self.bucket.extend(self.cell.iter().map(|cell| hash(*cell, mask)));
         self.starts.clear();
         self.starts.resize(buckets + 1, 0);
         for &b in &self.bucket {
@@ -102,29 +118,19 @@ impl Collider for SphereCollisions {
         }
 
         let e = self.material.restitution;
-        let mut neighbours = [0u32; 27];
         for i in 0..n {
-            let home = cell_of(c.position[i]);
-            let mut count = 0;
-            for dz in -1..=1 {
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        neighbours[count] = hash(home + IVec3::new(dx, dy, dz), mask);
-                        count += 1;
-                    }
-                }
-            }
-            // Distinct buckets only, so no pair is resolved twice.
-            neighbours.sort_unstable();
-            let mut previous = u32::MAX;
-            for &b in &neighbours {
-                if b == previous {
-                    continue;
-                }
-                previous = b;
-                for k in self.starts[b as usize]..self.starts[b as usize + 1] {
+            let home = self.cell[i];
+            for offset in NEIGHBOURS {
+                let cell = home + offset;
+                let b = hash(cell, mask) as usize;
+                for k in self.starts[b]..self.starts[b + 1] {
                     let j = self.sorted[k as usize] as usize;
-                    if j <= i {
+                    // Only higher rows (lower ones saw the pair already), and
+                    // not other cells sharing the bucket (hash collisions):
+                    // each pair is resolved once, in row order. (Visiting
+                    // only the 13 forward cells was 30% faster but resolved
+                    // pairs in an order that left piles twice as overlapped.)
+                    if j <= i || self.cell[j] != cell {
                         continue;
                     }
                     let d = c.position[j] - c.position[i];
