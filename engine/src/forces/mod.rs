@@ -152,9 +152,13 @@ impl System<Vec3A> for ForceField<'_> {
         for force in self.forces.iter().filter(|f| f.uniform_acceleration().is_none()) {
             force.accumulate(t, self.offset + first, x, v, inverse_mass, out);
         }
-        // Immovable particles do not accelerate (a select, not a branch).
-        for (a, &w) in out.iter_mut().zip(inverse_mass) {
-            *a = if w > 0.0 { *a } else { Vec3A::ZERO };
+        // Immovable particles do not accelerate: a select, not a branch, and
+        // only in the (rare) slices that hold one; the test is a cheap
+        // vectorised pass over the inverse masses.
+        if !inverse_mass.iter().fold(true, |all, &w| all & (w > 0.0)) {
+            for (a, &w) in out.iter_mut().zip(inverse_mass) {
+                *a = if w > 0.0 { *a } else { Vec3A::ZERO };
+            }
         }
     }
 
