@@ -1,5 +1,8 @@
 //! The `tickwork` command line and the demo binaries. Thin by design: every
-//! piece of logic a game would need lives in the engine or integrators crates.
+//! piece of logic a game would need lives in the engine or integrators
+//! crates. The integrator lab lives here because no game needs it: it is a
+//! tool for comparing methods.
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod lab;

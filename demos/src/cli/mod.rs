@@ -21,6 +21,8 @@ pub enum Command {
     Integrators(integrators::IntegratorsArgs),
     /// Run a scene headless (no window, no GPU): a CSV trace and a summary.
     Sim(sim::SimArgs),
+    /// Compare every method: convergence, energy, stability and cost plots and tables.
+    Lab(crate::lab::LabArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -30,6 +32,11 @@ pub fn run(cli: Cli) -> std::process::ExitCode {
             integrators::run(&args, &mut std::io::stdout().lock()).map_err(|e| e.to_string())
         }
         Some(Command::Sim(args)) => sim::run(&args, &mut std::io::stdout().lock()),
+        Some(Command::Lab(args)) => crate::lab::run(&args).map(|written| {
+            for file in written.files {
+                println!("wrote {}", file.display());
+            }
+        }),
         None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
             .map_err(|e| e.to_string()),
     };

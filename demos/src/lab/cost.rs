@@ -1,0 +1,31 @@
+//! Cost: error against force evaluations (work-precision), from the
+//! convergence runs.
+
+use super::convergence::Convergence;
+
+/// Force evaluations a method needs to reach `target` error, interpolated
+/// log-log between the measured runs: `Some((n, false))`; `Some((n, true))`
+/// when even the coarsest run (`n` evaluations) was already below the target,
+/// so `n` is an upper bound; `None` if no run reached it.
+#[must_use]
+pub fn evaluations_for(run: &Convergence, target: f64) -> Option<(f64, bool)> {
+    let points: Vec<(f64, f64)> = run
+        .points
+        .iter()
+        .filter(|p| p.1.is_finite() && p.1 > 0.0)
+        .map(|p| (p.2 as f64, p.1))
+        .collect();
+    if let Some(first) = points.first()
+        && first.1 <= target
+    {
+        return Some((first.0, true));
+    }
+    points
+        .windows(2)
+        .find(|w| w[0].1 > target && w[1].1 <= target)
+        .map(|w| {
+            let (e0, e1) = (w[0].1.ln(), w[1].1.ln());
+            let f = (target.ln() - e0) / (e1 - e0);
+            ((w[0].0.ln() + f * (w[1].0.ln() - w[0].0.ln())).exp(), false)
+        })
+}
