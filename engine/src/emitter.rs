@@ -4,7 +4,7 @@ use glam::{Quat, Vec3};
 use rand::RngExt;
 use rand_pcg::Pcg32;
 
-use crate::world::{Colour, Particle};
+use crate::world::{Colour, Particle, SpawnError};
 
 /// Spawns `rate` particles per second from a point, in a cone around
 /// `direction`, with the world's seeded generator (so runs are reproducible).
@@ -54,6 +54,74 @@ impl Default for Emitter {
 }
 
 impl Emitter {
+    /// Checks every setting.
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the field (`emitter.rate`, ...): non-finite
+    /// vectors, a negative or non-finite rate, speed, spread or radius, a
+    /// jitter outside `[0, 1]`, a lifetime or mass that is not above zero.
+    pub fn validate(&self) -> Result<(), SpawnError> {
+        let check = |field: &'static str, value: f32, ok: bool, expected: &'static str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(SpawnError { field, value, expected })
+            }
+        };
+        for (field, v) in [
+            ("emitter.position", self.position),
+            ("emitter.direction", self.direction),
+        ] {
+            for value in v.to_array() {
+                check(field, value, value.is_finite(), "finite coordinates")?;
+            }
+        }
+        let non_negative = |v: f32| v.is_finite() && v >= 0.0;
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        check(
+            "emitter.rate",
+            self.rate,
+            non_negative(self.rate),
+            "particles per second, finite, not negative",
+        )?;
+        check(
+            "emitter.speed",
+            self.speed,
+            non_negative(self.speed),
+            "a finite speed, not negative",
+        )?;
+        check(
+            "emitter.spread",
+            self.spread,
+            non_negative(self.spread),
+            "a finite angle, not negative",
+        )?;
+        check(
+            "emitter.speed_jitter",
+            self.speed_jitter,
+            (0.0..=1.0).contains(&self.speed_jitter),
+            "0 to 1",
+        )?;
+        check(
+            "emitter.lifetime",
+            self.lifetime,
+            positive(self.lifetime),
+            "finite seconds above zero",
+        )?;
+        check(
+            "emitter.mass",
+            self.mass,
+            positive(self.mass),
+            "a finite mass above zero",
+        )?;
+        check(
+            "emitter.radius",
+            self.radius,
+            non_negative(self.radius),
+            "a finite radius, not negative",
+        )
+    }
+
     /// The particles due in a step of `dt`: `rate * dt` plus what was owed,
     /// rounded down; the remainder is owed to the next step.
     pub(crate) fn due(&mut self, dt: f32) -> u32 {

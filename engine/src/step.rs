@@ -64,6 +64,15 @@ pub enum SimulationError {
         /// What the method said.
         error: StepError,
     },
+    /// An emitter's settings are invalid (changed through `emitters_mut`).
+    Emitter {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        index: usize,
+        /// The invalid setting.
+        error: crate::world::SpawnError,
+    },
     /// A position or velocity became NaN or infinite (an explosion: a step too
     /// large for the method's stability, or a force that divides by zero).
     NonFinite {
@@ -82,6 +91,7 @@ impl fmt::Display for SimulationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Integrator { tick, error } => write!(f, "step {tick}: {error}"),
+            Self::Emitter { tick, index, error } => write!(f, "step {tick}: emitter {index}: {error}"),
             Self::NonFinite {
                 tick,
                 entity,
@@ -234,7 +244,7 @@ impl World {
         self.integrate(t, dt, tick, &mut report)?;
         self.step_rigid_bodies(t, dt, tick)?;
         self.expire(&mut report);
-        self.emit(dt);
+        self.emit(dt, tick)?;
         let (spawned, despawned) = self.apply_queued();
         self.tick = tick + 1;
         self.time = step.time + step.dt;
@@ -426,17 +436,19 @@ impl World {
         }
     }
 
-    fn emit(&mut self, dt: f32) {
+    fn emit(&mut self, dt: f32, tick: u64) -> Result<(), SimulationError> {
         for k in 0..self.emitters.len() {
+            // Checked here too: `emitters_mut` lets a game change settings.
+            self.emitters[k]
+                .validate()
+                .map_err(|error| SimulationError::Emitter { tick, index: k, error })?;
             let due = self.emitters[k].due(dt);
             for _ in 0..due {
                 let particle = self.emitters[k].particle(&mut self.rng);
-                // Emitter particles are valid by construction (finite, positive mass).
-                if particle.validate().is_ok() {
-                    let entity = self.entities.reserve();
-                    self.queue.push(crate::world::Command::Spawn(entity, particle));
-                }
+                let entity = self.entities.reserve();
+                self.queue.push(crate::world::Command::Spawn(entity, particle));
             }
         }
+        Ok(())
     }
 }

@@ -37,7 +37,8 @@ fn scene(threads_threshold: usize) -> (World, Entity) {
         rate: 3000.0,
         lifetime: 1.5,
         ..Emitter::default()
-    });
+    })
+    .expect("valid emitter");
     let player = w.spawn(Particle {
         position: Vec3::new(0.0, 1.0, 0.0),
         radius: 0.2,

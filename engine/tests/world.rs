@@ -357,7 +357,8 @@ fn snapshot_and_restore_reproduce_the_run_bit_for_bit() {
     w.add_emitter(tickwork_engine::Emitter {
         rate: 120.0,
         ..Default::default()
-    });
+    })
+    .expect("valid emitter");
     for tick in 0..30 {
         w.step(step_at(tick, 0.01)).expect("step");
     }
@@ -418,4 +419,35 @@ fn switching_integrators_at_run_time_bootstraps_history_afresh() {
         .map(|tick| w.step(step_at(tick, 0.01)).expect("step").evaluations)
         .collect();
     assert_eq!(evaluations, vec![4, 4, 4, 1, 1, 1]);
+}
+
+#[test]
+fn invalid_emitters_are_refused_by_name() {
+    let mut w = World::default();
+    let err = w
+        .add_emitter(tickwork_engine::Emitter {
+            rate: -5.0,
+            ..Default::default()
+        })
+        .expect_err("negative rate");
+    assert_eq!(
+        err.to_string(),
+        "invalid particle emitter.rate: -5 (expected particles per second, finite, not negative)"
+    );
+    let err = w
+        .add_emitter(tickwork_engine::Emitter {
+            mass: 0.0,
+            ..Default::default()
+        })
+        .expect_err("zero mass");
+    assert_eq!(err.field, "emitter.mass");
+    w.add_emitter(tickwork_engine::Emitter::default()).expect("valid");
+    // Broken later through emitters_mut: the step says which emitter.
+    w.emitters_mut()[0].lifetime = f32::NAN;
+    let err = w.step(step_at(0, 0.01)).expect_err("invalid emitter");
+    assert!(
+        err.to_string()
+            .starts_with("step 0: emitter 0: invalid particle emitter.lifetime: NaN"),
+        "{err}"
+    );
 }

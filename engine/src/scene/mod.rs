@@ -184,8 +184,8 @@ impl Scene {
                 .spawn_rigid(body)
                 .map_err(|e| self.error(&format!("rigid_bodies[{k}]"), e.to_string()))?;
         }
-        for e in &s.emitters {
-            world.add_emitter(Emitter {
+        for (k, e) in s.emitters.iter().enumerate() {
+            let emitter = Emitter {
                 position: e.position.into(),
                 direction: e.direction.into(),
                 spread: e.spread_degrees.0.to_radians(),
@@ -197,7 +197,10 @@ impl Scene {
                 radius: e.radius.0,
                 mass: e.mass.0,
                 owed: 0.0,
-            });
+            };
+            world
+                .add_emitter(emitter)
+                .map_err(|e| self.error(&format!("emitters[{k}]"), e.to_string()))?;
         }
         let mut springs = Springs::default();
         let end = |e: EndSpec| match e {

@@ -619,11 +619,17 @@ impl World {
     }
 
     /// Adds an emitter.
-    pub fn add_emitter(&mut self, emitter: Emitter) {
+    ///
+    /// # Errors
+    /// [`SpawnError`] naming the invalid setting; nothing is added.
+    pub fn add_emitter(&mut self, emitter: Emitter) -> Result<(), SpawnError> {
+        emitter.validate()?;
         self.emitters.push(emitter);
+        Ok(())
     }
 
-    /// The emitters, to move or change.
+    /// The emitters, to move or change (particles from an emitter changed to
+    /// an invalid setting are refused at the step with an error).
     pub fn emitters_mut(&mut self) -> &mut Vec<Emitter> {
         &mut self.emitters
     }
