@@ -31,6 +31,7 @@ fn every_shipped_scene_loads_builds_and_steps() {
         names,
         [
             "bouncing ball",
+            "crowd",
             "fountain",
             "kepler",
             "pendulum chain",
