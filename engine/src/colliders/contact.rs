@@ -33,8 +33,14 @@ pub(crate) fn resolve(x: &mut Vec3A, v: &mut Vec3A, n: Vec3A, gap: f32, movable:
     let vn = v.dot(n);
     let vt = *v - n * vn;
     let dvn = -(1.0 + material.restitution) * vn.min(0.0);
-    let speed_t = vt.length();
-    let keep_t = (1.0 - material.friction * dvn / speed_t.max(f32::MIN_POSITIVE)).max(0.0);
+    let speed2 = vt.length_squared();
+    let brake = material.friction * dvn;
+    // Friction stops the sliding outright when mu dvn >= |v_t|.
+    let keep_t = if brake * brake >= speed2 {
+        0.0
+    } else {
+        (1.0 - brake / speed2.sqrt().max(f32::MIN_POSITIVE)).max(0.0)
+    };
     let v_after = vt * keep_t + n * (vn + dvn);
     let x_after = *x - n * gap;
     let hit = BVec3A::splat(gap < 0.0 && movable);

@@ -89,11 +89,21 @@ impl Plane {
         let vn = vc[AXIS] * s;
         let dvn = Vec4::splat(-(1.0 + self.material.restitution)) * vn.min(Vec4::ZERO);
         let (t1, t2) = ((AXIS + 1) % 3, (AXIS + 2) % 3);
-        let speed = (vc[t1] * vc[t1] + vc[t2] * vc[t2])
-            .sqrt()
-            .max(Vec4::splat(f32::MIN_POSITIVE));
-        let keep = (Vec4::ONE - Vec4::splat(self.material.friction) * dvn / speed).max(Vec4::ZERO);
+        let speed2 = vc[t1] * vc[t1] + vc[t2] * vc[t2];
+        let brake = Vec4::splat(self.material.friction) * dvn;
+        // Friction stops the sliding when mu dvn >= |v_t|: the tangential
+        // velocity becomes 0, as in `resolve`. Only where a contact slides on
+        // is the factor 1 - mu dvn / |v_t| needed, with its square root and
+        // division; resting and free-flying particles skip them (the test is
+        // per block of four, and each lane's result does not depend on it).
+        let stops = (brake * brake).cmpge(speed2);
         let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+        let keep = if (hit & !stops).any() {
+            let speed = speed2.sqrt().max(Vec4::splat(f32::MIN_POSITIVE));
+            Vec4::select(stops, Vec4::ZERO, (Vec4::ONE - brake / speed).max(Vec4::ZERO))
+        } else {
+            Vec4::ZERO
+        };
         vc[t1] = Vec4::select(hit, vc[t1] * keep, vc[t1]);
         vc[t2] = Vec4::select(hit, vc[t2] * keep, vc[t2]);
         vc[AXIS] = Vec4::select(hit, (vn + dvn) * s, vc[AXIS]);
