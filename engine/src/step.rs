@@ -190,14 +190,13 @@ fn step_lane(
 #[inline(never)]
 fn warm(c: &LaneColumns<'_>, r: core::ops::Range<usize>) {
     let mut sink = 0.0f32;
-    let mut i = r.start;
-    while i < r.end {
-        // 4 Vec3A or 16 f32 per 64-byte line.
+    // A 64-byte line holds 4 `Vec3A`s or 16 `f32`s; all seven columns are
+    // touched in the same loop (measured faster than one loop per kind).
+    for i in r.clone().step_by(4) {
         sink += c.x[i].x + c.v[i].x + c.previous[i].x;
-        if (i - r.start) % 16 == 0 {
+        if (i - r.start) & 15 == 0 {
             sink += c.age[i] + c.lifetime[i] + c.radius[i] + c.inverse_mass[i];
         }
-        i += 4;
     }
     core::hint::black_box(sink);
 }
