@@ -413,3 +413,38 @@ fn particle_slides_down_an_inclined_plane_at_g_sin_theta() {
     );
     assert!(v.dot(normal).abs() < 1e-3);
 }
+
+#[test]
+fn sphere_collisions_work_on_the_hashed_grid_for_far_apart_particles() {
+    // Two head-on pairs 10 km apart: the bounding box holds far more than
+    // eight cells per particle, so the grid is hashed instead of dense.
+    let mut w = world("semi_implicit_euler");
+    w.add_collider(SphereCollisions::new(Material {
+        restitution: 1.0,
+        friction: 0.0,
+    }));
+    let mut pairs = Vec::new();
+    for offset in [Vec3::ZERO, Vec3::new(10_000.0, 0.0, 0.0)] {
+        let a = Particle {
+            position: offset - Vec3::X,
+            velocity: Vec3::X,
+            radius: 0.25,
+            ..Particle::default()
+        };
+        let b = Particle {
+            position: offset + Vec3::X,
+            velocity: -Vec3::X,
+            mass: 3.0,
+            radius: 0.25,
+            ..Particle::default()
+        };
+        pairs.push((w.spawn(a).expect("spawn"), w.spawn(b).expect("spawn")));
+    }
+    for tick in 0..200 {
+        w.step(step_at(tick, 0.01)).expect("step");
+    }
+    for (a, b) in pairs {
+        let (va, vb) = (w.velocity(a).expect("alive"), w.velocity(b).expect("alive"));
+        assert!((va.x + 2.0).abs() < 1e-5 && vb.x.abs() < 1e-5, "{va} {vb}");
+    }
+}

@@ -2,17 +2,27 @@
 //!
 //! Each step the particles are bucketed by grid cell (cell size = the largest
 //! diameter, so touching spheres are in the same or adjacent cells) with a
-//! counting sort into a hashed table of `2^k >= 2 n` buckets. Each particle
-//! then tests the particles of higher row in the 27 cells around it, so
-//! every touching pair is found exactly once. Contacts
-//! are resolved one pair at a time in row order (Gauss-Seidel), which is
-//! deterministic: the same state always gives the same result. The cost is
-//! O(n) for evenly spread particles, so 100k particles stay practical.
+//! counting sort, and their positions, velocities, radii and inverse masses
+//! are gathered in that order, so neighbours sit next to each other in
+//! memory. When the particles' bounding box holds at most [`DENSE_CELLS`]
+//! cells per particle the grid is dense: cells are numbered `x + nx (y + ny
+//! z)`, so the three cells along x of each neighbouring row are one
+//! contiguous range, and a particle's neighbourhood is nine ranges. Otherwise
+//! (a few particles spread far apart) the cells are hashed into `2^k >= 2 n`
+//! buckets and the 27 neighbouring buckets are checked cell by cell.
+//!
+//! Pairs are found once (the partner comes later in the sorted order) and
+//! resolved one at a time in that order (Gauss-Seidel), then scattered back
+//! to the rows. The same state always gives the same result. The cost is O(n)
+//! for evenly spread particles.
 
 use glam::{IVec3, Vec3A};
 
 use super::contact::Material;
 use super::{Collider, ContactColumns};
+
+/// Largest number of grid cells per particle for which the grid is dense.
+pub const DENSE_CELLS: usize = 8;
 
 /// Sphere-sphere collisions with restitution, positions separated in
 /// proportion to inverse mass and an impulse along the line of centres.
@@ -20,14 +30,17 @@ use super::{Collider, ContactColumns};
 pub struct SphereCollisions {
     /// Bounce between particles (friction is not used between particles).
     pub material: Material,
-    /// Bucket of each particle (scratch, reused).
-    bucket: Vec<u32>,
-    /// Grid cell of each particle (scratch), to skip hash collisions.
+    /// Scratch, reused every step: grid cell and key of each row, rows in
+    /// key order, the start of each key's run, and the gathered columns.
     cell: Vec<IVec3>,
-    /// Row order sorted by bucket (scratch).
+    key: Vec<u32>,
     sorted: Vec<u32>,
-    /// Start of each bucket in `sorted`, plus one end marker (scratch).
     starts: Vec<u32>,
+    position: Vec<Vec3A>,
+    velocity: Vec<Vec3A>,
+    radius: Vec<f32>,
+    inverse_mass: Vec<f32>,
+    sorted_cell: Vec<IVec3>,
     /// Number of contacts resolved in the last step.
     contacts: usize,
 }
@@ -46,6 +59,72 @@ impl SphereCollisions {
     #[must_use]
     pub fn contacts(&self) -> usize {
         self.contacts
+    }
+
+    /// Counting sort of the rows by `key` (stable: equal keys keep row order),
+    /// then gathers the columns in that order.
+    fn sort_and_gather(&mut self, keys: usize, c: &ContactColumns<'_>) {
+        let n = self.key.len();
+        self.starts.clear();
+        self.starts.resize(keys + 1, 0);
+        for &k in &self.key {
+            self.starts[k as usize + 1] += 1;
+        }
+        for i in 0..keys {
+            self.starts[i + 1] += self.starts[i];
+        }
+        self.sorted.clear();
+        self.sorted.resize(n, 0);
+        // Fill using the starts as cursors, then shift them back.
+        for (row, &k) in self.key.iter().enumerate() {
+            let slot = &mut self.starts[k as usize];
+            self.sorted[*slot as usize] = row as u32;
+            *slot += 1;
+        }
+        for i in (1..=keys).rev() {
+            self.starts[i] = self.starts[i - 1];
+        }
+        self.starts[0] = 0;
+        let rows = &self.sorted;
+        self.position.clear();
+        self.position.extend(rows.iter().map(|&r| c.position[r as usize]));
+        self.velocity.clear();
+        self.velocity.extend(rows.iter().map(|&r| c.velocity[r as usize]));
+        self.radius.clear();
+        self.radius.extend(rows.iter().map(|&r| c.radius[r as usize]));
+        self.inverse_mass.clear();
+        self.inverse_mass
+            .extend(rows.iter().map(|&r| c.inverse_mass[r as usize]));
+        self.sorted_cell.clear();
+        self.sorted_cell.extend(rows.iter().map(|&r| self.cell[r as usize]));
+    }
+
+    /// Resolves the contact of sorted particles `i` and `j`, if they touch.
+    #[inline]
+    fn pair(&mut self, i: usize, j: usize) {
+        let d = self.position[j] - self.position[i];
+        let reach = self.radius[i] + self.radius[j];
+        let dist2 = d.length_squared();
+        if dist2 >= reach * reach || dist2 == 0.0 {
+            return;
+        }
+        let (wi, wj) = (self.inverse_mass[i], self.inverse_mass[j]);
+        let w = wi + wj;
+        if w == 0.0 {
+            return;
+        }
+        self.contacts += 1;
+        let dist = dist2.sqrt();
+        let normal = d / dist;
+        let push = normal * ((reach - dist) / w);
+        self.position[i] -= push * wi;
+        self.position[j] += push * wj;
+        let vn = (self.velocity[j] - self.velocity[i]).dot(normal);
+        if vn < 0.0 {
+            let impulse = normal * (-(1.0 + self.material.restitution) * vn / w);
+            self.velocity[i] -= impulse * wi;
+            self.velocity[j] += impulse * wj;
+        }
     }
 }
 
@@ -83,78 +162,81 @@ impl Collider for SphereCollisions {
         if n < 2 || max_radius <= 0.0 {
             return;
         }
-        let cell_size = 2.0 * max_radius;
-        let inv_cell = 1.0 / cell_size;
+        let inv_cell = 1.0 / (2.0 * max_radius);
+        self.cell.clear();
+        self.cell
+            .extend(c.position.iter().map(|x| (*x * inv_cell).floor().as_ivec3()));
+        let (lo, hi) = self
+            .cell
+            .iter()
+            .fold((IVec3::MAX, IVec3::MIN), |(lo, hi), c| (lo.min(*c), hi.max(*c)));
+        let size = (hi - lo + IVec3::ONE).as_i64vec3();
+        let cells = size.x.saturating_mul(size.y).saturating_mul(size.z);
+        if cells <= (DENSE_CELLS * n) as i64 {
+            self.resolve_dense(&c, lo, size.as_ivec3());
+        } else {
+            self.resolve_hashed(&c);
+        }
+        for (k, &row) in self.sorted.iter().enumerate() {
+            c.position[row as usize] = self.position[k];
+            c.velocity[row as usize] = self.velocity[k];
+        }
+    }
+}
+
+impl SphereCollisions {
+    fn resolve_dense(&mut self, c: &ContactColumns<'_>, lo: IVec3, size: IVec3) {
+        let index = |cell: IVec3| {
+            let r = cell - lo;
+            ((r.z * size.y + r.y) * size.x + r.x) as u32
+        };
+        self.key.clear();
+        self.key.extend(self.cell.iter().map(|cell| index(*cell)));
+        let keys = (size.x * size.y * size.z) as usize;
+        self.sort_and_gather(keys, c);
+        for i in 0..self.position.len() {
+            let home = self.sorted_cell[i];
+            let (x0, x1) = ((home.x - 1).max(lo.x), (home.x + 1).min(lo.x + size.x - 1));
+            for dz in -1..=1 {
+                let z = home.z + dz;
+                if z < lo.z || z >= lo.z + size.z {
+                    continue;
+                }
+                for dy in -1..=1 {
+                    let y = home.y + dy;
+                    if y < lo.y || y >= lo.y + size.y {
+                        continue;
+                    }
+                    // Cells x0..=x1 of this row are consecutive keys.
+                    let first = self.starts[index(IVec3::new(x0, y, z)) as usize] as usize;
+                    let end = self.starts[index(IVec3::new(x1, y, z)) as usize + 1] as usize;
+                    for j in first.max(i + 1)..end {
+                        self.pair(i, j);
+                    }
+                }
+            }
+        }
+    }
+
+    fn resolve_hashed(&mut self, c: &ContactColumns<'_>) {
+        let n = c.position.len();
         let buckets = (2 * n).next_power_of_two();
         let mask = (buckets - 1) as u32;
-        let cell_of = |x: Vec3A| (x * inv_cell).floor().as_ivec3();
-
-        // Counting sort of rows by bucket.
-        self.cell.clear();
-        self.cell.extend(c.position.iter().map(|x| cell_of(*x)));
-        self.bucket.clear();
-        self.bucket.extend(self.cell.iter().map(|cell| hash(*cell, mask)));
-        self.starts.clear();
-        self.starts.resize(buckets + 1, 0);
-        for &b in &self.bucket {
-            self.starts[b as usize + 1] += 1;
-        }
-        for i in 0..buckets {
-            self.starts[i + 1] += self.starts[i];
-        }
-        self.sorted.clear();
-        self.sorted.resize(n, 0);
-        {
-            // Fill using the starts as cursors, then restore them.
-            for (row, &b) in self.bucket.iter().enumerate() {
-                let slot = &mut self.starts[b as usize];
-                self.sorted[*slot as usize] = row as u32;
-                *slot += 1;
-            }
-            for i in (1..=buckets).rev() {
-                self.starts[i] = self.starts[i - 1];
-            }
-            self.starts[0] = 0;
-        }
-
-        let e = self.material.restitution;
+        self.key.clear();
+        self.key.extend(self.cell.iter().map(|cell| hash(*cell, mask)));
+        self.sort_and_gather(buckets, c);
         for i in 0..n {
-            let home = self.cell[i];
+            let home = self.sorted_cell[i];
             for offset in NEIGHBOURS {
                 let cell = home + offset;
                 let b = hash(cell, mask) as usize;
-                for k in self.starts[b]..self.starts[b + 1] {
-                    let j = self.sorted[k as usize] as usize;
-                    // Only higher rows (lower ones saw the pair already), and
-                    // not other cells sharing the bucket (hash collisions):
-                    // each pair is resolved once, in row order. (Visiting
-                    // only the 13 forward cells was 30% faster but resolved
-                    // pairs in an order that left piles twice as overlapped.)
-                    if j <= i || self.cell[j] != cell {
-                        continue;
-                    }
-                    let d = c.position[j] - c.position[i];
-                    let reach = c.radius[i] + c.radius[j];
-                    let dist2 = d.length_squared();
-                    if dist2 >= reach * reach || dist2 == 0.0 {
-                        continue;
-                    }
-                    let (wi, wj) = (c.inverse_mass[i], c.inverse_mass[j]);
-                    let w = wi + wj;
-                    if w == 0.0 {
-                        continue;
-                    }
-                    self.contacts += 1;
-                    let dist = dist2.sqrt();
-                    let normal = d / dist;
-                    let push = normal * ((reach - dist) / w);
-                    c.position[i] -= push * wi;
-                    c.position[j] += push * wj;
-                    let vn = (c.velocity[j] - c.velocity[i]).dot(normal);
-                    if vn < 0.0 {
-                        let impulse = normal * (-(1.0 + e) * vn / w);
-                        c.velocity[i] -= impulse * wi;
-                        c.velocity[j] += impulse * wj;
+                let (first, end) = (self.starts[b] as usize, self.starts[b + 1] as usize);
+                for j in first.max(i + 1)..end {
+                    // Other cells share the bucket (hash collisions); and a
+                    // bucket shared by two neighbouring cells is visited
+                    // twice, but each partner belongs to one cell only.
+                    if self.sorted_cell[j] == cell {
+                        self.pair(i, j);
                     }
                 }
             }
