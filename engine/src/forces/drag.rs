@@ -22,6 +22,10 @@ impl Force for LinearDrag {
         self.rate
     }
 
+    fn affine_in_velocity(&self) -> Option<(Vec3A, f32)> {
+        Some((Vec3A::ZERO, self.rate))
+    }
+
     fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
         for (a, v) in out.iter_mut().zip(v) {
             *a -= *v * self.rate;

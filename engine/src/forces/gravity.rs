@@ -23,8 +23,8 @@ impl Force for Gravity {
         "gravity"
     }
 
-    fn uniform_acceleration(&self) -> Option<Vec3A> {
-        Some(self.acceleration.into())
+    fn affine_in_velocity(&self) -> Option<(Vec3A, f32)> {
+        Some((self.acceleration.into(), 0.0))
     }
 
     fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], _v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {

@@ -49,10 +49,11 @@ pub trait Force: Send + Sync + fmt::Debug + ForceState {
         0.0
     }
 
-    /// The acceleration when it is the same for every particle (gravity), so
-    /// the force field can start from it instead of adding it in a pass of
-    /// its own (default: `None`).
-    fn uniform_acceleration(&self) -> Option<Vec3A> {
+    /// `Some((c, b))` when the acceleration is exactly `a = c - b v` for
+    /// constants `c` and `b` (gravity, linear drag, wind), so the force field
+    /// can sum all such forces into one pass `a = sum c - (sum b) v` instead
+    /// of one pass each (default: `None`).
+    fn affine_in_velocity(&self) -> Option<(Vec3A, f32)> {
         None
     }
 
@@ -124,8 +125,9 @@ pub(crate) struct ForceField<'a> {
     pub offset: usize,
     pub pointwise: bool,
     pub drag: f32,
-    /// Sum of the uniform accelerations, the starting value of every particle's.
-    pub uniform: Vec3A,
+    /// Sum of the affine forces' `c` and `b`: every particle starts from
+    /// `c - b v`.
+    pub affine: (Vec3A, f32),
 }
 
 impl<'a> ForceField<'a> {
@@ -136,7 +138,10 @@ impl<'a> ForceField<'a> {
             offset,
             pointwise: forces.iter().all(|f| f.is_pointwise()),
             drag: forces.iter().map(|f| f.linear_drag()).sum(),
-            uniform: forces.iter().filter_map(|f| f.uniform_acceleration()).sum(),
+            affine: forces
+                .iter()
+                .filter_map(|f| f.affine_in_velocity())
+                .fold((Vec3A::ZERO, 0.0), |(c, b), (ci, bi)| (c + ci, b + bi)),
         }
     }
 }
@@ -148,8 +153,15 @@ impl System<Vec3A> for ForceField<'_> {
 
     fn acceleration_range(&mut self, t: f32, first: usize, x: &[Vec3A], v: &[Vec3A], out: &mut [Vec3A]) {
         let inverse_mass = &self.inverse_mass[first..first + out.len()];
-        out.fill(self.uniform);
-        for force in self.forces.iter().filter(|f| f.uniform_acceleration().is_none()) {
+        let (c, b) = self.affine;
+        if b == 0.0 {
+            out.fill(c);
+        } else {
+            for (a, v) in out.iter_mut().zip(v) {
+                *a = c - *v * b;
+            }
+        }
+        for force in self.forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
             force.accumulate(t, self.offset + first, x, v, inverse_mass, out);
         }
         // Immovable particles do not accelerate: a select, not a branch, and

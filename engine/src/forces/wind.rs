@@ -24,6 +24,10 @@ impl Force for Wind {
         self.rate
     }
 
+    fn affine_in_velocity(&self) -> Option<(Vec3A, f32)> {
+        Some((Vec3A::from(self.velocity) * self.rate, self.rate))
+    }
+
     fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
         let w = Vec3A::from(self.velocity);
         for (a, v) in out.iter_mut().zip(v) {
