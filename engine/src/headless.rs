@@ -50,7 +50,11 @@ impl<W: Write> TraceWriter<W> {
                 v.y,
                 v.z
             )?;
-            match r.owner.iter().position(|&o| o as usize == row) {
+            match r
+                .orientation
+                .get(p.rigid_row[row] as usize)
+                .map(|_| p.rigid_row[row] as usize)
+            {
                 Some(k) => {
                     let (q, w) = (r.orientation[k], r.angular_velocity[k]);
                     writeln!(self.out, ",{},{},{},{},{},{},{}", q.x, q.y, q.z, q.w, w.x, w.y, w.z)?;
