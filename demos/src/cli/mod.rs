@@ -7,7 +7,12 @@ use clap::{Parser, Subcommand};
 
 /// Tickwork: a fixed-timestep game loop with verified numerical integrators.
 #[derive(Debug, Parser)]
-#[command(name = "tickwork", version, about, long_about = None)]
+#[command(
+    name = "tickwork",
+    version,
+    about = "Tickwork: a fixed-timestep game loop with verified, comparable numerical integrators.",
+    long_about = None
+)]
 pub struct Cli {
     /// What to do (default: list the integrators).
     #[command(subcommand)]
