@@ -451,3 +451,53 @@ fn invalid_emitters_are_refused_by_name() {
         "{err}"
     );
 }
+
+#[test]
+fn rigid_bodies_follow_their_entities_through_despawns() {
+    use glam::Quat;
+    let mut w = World::default();
+    let mut bodies = Vec::new();
+    for k in 0..4 {
+        w.spawn(Particle {
+            position: Vec3::new(k as f32, -5.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("spawn");
+        let body = RigidBody {
+            particle: Particle {
+                position: Vec3::new(k as f32, 5.0, 0.0),
+                ..Particle::default()
+            },
+            orientation: Quat::from_rotation_z(0.1 * (k + 1) as f32),
+            ..RigidBody::default()
+        };
+        bodies.push((w.spawn_rigid(body).expect("spawn"), k));
+    }
+    // Remove a plain particle, a middle body and the first body.
+    let plain = w.entities().rows()[0];
+    w.despawn(plain).expect("alive");
+    w.despawn(bodies[1].0).expect("alive");
+    w.despawn(bodies[0].0).expect("alive");
+    assert_eq!(w.rigid_bodies().len(), 2);
+    for &(entity, k) in &bodies[2..] {
+        let expected = Quat::from_rotation_z(0.1 * (k + 1) as f32);
+        assert!(
+            w.orientation(entity).expect("alive").abs_diff_eq(expected, 1e-6),
+            "body {k}"
+        );
+        assert_eq!(w.position(entity).expect("alive"), Vec3::new(k as f32, 5.0, 0.0));
+        let row = w.row(entity).expect("alive");
+        let r = w.rigid_bodies();
+        let slot = r.owner.iter().position(|&o| o as usize == row).expect("owned");
+        assert!(r.orientation[slot].abs_diff_eq(expected, 1e-6));
+    }
+    // Plain particles report the identity orientation.
+    let plain_row = w
+        .entities()
+        .rows()
+        .iter()
+        .copied()
+        .find(|e| !bodies.iter().any(|b| b.0 == *e))
+        .expect("one");
+    assert_eq!(w.orientation(plain_row), Ok(Quat::IDENTITY));
+}
