@@ -50,13 +50,10 @@ impl<W: Write> TraceWriter<W> {
                 v.y,
                 v.z
             )?;
-            match r
-                .orientation
-                .get(p.rigid_row[row] as usize)
-                .map(|_| p.rigid_row[row] as usize)
-            {
-                Some(k) => {
-                    let (q, w) = (r.orientation[k], r.angular_velocity[k]);
+            // u32::MAX (a plain particle) is out of range: no rigid columns.
+            let body = p.rigid_row[row] as usize;
+            match r.orientation.get(body).zip(r.angular_velocity.get(body)) {
+                Some((q, w)) => {
                     writeln!(self.out, ",{},{},{},{},{},{},{}", q.x, q.y, q.z, q.w, w.x, w.y, w.z)?;
                 }
                 None => writeln!(self.out, ",,,,,,,")?,

@@ -168,16 +168,9 @@ fn step_lane(
                 inverse_mass: &c.inverse_mass[r.clone()],
             });
         }
-        let (age, lifetime) = (&mut c.age[r.clone()], &c.lifetime[r.clone()]);
-        if age_and_find_expired(age, lifetime, dt) {
-            for (i, (age, &lifetime)) in age.iter().zip(lifetime).enumerate() {
-                if *age >= lifetime {
-                    expired.push((offset + start + i) as u32);
-                }
-            }
-        }
-        if outcome.first_bad.is_none() && !all_finite(x, v) {
-            outcome.first_bad = first_non_finite(x, v).map(|i| offset + start + i);
+        age_and_collect_expired(&mut c.age[r.clone()], &c.lifetime[r], dt, offset + start, expired);
+        if outcome.first_bad.is_none() {
+            outcome.first_bad = first_non_finite(x, v, offset + start);
         }
         start = end;
     }
@@ -201,31 +194,43 @@ fn warm(c: &LaneColumns<'_>, r: core::ops::Range<usize>) {
     core::hint::black_box(sink);
 }
 
-/// `age += dt` for every particle; whether any reached its lifetime. One
-/// branch-free pass the compiler vectorises; the rare expiry is found after.
-fn age_and_find_expired(age: &mut [f32], lifetime: &[f32], dt: f32) -> bool {
+/// `age += dt` for every particle, then the rows (numbered from `first_row`)
+/// whose lifetime ran out are added to `expired`. The ageing is one
+/// branch-free pass the compiler vectorises; the rare expiry is looked for
+/// only when that pass saw one.
+fn age_and_collect_expired(age: &mut [f32], lifetime: &[f32], dt: f32, first_row: usize, expired: &mut Vec<u32>) {
     let mut any = false;
     for (age, &lifetime) in age.iter_mut().zip(lifetime) {
         *age += dt;
         any |= *age >= lifetime;
     }
-    any
+    if any {
+        for (i, (age, &lifetime)) in age.iter().zip(lifetime).enumerate() {
+            if *age >= lifetime {
+                expired.push((first_row + i) as u32);
+            }
+        }
+    }
 }
 
-/// Whether every component is finite: `0 * c` is 0 for a finite `c` and NaN
-/// for infinities and NaNs, and NaN compares unequal to 0. The per-particle
-/// masks are combined with an integer AND, whose one-cycle dependency chain
-/// (unlike a floating-point sum's) does not hold the loop back.
-fn all_finite(x: &[Vec3A], v: &[Vec3A]) -> bool {
+/// The row (numbered from `first_row`) of the first particle with a
+/// non-finite position or velocity. The common all-finite case is one pass:
+/// `0 * c` is 0 for a finite `c` and NaN for infinities and NaNs, and NaN
+/// compares unequal to 0; the per-particle masks are combined with an integer
+/// AND, whose one-cycle dependency chain (unlike a floating-point sum's) does
+/// not hold the loop back.
+fn first_non_finite(x: &[Vec3A], v: &[Vec3A], first_row: usize) -> Option<usize> {
     let mut ok = 0b111;
     for (x, v) in x.iter().zip(v) {
         ok &= (*x * 0.0 + *v * 0.0).cmpeq(Vec3A::ZERO).bitmask();
     }
-    ok == 0b111
-}
-
-fn first_non_finite(x: &[Vec3A], v: &[Vec3A]) -> Option<usize> {
-    x.iter().zip(v).position(|(x, v)| !x.is_finite() || !v.is_finite())
+    if ok == 0b111 {
+        return None;
+    }
+    x.iter()
+        .zip(v)
+        .position(|(x, v)| !x.is_finite() || !v.is_finite())
+        .map(|i| first_row + i)
 }
 
 impl World {
@@ -376,15 +381,10 @@ impl World {
                     inverse_mass: &p.inverse_mass,
                 });
             }
-            for (row, (age, &lifetime)) in p.age.iter_mut().zip(&p.lifetime).enumerate() {
-                *age += dt;
-                if *age >= lifetime {
-                    self.expired_rows.push(row as u32);
-                }
-            }
+            age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
             LaneOutcome {
                 evaluations: stats.evaluations,
-                first_bad: first_non_finite(&p.position, &p.velocity),
+                first_bad: first_non_finite(&p.position, &p.velocity, 0),
             }
         };
         report.evaluations = outcome.evaluations;

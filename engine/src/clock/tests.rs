@@ -83,7 +83,7 @@ fn fixed_steps_report_ticks_and_times() {
 fn bad_frame_durations_are_errors_and_change_nothing() {
     let mut c = FixedClock::default();
     c.advance(0.01).expect("frame");
-    let before = c.clone().backlog();
+    let before = c.backlog();
     for bad in [-0.001, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         let err = c.advance(bad).expect_err("rejected");
         assert!(matches!(err, ClockError::InvalidFrameTime { value } if value.to_bits() == bad.to_bits()));
