@@ -36,6 +36,8 @@ pub mod energy;
 pub mod forces;
 pub mod headless;
 pub mod input;
+#[cfg(feature = "render")]
+pub mod render;
 pub mod scene;
 mod step;
 pub mod world;

@@ -271,6 +271,7 @@ impl World {
         let (spawned, despawned) = self.apply_queued();
         self.tick = tick + 1;
         self.time = step.time + step.dt;
+        self.revision += 1;
         systems(self, &step);
         let (spawned_by_game, despawned_by_game) = self.apply_queued();
         report.spawned = spawned + spawned_by_game;

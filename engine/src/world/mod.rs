@@ -167,6 +167,11 @@ pub struct World {
     pub(crate) tick: u64,
     pub(crate) time: f64,
     pub(crate) config: WorldConfig,
+    /// Unique per world value (clones get their own), with `revision`
+    /// telling renderers whether their copy of the columns is current.
+    id: u64,
+    /// Counts changes to the particle and rigid-body columns.
+    pub(crate) revision: u64,
     // Scratch reused by every step.
     pub(crate) lanes: Vec<Lane>,
     pub(crate) expired_rows: Vec<u32>,
@@ -190,6 +195,8 @@ impl Clone for World {
             tick: self.tick,
             time: self.time,
             config: self.config.clone(),
+            id: next_world_id(),
+            revision: 0,
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
@@ -219,7 +226,14 @@ impl Clone for World {
         self.tick = source.tick;
         self.time = source.time;
         self.config.clone_from(&source.config);
+        self.revision += 1;
     }
+}
+
+/// A process-wide unique world id.
+fn next_world_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl fmt::Debug for World {
@@ -281,6 +295,8 @@ impl World {
             tick: 0,
             time: 0.0,
             config,
+            id: next_world_id(),
+            revision: 0,
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
@@ -313,6 +329,7 @@ impl World {
 
     fn bind(&mut self, entity: Entity, particle: &Particle) -> usize {
         let row = self.entities.bind(entity);
+        self.revision += 1;
         self.particles.push(particle);
         self.columns.push_defaults();
         row
@@ -331,6 +348,7 @@ impl World {
     /// [`EntityError`] for a handle that names no live entity.
     pub fn despawn(&mut self, entity: Entity) -> Result<(), EntityError> {
         let row = self.entities.row(entity)?;
+        self.revision += 1;
         let body = self.particles.rigid_row[row];
         if body != u32::MAX {
             let body = body as usize;
@@ -462,6 +480,7 @@ impl World {
     /// Changing positions this way is seen as a teleport by history methods
     /// but not by interpolation; prefer [`teleport`](Self::teleport).
     pub fn particles_mut(&mut self) -> &mut Particles {
+        self.revision += 1;
         &mut self.particles
     }
 
@@ -473,6 +492,7 @@ impl World {
 
     /// The rigid-body columns, to change in place.
     pub fn rigid_bodies_mut(&mut self) -> &mut RigidBodies {
+        self.revision += 1;
         &mut self.rigid
     }
 
@@ -529,6 +549,7 @@ impl World {
         self.particles.position[row] = position.into();
         self.particles.previous_position[row] = position.into();
         self.particles.teleported_at[row] = self.tick;
+        self.revision += 1;
         Ok(())
     }
 
@@ -693,6 +714,20 @@ impl World {
     }
 
     // ---- snapshots ----------------------------------------------------------
+
+    /// This world's identity: unique in the process, different for a clone.
+    #[must_use]
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
+    /// Counts changes to the particle and rigid-body columns (steps,
+    /// spawns, despawns, teleports, restores, mutable access): a renderer
+    /// holding a copy made at the same `(id, revision)` is current.
+    #[must_use]
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
 
     /// A copy of the whole state.
     #[must_use]

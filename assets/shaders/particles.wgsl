@@ -1,0 +1,92 @@
+// Particles as anti-aliased discs, interpolated between fixed steps on the GPU.
+//
+// Each particle is one instance of a four-vertex triangle strip, pulled from
+// a storage buffer (no vertex buffer): the quad is the disc's bounding square
+// in pixels plus a one-pixel margin for the anti-aliased edge, so tiny
+// particles cost a few fragments, not a fixed-size sprite's worth.
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    // Image size in pixels.
+    viewport: vec2<f32>,
+    // Pixels per world unit at clip w = 1 (see Camera::matrices).
+    pixels_per_unit: f32,
+    // Interpolation parameter: alpha (interpolate) or 1 + alpha (extrapolate).
+    t: f32,
+    // Discs smaller than this radius in pixels are drawn at this radius with
+    // their coverage scaled by the area ratio, so they neither vanish nor
+    // shimmer.
+    min_radius_px: f32,
+    _pad0: f32,
+    _pad1: f32,
+    _pad2: f32,
+};
+
+// One particle, 32 bytes: previous position and radius, current position and
+// colour (RGBA8, sRGB).
+struct Instance {
+    previous: vec3<f32>,
+    radius: f32,
+    current: vec3<f32>,
+    colour: u32,
+};
+
+@group(0) @binding(0) var<uniform> globals: Globals;
+@group(0) @binding(1) var<storage, read> instances: array<Instance>;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    // Offset from the disc's centre in pixels.
+    @location(0) offset_px: vec2<f32>,
+    // Radius in pixels (after the minimum) and coverage scale.
+    @location(1) @interpolate(flat) radius_scale: vec2<f32>,
+    // Linear, premultiplied-ready colour.
+    @location(2) @interpolate(flat) colour: vec4<f32>,
+};
+
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    let low = c / 12.92;
+    let high = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
+    return select(high, low, c <= vec3<f32>(0.04045));
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> VertexOut {
+    let particle = instances[index];
+    // x(t) = x_prev + t (x - x_prev): interpolation for t in [0, 1),
+    // extrapolation for t in [1, 2).
+    let position = mix(particle.previous, particle.current, globals.t);
+    let clip = globals.view_proj * vec4<f32>(position, 1.0);
+    let w = max(clip.w, 1e-6);
+    let radius_px = particle.radius * globals.pixels_per_unit / w;
+    let drawn = max(radius_px, globals.min_radius_px);
+    let scale = (radius_px * radius_px) / (drawn * drawn);
+    // Strip corners (-1,-1), (1,-1), (-1,1), (1,1).
+    let corner = vec2<f32>(f32(vertex & 1u), f32(vertex >> 1u)) * 2.0 - 1.0;
+    let half_px = drawn + 1.0;
+    let offset_px = corner * half_px;
+    var out: VertexOut;
+    out.clip = vec4<f32>(clip.xy + offset_px * 2.0 / globals.viewport * clip.w, clip.z, clip.w);
+    // Behind the camera: collapse the quad.
+    if clip.w <= 0.0 {
+        out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
+    }
+    out.offset_px = offset_px;
+    out.radius_scale = vec2<f32>(drawn, scale);
+    let srgb = unpack4x8unorm(particle.colour);
+    out.colour = vec4<f32>(srgb_to_linear(srgb.rgb), srgb.a);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    // Signed distance to the edge in pixels; coverage ramps over one pixel.
+    let distance = length(in.offset_px) - in.radius_scale.x;
+    let coverage = clamp(0.5 - distance, 0.0, 1.0) * in.radius_scale.y;
+    if coverage <= 0.0 {
+        discard;
+    }
+    let a = in.colour.a * coverage;
+    // Premultiplied: the blend state is (One, OneMinusSrcAlpha) or (One, One).
+    return vec4<f32>(in.colour.rgb * a, a);
+}

@@ -1,0 +1,125 @@
+//! The GPU: one wgpu instance, adapter, device and queue, shared by every
+//! target and renderer made from it.
+//!
+//! Choosing an adapter is where rendering fails on a machine without a GPU
+//! driver, so this is where the error says what was tried and what to
+//! install, instead of a panic deep inside wgpu.
+
+use std::fmt;
+
+use super::RenderError;
+
+/// A wgpu device and queue, with the adapter they came from.
+pub struct Gpu {
+    /// The instance the adapter was found on (needed to create surfaces).
+    pub instance: wgpu::Instance,
+    /// The adapter (physical or software device) in use.
+    pub adapter: wgpu::Adapter,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its command queue.
+    pub queue: wgpu::Queue,
+}
+
+impl fmt::Debug for Gpu {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Gpu")
+            .field("adapter", &self.adapter.get_info())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Gpu {
+    /// A GPU for off-screen rendering (no window, no display), on the
+    /// backends `WGPU_BACKEND` selects (default: all that are compiled in,
+    /// Vulkan then GL on Linux).
+    ///
+    /// # Errors
+    /// [`RenderError::NoAdapter`] naming the backends tried and, on Linux, the
+    /// packages that provide a software adapter; [`RenderError::Device`] if
+    /// the adapter refuses a device.
+    pub fn headless() -> Result<Self, RenderError> {
+        let descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        Self::with_instance(descriptor, None)
+    }
+
+    /// A GPU able to present to `surface`'s kind of window. `descriptor`
+    /// must carry the display handle for the GL backend to find a
+    /// compatible adapter.
+    ///
+    /// # Errors
+    /// As [`Gpu::headless`].
+    pub fn with_instance(
+        descriptor: wgpu::InstanceDescriptor,
+        compatible_surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, RenderError> {
+        let backends = descriptor.backends;
+        let instance = wgpu::Instance::new(descriptor);
+        Self::from_instance(instance, backends, compatible_surface)
+    }
+
+    /// As [`Gpu::with_instance`], for an instance already made (a window
+    /// creates its surface from the instance first).
+    ///
+    /// # Errors
+    /// As [`Gpu::headless`].
+    pub fn from_instance(
+        instance: wgpu::Instance,
+        backends: wgpu::Backends,
+        compatible_surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, RenderError> {
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::from_env().unwrap_or_default(),
+            force_fallback_adapter: false,
+            compatible_surface,
+            apply_limit_buckets: false,
+        };
+        let adapter =
+            pollster::block_on(instance.request_adapter(&options)).map_err(|error| RenderError::NoAdapter {
+                backends: backend_names(backends),
+                reason: error.to_string(),
+            })?;
+        let limits = wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits());
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("tickwork"),
+            required_features: wgpu::Features::empty(),
+            required_limits: wgpu::Limits {
+                max_storage_buffer_binding_size: adapter.limits().max_storage_buffer_binding_size,
+                max_buffer_size: adapter.limits().max_buffer_size,
+                ..limits
+            },
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+            .map_err(|error| RenderError::Device(error.to_string()))?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+        })
+    }
+
+    /// What the adapter is: name, backend and device type, for logs and
+    /// HUDs (e.g. `llvmpipe (LLVM 15.0.6, 256 bits) on Vulkan (Cpu)`).
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} on {:?} ({:?})", info.name, info.backend, info.device_type)
+    }
+}
+
+/// The names of the backends in `backends`, for error messages.
+fn backend_names(backends: wgpu::Backends) -> Vec<&'static str> {
+    [
+        (wgpu::Backends::VULKAN, "Vulkan"),
+        (wgpu::Backends::GL, "GL"),
+        (wgpu::Backends::METAL, "Metal"),
+        (wgpu::Backends::DX12, "DX12"),
+        (wgpu::Backends::BROWSER_WEBGPU, "WebGPU"),
+    ]
+    .into_iter()
+    .filter(|(flag, _)| backends.contains(*flag))
+    .map(|(_, name)| name)
+    .collect()
+}

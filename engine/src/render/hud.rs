@@ -1,0 +1,106 @@
+//! The HUD: text drawn over the frame with glyphon, from the font shipped
+//! in `assets/fonts/` (never the machine's fonts, so golden images are the
+//! same everywhere).
+
+use glyphon::{
+    Attrs, Buffer, Cache, Color, Family, FontSystem, Metrics, PrepareError, Resolution, Shaping, SwashCache, TextArea,
+    TextAtlas, TextBounds, TextRenderer, Viewport,
+};
+
+use super::Gpu;
+use super::target::DEPTH_FORMAT;
+
+/// DejaVu Sans, shipped with its licence in `assets/fonts/`.
+const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+
+/// glyphon's state for one renderer: fonts, glyph atlas, laid-out text.
+pub(crate) struct Hud {
+    fonts: FontSystem,
+    swash: SwashCache,
+    viewport: Viewport,
+    atlas: TextAtlas,
+    renderer: TextRenderer,
+    buffer: Buffer,
+    text: String,
+    laid_out: (u32, u32),
+    size: f32,
+}
+
+impl Hud {
+    pub(crate) fn new(gpu: &Gpu, format: wgpu::TextureFormat, multisample: wgpu::MultisampleState, size: f32) -> Self {
+        let mut db = glyphon::fontdb::Database::new();
+        db.load_font_data(FONT.to_vec());
+        db.set_sans_serif_family("DejaVu Sans");
+        let mut fonts = FontSystem::new_with_locale_and_db("en-US".into(), db);
+        let cache = Cache::new(&gpu.device);
+        let viewport = Viewport::new(&gpu.device, &cache);
+        let mut atlas = TextAtlas::new(&gpu.device, &gpu.queue, &cache, format);
+        // The HUD is drawn last in the frame's pass, which has a depth
+        // buffer: test always, write never.
+        let depth = wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
+        let renderer = TextRenderer::new(&mut atlas, &gpu.device, multisample, Some(depth));
+        let buffer = Buffer::new(&mut fonts, Metrics::new(size, size * 1.3));
+        Self {
+            fonts,
+            swash: SwashCache::new(),
+            viewport,
+            atlas,
+            renderer,
+            buffer,
+            text: String::new(),
+            laid_out: (0, 0),
+            size,
+        }
+    }
+
+    /// Lays out `text` (only if it changed) and uploads its glyphs.
+    pub(crate) fn prepare(&mut self, gpu: &Gpu, width: u32, height: u32, text: &str) -> Result<(), PrepareError> {
+        self.viewport.update(&gpu.queue, Resolution { width, height });
+        if text != self.text || (width, height) != self.laid_out {
+            self.laid_out = (width, height);
+            self.text.clear();
+            self.text.push_str(text);
+            self.buffer.set_size(Some(width as f32), Some(height as f32));
+            self.buffer
+                .set_text(text, &Attrs::new().family(Family::SansSerif), Shaping::Basic, None);
+            self.buffer.shape_until_scroll(&mut self.fonts, false);
+        }
+        let margin = (self.size * 0.5) as i32;
+        let area = TextArea {
+            buffer: &self.buffer,
+            left: margin as f32,
+            top: margin as f32,
+            scale: 1.0,
+            bounds: TextBounds {
+                left: 0,
+                top: 0,
+                right: width as i32,
+                bottom: height as i32,
+            },
+            default_color: Color::rgb(235, 235, 235),
+            custom_glyphs: &[],
+        };
+        self.renderer.prepare(
+            &gpu.device,
+            &gpu.queue,
+            &mut self.fonts,
+            &mut self.atlas,
+            &self.viewport,
+            [area],
+            &mut self.swash,
+        )
+    }
+
+    /// Draws the prepared text (nothing if it is empty).
+    pub(crate) fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
+        // Fails only if glyphs were evicted between prepare and render,
+        // which cannot happen within one frame.
+        let _ = self.renderer.render(&self.atlas, &self.viewport, pass);
+    }
+}

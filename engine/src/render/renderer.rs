@@ -1,0 +1,703 @@
+//! The renderer: pipelines and buffers that turn a world's previous and
+//! current columns into a frame.
+//!
+//! Per frame it uploads, only when the world changed since the last upload,
+//! one 32-byte record per particle (previous position, radius, current
+//! position, colour); the vertex shader interpolates with the frame's
+//! alpha, so a frame without a fixed step uploads nothing but a uniform.
+//! Lines (springs, trails, rigid-body boxes, a game's own) are few and built
+//! on the CPU.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Quat, Vec3};
+use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
+
+use super::camera::{Camera, CameraMatrices};
+use super::hud::Hud;
+use super::target::{DEPTH_FORMAT, FrameBuffers};
+use super::trails::Trails;
+use super::{Gpu, RenderError};
+use crate::forces::{SpringEnd, Springs};
+use crate::world::World;
+
+/// How particles are composited.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Blend {
+    /// "Over", with depth testing (default): solid discs that hide what is
+    /// behind them.
+    #[default]
+    Alpha,
+    /// Colours add up, no depth writes: sparks, fire, dense clouds.
+    Additive,
+}
+
+/// Where particles are drawn between two fixed steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Between the previous and the current step, by the clock's alpha
+    /// (default): smooth and exact, one step behind the simulation.
+    #[default]
+    Interpolate,
+    /// Beyond the current step, as if the velocity stayed constant: no
+    /// latency, but overshoots at bounces.
+    Extrapolate,
+    /// At the current step: shows the raw fixed-step motion (judder).
+    None,
+}
+
+impl Interpolation {
+    /// The shader's mixing parameter for a frame's `alpha`:
+    /// `x = x_prev + t (x - x_prev)`.
+    #[must_use]
+    pub fn parameter(self, alpha: f32) -> f32 {
+        match self {
+            Self::Interpolate => alpha,
+            Self::Extrapolate => 1.0 + alpha,
+            Self::None => 1.0,
+        }
+    }
+}
+
+/// Renderer settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RendererConfig {
+    /// Clear colour, sRGB RGBA (default: near-black blue `[12, 14, 22, 255]`).
+    pub background: [u8; 4],
+    /// Compositing of particles (default: [`Blend::Alpha`]).
+    pub blend: Blend,
+    /// Interpolation between steps (default: [`Interpolation::Interpolate`]).
+    pub interpolation: Interpolation,
+    /// Samples per pixel: 4 (MSAA, default) or 1.
+    pub samples: u32,
+    /// Smallest drawn disc radius in pixels; smaller particles are dimmed by
+    /// the area ratio instead (default 0.75).
+    pub min_radius_px: f32,
+    /// Draw springs as lines (default true).
+    pub springs: bool,
+    /// Draw rigid bodies as oriented boxes with their axes (default true).
+    pub rigid_bodies: bool,
+    /// Colour of spring lines, sRGB RGBA (default `[150, 150, 170, 200]`).
+    pub spring_colour: [u8; 4],
+    /// HUD text size in pixels (default 16).
+    pub hud_size: f32,
+}
+
+impl Default for RendererConfig {
+    fn default() -> Self {
+        Self {
+            background: [12, 14, 22, 255],
+            blend: Blend::Alpha,
+            interpolation: Interpolation::Interpolate,
+            samples: 4,
+            min_radius_px: 0.75,
+            springs: true,
+            rigid_bodies: true,
+            spring_colour: [150, 150, 170, 200],
+            hud_size: 16.0,
+        }
+    }
+}
+
+/// A line segment in world space, drawn one pixel wide.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line {
+    /// One end.
+    pub a: Vec3,
+    /// The other end.
+    pub b: Vec3,
+    /// Colour, sRGB RGBA.
+    pub colour: [u8; 4],
+}
+
+/// What one frame shows.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameView<'a> {
+    /// The world, read only.
+    pub world: &'a World,
+    /// The clock's alpha: how far the frame is past the current step, in
+    /// steps, in [0, 1).
+    pub alpha: f32,
+    /// The camera.
+    pub camera: Camera,
+    /// Trails to draw, if any.
+    pub trails: Option<&'a Trails>,
+    /// Extra lines (a game's own drawing).
+    pub lines: &'a [Line],
+    /// HUD text, drawn top-left; empty for none.
+    pub hud: &'a str,
+}
+
+impl<'a> FrameView<'a> {
+    /// A view of `world` at `alpha` through `camera`, with no trails, lines
+    /// or HUD.
+    #[must_use]
+    pub fn new(world: &'a World, alpha: f32, camera: Camera) -> Self {
+        Self {
+            world,
+            alpha,
+            camera,
+            trails: None,
+            lines: &[],
+            hud: "",
+        }
+    }
+}
+
+/// Uniforms shared by both pipelines (96 bytes, as in the WGSL `Globals`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    viewport: [f32; 2],
+    pixels_per_unit: f32,
+    t: f32,
+    min_radius_px: f32,
+    _pad: [f32; 3],
+}
+
+/// One particle as the shader reads it (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct Instance {
+    previous: [f32; 3],
+    radius: f32,
+    current: [f32; 3],
+    colour: u32,
+}
+
+/// One line vertex (16 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct LineVertex {
+    position: [f32; 3],
+    colour: [u8; 4],
+}
+
+/// Rows per parallel upload job; below two of them the upload is serial.
+const UPLOAD_CHUNK: usize = 32 * 1024;
+
+/// Pipelines, GPU buffers and CPU scratch for drawing frames. One renderer
+/// draws into targets of one colour format and sample count.
+pub struct Renderer {
+    config: RendererConfig,
+    format: wgpu::TextureFormat,
+    globals: wgpu::Buffer,
+    particle_pipeline: wgpu::RenderPipeline,
+    particle_layout: wgpu::BindGroupLayout,
+    instances: wgpu::Buffer,
+    particle_bind_group: wgpu::BindGroup,
+    instance_count: u32,
+    line_pipeline: wgpu::RenderPipeline,
+    line_bind_group: wgpu::BindGroup,
+    line_buffer: wgpu::Buffer,
+    line_count: u32,
+    line_scratch: Vec<LineVertex>,
+    instance_scratch: Vec<Instance>,
+    /// The world state last uploaded: (world id, revision).
+    uploaded: Option<(u64, u64)>,
+    hud: Hud,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("config", &self.config)
+            .field("format", &self.format)
+            .field("instances", &self.instance_count)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Renderer {
+    /// A renderer for targets of `format` (e.g. [`super::OFFSCREEN_FORMAT`],
+    /// or a window surface's format).
+    ///
+    /// # Errors
+    /// [`RenderError::Config`] for a sample count other than 1 or 4 or a
+    /// non-finite minimum radius.
+    pub fn new(gpu: &Gpu, format: wgpu::TextureFormat, config: RendererConfig) -> Result<Self, RenderError> {
+        if config.samples != 1 && config.samples != 4 {
+            return Err(RenderError::Config(format!(
+                "samples must be 1 or 4, got {}",
+                config.samples
+            )));
+        }
+        if !(config.min_radius_px.is_finite() && config.min_radius_px >= 0.0) {
+            return Err(RenderError::Config(format!(
+                "min_radius_px must be finite and at least 0, got {}",
+                config.min_radius_px
+            )));
+        }
+        if !(config.hud_size.is_finite() && config.hud_size > 0.0) {
+            return Err(RenderError::Config(format!(
+                "hud_size must be finite and positive, got {}",
+                config.hud_size
+            )));
+        }
+        let device = &gpu.device;
+        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let globals_entry = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let particle_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork particles"),
+            entries: &[
+                globals_entry,
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let line_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork lines"),
+            entries: &[globals_entry],
+        });
+        let multisample = wgpu::MultisampleState {
+            count: config.samples,
+            mask: !0,
+            alpha_to_coverage_enabled: false,
+        };
+        let blend = match config.blend {
+            Blend::Alpha => wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
+            Blend::Additive => wgpu::BlendState {
+                color: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                },
+                alpha: wgpu::BlendComponent::OVER,
+            },
+        };
+        let particle_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("particles.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/particles.wgsl").into()),
+        });
+        let particle_pipeline = pipeline(
+            device,
+            &particle_layout,
+            &particle_shader,
+            &[],
+            wgpu::PrimitiveTopology::TriangleStrip,
+            format,
+            blend,
+            config.blend == Blend::Alpha,
+            multisample,
+        );
+        let line_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("lines.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/lines.wgsl").into()),
+        });
+        let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
+        let line_pipeline = pipeline(
+            device,
+            &line_layout,
+            &line_shader,
+            &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<LineVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &line_attributes,
+            })],
+            wgpu::PrimitiveTopology::LineList,
+            format,
+            wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
+            false,
+            multisample,
+        );
+        let instances = storage_buffer(device, 1024);
+        let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
+        let line_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tickwork lines"),
+            layout: &line_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: globals.as_entire_binding(),
+            }],
+        });
+        let line_buffer = vertex_buffer(device, 1024);
+        let hud = Hud::new(gpu, format, multisample, config.hud_size);
+        Ok(Self {
+            config,
+            format,
+            globals,
+            particle_pipeline,
+            particle_layout,
+            instances,
+            particle_bind_group,
+            instance_count: 0,
+            line_pipeline,
+            line_bind_group,
+            line_buffer,
+            line_count: 0,
+            line_scratch: Vec::new(),
+            instance_scratch: Vec::new(),
+            uploaded: None,
+            hud,
+        })
+    }
+
+    /// The settings in use.
+    #[must_use]
+    pub fn config(&self) -> &RendererConfig {
+        &self.config
+    }
+
+    /// The colour format this renderer draws.
+    #[must_use]
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.format
+    }
+
+    /// Changes the interpolation mode (takes effect at the next frame).
+    pub fn set_interpolation(&mut self, interpolation: Interpolation) {
+        self.config.interpolation = interpolation;
+    }
+
+    /// Uploads what `view` shows for a target of `buffers`' size: the
+    /// particles if the world changed since the last upload, the lines, the
+    /// uniforms and the HUD text.
+    ///
+    /// # Errors
+    /// [`RenderError::Config`] for a non-finite alpha; [`RenderError::Device`]
+    /// if the HUD cannot be laid out.
+    pub fn prepare(&mut self, gpu: &Gpu, buffers: &FrameBuffers, view: &FrameView<'_>) -> Result<(), RenderError> {
+        if !view.alpha.is_finite() {
+            return Err(RenderError::Config(format!("alpha must be finite, got {}", view.alpha)));
+        }
+        let CameraMatrices {
+            view_proj,
+            pixels_per_unit,
+        } = view.camera.matrices(buffers.width, buffers.height);
+        let t = self.config.interpolation.parameter(view.alpha);
+        let globals = Globals {
+            view_proj: view_proj.to_cols_array_2d(),
+            viewport: [buffers.width as f32, buffers.height as f32],
+            pixels_per_unit,
+            t,
+            min_radius_px: self.config.min_radius_px,
+            _pad: [0.0; 3],
+        };
+        gpu.queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+        self.upload_particles(gpu, view.world);
+        self.build_lines(view, t);
+        self.upload_lines(gpu);
+        self.hud
+            .prepare(gpu, buffers.width, buffers.height, view.hud)
+            .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
+        Ok(())
+    }
+
+    /// Records the frame's render pass into `encoder`, drawing into
+    /// `output` through `buffers`.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, buffers: &FrameBuffers, output: &wgpu::TextureView) {
+        let [r, g, b, a] = self.config.background.map(|c| f64::from(c) / 255.0);
+        // The clear colour is given in sRGB; the attachment is linear.
+        let clear = wgpu::Color {
+            r: srgb_to_linear(r),
+            g: srgb_to_linear(g),
+            b: srgb_to_linear(b),
+            a,
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tickwork frame"),
+            color_attachments: &[Some(buffers.colour_attachment(output, clear))],
+            depth_stencil_attachment: Some(buffers.depth_attachment()),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        if self.line_count > 0 {
+            pass.set_pipeline(&self.line_pipeline);
+            pass.set_bind_group(0, &self.line_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.line_buffer.slice(..));
+            pass.draw(0..self.line_count, 0..1);
+        }
+        if self.instance_count > 0 {
+            pass.set_pipeline(&self.particle_pipeline);
+            pass.set_bind_group(0, &self.particle_bind_group, &[]);
+            pass.draw(0..4, 0..self.instance_count);
+        }
+        self.hud.render(&mut pass);
+    }
+
+    /// Forgets what was uploaded, so the next frame uploads the world again
+    /// (needed only if the world was edited through a path that does not
+    /// count as a change, which none of [`World`]'s methods is).
+    pub fn invalidate(&mut self) {
+        self.uploaded = None;
+    }
+
+    fn upload_particles(&mut self, gpu: &Gpu, world: &World) {
+        let key = (world.id(), world.revision());
+        if self.uploaded == Some(key) {
+            return;
+        }
+        self.uploaded = Some(key);
+        let particles = world.particles();
+        let n = particles.len();
+        self.instance_count = n as u32;
+        if n == 0 {
+            return;
+        }
+        let bytes = n * std::mem::size_of::<Instance>();
+        if bytes as u64 > self.instances.size() {
+            self.instances = storage_buffer(&gpu.device, n.next_power_of_two());
+            self.particle_bind_group =
+                particle_bind_group(&gpu.device, &self.particle_layout, &self.globals, &self.instances);
+        }
+        // Fill a reused scratch copy (in parallel for large worlds), then
+        // hand it to the queue.
+        self.instance_scratch.resize(n, Instance::default());
+        let fill = |first: usize, out: &mut [Instance]| {
+            for (k, record) in out.iter_mut().enumerate() {
+                let i = first + k;
+                *record = Instance {
+                    previous: particles.previous_position[i].to_array(),
+                    radius: particles.radius[i],
+                    current: particles.position[i].to_array(),
+                    colour: u32::from_le_bytes(particles.colour[i]),
+                };
+            }
+        };
+        if n >= 2 * UPLOAD_CHUNK {
+            self.instance_scratch
+                .par_chunks_mut(UPLOAD_CHUNK)
+                .enumerate()
+                .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
+        } else {
+            fill(0, &mut self.instance_scratch);
+        }
+        gpu.queue
+            .write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.instance_scratch));
+    }
+
+    fn build_lines(&mut self, view: &FrameView<'_>, t: f32) {
+        let scratch = &mut self.line_scratch;
+        scratch.clear();
+        let mut push = |a: Vec3, b: Vec3, colour: [u8; 4]| {
+            scratch.push(LineVertex {
+                position: a.to_array(),
+                colour,
+            });
+            scratch.push(LineVertex {
+                position: b.to_array(),
+                colour,
+            });
+        };
+        let world = view.world;
+        let particles = world.particles();
+        let at = |row: usize| -> Vec3 { Vec3::from(particles.previous_position[row].lerp(particles.position[row], t)) };
+        if self.config.springs {
+            for force in world.forces() {
+                let Some(springs) = force.as_any().downcast_ref::<Springs>() else {
+                    continue;
+                };
+                for spring in springs.springs() {
+                    let end = |end: SpringEnd| match end {
+                        SpringEnd::Anchor(p) => Some(p),
+                        SpringEnd::Entity(e) => world.row(e).ok().map(at),
+                    };
+                    if let (Some(a), Some(b)) = (end(spring.a), end(spring.b)) {
+                        push(a, b, self.config.spring_colour);
+                    }
+                }
+            }
+        }
+        if self.config.rigid_bodies {
+            let rigid = world.rigid_bodies();
+            for body in 0..rigid.len() {
+                let row = rigid.owner[body] as usize;
+                let centre = at(row);
+                let q = slerp_param(rigid.previous_orientation[body], rigid.orientation[body], t);
+                let transform = Mat4::from_rotation_translation(q, centre);
+                let h = Vec3::from(rigid.half_extents[body]);
+                let corner =
+                    |i: usize| transform.transform_point3(h * Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)));
+                let colour = particles.colour[row];
+                for (i, j) in BOX_EDGES {
+                    push(corner(i), corner(j), colour);
+                }
+                for (axis, colour) in [
+                    (Vec3::X, [230, 80, 70, 255]),
+                    (Vec3::Y, [90, 210, 90, 255]),
+                    (Vec3::Z, [80, 140, 240, 255]),
+                ] {
+                    let tip = transform.transform_point3(axis * (1.6 * h.max_element()));
+                    push(centre, tip, colour);
+                }
+            }
+        }
+        if let Some(trails) = view.trails {
+            trails.lines(world, t, &mut push);
+        }
+        for line in view.lines {
+            push(line.a, line.b, line.colour);
+        }
+    }
+
+    fn upload_lines(&mut self, gpu: &Gpu) {
+        self.line_count = self.line_scratch.len() as u32;
+        if self.line_scratch.is_empty() {
+            return;
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&self.line_scratch);
+        if bytes.len() as u64 > self.line_buffer.size() {
+            self.line_buffer = vertex_buffer(&gpu.device, self.line_scratch.len().next_power_of_two());
+        }
+        gpu.queue.write_buffer(&self.line_buffer, 0, bytes);
+    }
+}
+
+/// Corner pairs of a box's 12 edges, corners numbered by the sign bits of
+/// x (1), y (2) and z (4).
+const BOX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (2, 3),
+    (4, 5),
+    (6, 7),
+    (0, 2),
+    (1, 3),
+    (4, 6),
+    (5, 7),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
+fn sign(bit: usize) -> f32 {
+    if bit == 0 { -1.0 } else { 1.0 }
+}
+
+/// Orientation between two steps: slerp for `t` in [0, 1], and beyond for
+/// extrapolation (the same rotation continued).
+fn slerp_param(previous: Quat, current: Quat, t: f32) -> Quat {
+    if t <= 1.0 {
+        previous.slerp(current, t)
+    } else {
+        // q(t) = (q q_prev^-1)^(t - 1) q
+        let delta = current * previous.inverse();
+        let (axis, angle) = delta.to_axis_angle();
+        (Quat::from_axis_angle(axis, angle * (t - 1.0)) * current).normalize()
+    }
+}
+
+/// sRGB transfer function, for the clear colour.
+fn srgb_to_linear(c: f64) -> f64 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn storage_buffer(device: &wgpu::Device, particles: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork particles"),
+        size: (particles.max(1) * std::mem::size_of::<Instance>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn vertex_buffer(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork lines"),
+        size: (vertices.max(1) * std::mem::size_of::<LineVertex>()) as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn particle_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    globals: &wgpu::Buffer,
+    instances: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("tickwork particles"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: globals.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: instances.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    shader: &wgpu::ShaderModule,
+    buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+    topology: wgpu::PrimitiveTopology,
+    format: wgpu::TextureFormat,
+    blend: wgpu::BlendState,
+    depth_write: bool,
+    multisample: wgpu::MultisampleState,
+) -> wgpu::RenderPipeline {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: None,
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: shader,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(depth_write),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample,
+        fragment: Some(wgpu::FragmentState {
+            module: shader,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: Some(blend),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
