@@ -29,6 +29,8 @@
 #![warn(missing_docs)]
 #![allow(clippy::needless_range_loop)]
 
+#[cfg(feature = "render")]
+pub mod app;
 pub mod clock;
 pub mod colliders;
 pub mod emitter;

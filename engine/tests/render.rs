@@ -76,3 +76,292 @@ fn particle_layout_matches_its_golden_image() {
         &render(&layout(), 0.0, camera_2d(), 320, 180, RendererConfig::default()),
     );
 }
+
+/// Particles moving in different directions, stepped once at 10 Hz.
+fn moving() -> (World, Vec<(Vec3, Vec3)>) {
+    let mut world = World::default();
+    let mut ends = Vec::new();
+    for k in 0..8 {
+        let angle = k as f32 * std::f32::consts::TAU / 8.0;
+        let start = Vec3::new(2.0 * angle.cos(), 2.0 * angle.sin(), 0.0);
+        let velocity = Vec3::new(-angle.sin(), angle.cos(), 0.0) * 20.0; // 2 m per step
+        world
+            .spawn(Particle {
+                position: start,
+                velocity,
+                radius: 0.35,
+                colour: [255, 200 - 20 * k as u8, 40 + 25 * k as u8, 255],
+                ..Particle::default()
+            })
+            .expect("spawn");
+        ends.push((start, start + velocity * 0.1));
+    }
+    let mut clock = FixedClock::new(tickwork_engine::ClockConfig {
+        rate: tickwork_engine::Rate::hz(10).expect("rate"),
+        ..Default::default()
+    })
+    .expect("clock");
+    for step in clock.step(1).fixed_steps() {
+        world.step(step).expect("step");
+    }
+    (world, ends)
+}
+
+#[test]
+fn a_frame_at_alpha_half_shows_the_midpoint_state() {
+    let (world, ends) = moving();
+    let between = render(&world, 0.5, camera_2d(), 320, 180, RendererConfig::default());
+    let mut midpoint = World::default();
+    for (row, (start, end)) in ends.iter().enumerate() {
+        midpoint
+            .spawn(Particle {
+                position: 0.5 * (*start + *end),
+                radius: 0.35,
+                colour: world.particles().colour[row],
+                ..Particle::default()
+            })
+            .expect("spawn");
+    }
+    let expected = render(&midpoint, 0.0, camera_2d(), 320, 180, RendererConfig::default());
+    let comparison = tickwork_engine::render::compare(&between, &expected, Default::default()).expect("same size");
+    assert!(
+        comparison.differing == 0 && comparison.max_channel_difference <= 2,
+        "the interpolated frame differs from the midpoint state's frame: {comparison:?}"
+    );
+    check("interpolation_half", &between);
+    // And the two ends are different pictures (the test can fail).
+    let at_start = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
+    let differing = tickwork_engine::render::compare(&at_start, &between, Default::default()).expect("size");
+    assert!(differing.differing > 500, "alpha 0 and 0.5 should differ: {differing:?}");
+}
+
+#[test]
+fn extrapolation_and_no_interpolation_place_particles_where_they_say() {
+    let (world, ends) = moving();
+    let config = |interpolation| RendererConfig {
+        interpolation,
+        ..RendererConfig::default()
+    };
+    // Extrapolating at alpha 0.5 puts particles 1.5 steps from the start.
+    let extrapolated = render(&world, 0.5, camera_2d(), 320, 180, config(Interpolation::Extrapolate));
+    let current = render(&world, 0.5, camera_2d(), 320, 180, config(Interpolation::None));
+    let (start, end) = ends[0];
+    let beyond = start + 1.5 * (end - start);
+    let pixel = |p: Vec3| (160.0 + p.x * 20.0, 90.0 - p.y * 20.0);
+    let lit = |image: &RgbaImage, p: Vec3| {
+        let (x, y) = pixel(p);
+        image.get_pixel(x as u32, y as u32).0[0] > 128
+    };
+    assert!(lit(&extrapolated, beyond) && !lit(&extrapolated, end));
+    assert!(lit(&current, end) && !lit(&current, beyond));
+}
+
+#[test]
+fn a_teleported_particle_is_not_smeared_between_places() {
+    let (mut world, ends) = moving();
+    let entity = world.entities().rows()[0];
+    world.teleport(entity, Vec3::new(-6.0, -3.0, 0.0)).expect("teleport");
+    let image = render(&world, 0.5, camera_2d(), 320, 180, RendererConfig::default());
+    let (start, end) = ends[0];
+    let mid = 0.5 * (start + end);
+    let at = |p: Vec3| image.get_pixel((160.0 + p.x * 20.0) as u32, (90.0 - p.y * 20.0) as u32).0;
+    assert!(at(Vec3::new(-6.0, -3.0, 0.0))[0] > 128, "drawn where it was teleported");
+    assert!(at(mid)[0] < 40, "not drawn half-way: {:?}", at(mid));
+}
+
+#[test]
+fn odd_widths_are_read_back_without_row_padding() {
+    // 301 x 4 bytes is not a multiple of 256: rows are padded in the copy.
+    let mut world = World::default();
+    world
+        .spawn(Particle {
+            position: Vec3::new(3.0, 2.0, 0.0),
+            radius: 0.2,
+            colour: [255, 255, 255, 255],
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let camera = Camera::TwoD {
+        center: Vec2::ZERO,
+        height: 10.0,
+    };
+    let image = render(&world, 0.0, camera, 301, 157, RendererConfig::default());
+    assert_eq!(image.dimensions(), (301, 157));
+    // 15.7 px per metre; (3, 2) is at (150.5 + 47.1, 78.5 - 31.4) in
+    // pixel-edge coordinates, so the centroid of pixel centres is there too.
+    let (mut sx, mut sy, mut sw) = (0.0, 0.0, 0.0);
+    for (x, y, p) in image.enumerate_pixels() {
+        let w = f64::from(p.0[0].saturating_sub(20));
+        sx += w * (f64::from(x) + 0.5);
+        sy += w * (f64::from(y) + 0.5);
+        sw += w;
+    }
+    let centroid = (sx / sw, sy / sw);
+    assert!(
+        (centroid.0 - 197.6).abs() < 0.3 && (centroid.1 - 47.1).abs() < 0.3,
+        "particle drawn at {centroid:?}, expected (197.6, 47.1)"
+    );
+    let lit = image.pixels().filter(|p| p.0[0] > 128).count();
+    // A disc of radius 3.14 px: about 31 pixels.
+    assert!((20..=45).contains(&lit), "{lit} lit pixels");
+    check("odd_size", &render(&layout(), 0.0, camera_2d(), 301, 157, RendererConfig::default()));
+}
+
+#[test]
+fn colours_are_srgb_and_blending_is_linear() {
+    let mut world = World::default();
+    world
+        .spawn(Particle {
+            radius: 3.0,
+            colour: [128, 64, 200, 255],
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let config = RendererConfig {
+        background: [0, 0, 0, 255],
+        ..RendererConfig::default()
+    };
+    let image = render(&world, 0.0, Camera::default(), 64, 64, config.clone());
+    assert_eq!(image.get_pixel(32, 32).0, [128, 64, 200, 255], "an opaque colour comes out as given");
+    // Half-transparent white over black: 50% linear light is sRGB 188, not 128.
+    world.particles_mut().colour[0] = [255, 255, 255, 128];
+    let image = render(&world, 0.0, Camera::default(), 64, 64, config.clone());
+    let v = image.get_pixel(32, 32).0[0];
+    assert!(v.abs_diff(188) <= 2, "got {v}");
+    // Additive: two overlapping half-bright particles sum in linear light.
+    world.particles_mut().colour[0] = [188, 188, 188, 255];
+    world
+        .spawn(Particle {
+            radius: 3.0,
+            colour: [188, 188, 188, 255],
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let additive = RendererConfig {
+        blend: Blend::Additive,
+        ..config
+    };
+    let image = render(&world, 0.0, Camera::default(), 64, 64, additive);
+    assert!(image.get_pixel(32, 32).0[0] >= 254, "{:?}", image.get_pixel(32, 32));
+}
+
+#[test]
+fn trails_and_lines_match_their_golden_image() {
+    let mut world = World::default();
+    world.add_force(Gravity::EARTH);
+    let ball = world
+        .spawn(Particle {
+            position: Vec3::new(-7.0, -3.0, 0.0),
+            velocity: Vec3::new(5.0, 10.0, 0.0),
+            radius: 0.2,
+            colour: [250, 210, 60, 255],
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let mut trails = Trails::new(200);
+    trails.follow(ball, [250, 210, 60, 255]);
+    let mut clock = FixedClock::default();
+    for step in clock.step(100).fixed_steps() {
+        world.step(step).expect("step");
+        trails.record(&world);
+    }
+    let ground = [Line {
+        a: Vec3::new(-8.0, -3.2, 0.0),
+        b: Vec3::new(8.0, -3.2, 0.0),
+        colour: [120, 200, 255, 255],
+    }];
+    let view = FrameView {
+        trails: Some(&trails),
+        lines: &ground,
+        ..FrameView::new(&world, 0.5, camera_2d())
+    };
+    let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, RendererConfig::default()).expect("renderer");
+    let target = OffscreenTarget::new(gpu(), 320, 180, 4).expect("target");
+    let image = target.render(gpu(), &mut renderer, &view).expect("frame");
+    // The apex of the parabola (t = 1.02 s, y = 2.1) is on the trail.
+    let apex = (160.0 + (-7.0 + 5.0 * 10.0 / 9.81) * 20.0, 90.0 - (-3.0 + 100.0 / (2.0 * 9.81)) * 20.0);
+    let near_apex = (-2..=2)
+        .flat_map(|dx| (-2..=2).map(move |dy| (dx, dy)))
+        .any(|(dx, dy)| image.get_pixel((apex.0 as i32 + dx) as u32, (apex.1 as i32 + dy) as u32).0[0] > 60);
+    assert!(near_apex, "no trail near the apex {apex:?}");
+    check("trails", &image);
+}
+
+#[test]
+fn rigid_body_orientation_is_visible() {
+    let mut world = World::default();
+    let body = |angle: f32, x: f32| {
+        let mut body = RigidBody::solid_box(1.0, Vec3::new(1.2, 0.5, 0.3));
+        body.orientation = Quat::from_rotation_z(angle.to_radians());
+        body.particle.position = Vec3::new(x, 0.0, 0.0);
+        body.particle.colour = [220, 220, 220, 255];
+        body
+    };
+    world.spawn_rigid(body(0.0, -4.0)).expect("spawn");
+    world.spawn_rigid(body(45.0, 0.0)).expect("spawn");
+    world.spawn_rigid(body(90.0, 4.0)).expect("spawn");
+    let image = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
+    // The red x axis of the 90-degree box points up: red above its centre.
+    let red_above = (1..40).any(|dy| {
+        let p = image.get_pixel(160 + 80, 90 - dy).0;
+        p[0] > 120 && p[1] < 110
+    });
+    assert!(red_above, "the turned box's x axis should point up");
+    check("rigid_bodies", &image);
+    // The same scene from a 3D orbit camera.
+    let orbit = Camera::Orbit {
+        target: Vec3::ZERO,
+        distance: 14.0,
+        yaw: 30.0,
+        pitch: 25.0,
+        fov_y: 45.0,
+    };
+    check("rigid_bodies_3d", &render(&world, 0.0, orbit, 320, 180, RendererConfig::default()));
+}
+
+#[test]
+fn hud_text_matches_its_golden_image() {
+    let world = layout();
+    let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, RendererConfig::default()).expect("renderer");
+    let target = OffscreenTarget::new(gpu(), 320, 180, 4).expect("target");
+    let view = FrameView {
+        hud: "fps 60 | steps 1\nrk4 | 12 particles",
+        ..FrameView::new(&world, 0.0, camera_2d())
+    };
+    let image = target.render(gpu(), &mut renderer, &view).expect("frame");
+    // Text pixels are light grey in the top-left corner where no particle is.
+    let text = (0..60).flat_map(|y| (0..110).map(move |x| (x, y))).filter(|&(x, y)| image.get_pixel(x, y).0[0] > 150);
+    assert!(text.count() > 100, "no HUD text drawn");
+    check("hud", &image);
+}
+
+#[test]
+fn scene_files_render_through_their_camera_hints() {
+    let scene = Scene::load(&root().join("assets/scenes/tops.ron")).expect("scene");
+    let (world, _) = scene.build().expect("build");
+    let camera = Camera::from_hint(&scene.spec.camera);
+    check("tops_scene", &render(&world, 0.0, camera, 320, 180, RendererConfig::default()));
+}
+
+#[test]
+fn bad_sizes_and_settings_are_errors() {
+    let error = OffscreenTarget::new(gpu(), 0, 100, 4).expect_err("zero width");
+    assert!(error.to_string().starts_with("cannot render a 0x100 image"), "{error}");
+    let error = Renderer::new(
+        gpu(),
+        OFFSCREEN_FORMAT,
+        RendererConfig {
+            samples: 2,
+            ..RendererConfig::default()
+        },
+    )
+    .expect_err("samples");
+    assert_eq!(error.to_string(), "renderer: samples must be 1 or 4, got 2");
+    let world = layout();
+    let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, RendererConfig::default()).expect("renderer");
+    let target = OffscreenTarget::new(gpu(), 32, 32, 4).expect("target");
+    let error = target
+        .render(gpu(), &mut renderer, &FrameView::new(&world, f32::NAN, Camera::default()))
+        .expect_err("NaN alpha");
+    assert_eq!(error.to_string(), "renderer: alpha must be finite, got NaN");
+}

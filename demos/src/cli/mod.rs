@@ -1,6 +1,7 @@
 //! The `tickwork` command line: one file per subcommand.
 
 pub mod integrators;
+pub mod render;
 pub mod sim;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +29,12 @@ pub enum Command {
     Sim(sim::SimArgs),
     /// Compare every method: convergence, energy, stability and cost plots and tables.
     Lab(crate::lab::LabArgs),
+    /// Draw a scene off-screen through the fixed clock and interpolation:
+    /// PNG frames and an optional GIF.
+    Render(render::RenderArgs),
+    /// Play a scene in a window (Space pause, . step, +/- speed, Tab or 1-9
+    /// integrator, R reset, F12 screenshot).
+    View(render::WindowArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -42,6 +49,8 @@ pub fn run(cli: Cli) -> std::process::ExitCode {
                 println!("wrote {}", file.display());
             }
         }),
+        Some(Command::Render(args)) => render::render(&args),
+        Some(Command::View(args)) => render::view(&args),
         None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
             .map_err(|e| e.to_string()),
     };

@@ -1,0 +1,326 @@
+//! Playback: a world driven by a fixed clock from any time source, with the
+//! controls a viewer needs (pause, single step, time scale, integrator
+//! switching, reset) and the HUD line that reports them.
+//!
+//! The window and the off-screen renderer both call [`Playback::advance`]
+//! once per frame with the frame's duration and draw [`Playback::view`],
+//! so a render test sees exactly what a window shows for the same frame
+//! durations.
+
+use std::fmt;
+
+use crate::clock::{ClockConfig, ClockError, FixedClock, Frame, Rate};
+use crate::render::{Camera, FrameView, Trails};
+use crate::scene::{Scene, SceneError};
+use crate::step::SimulationError;
+use crate::world::{Snapshot, World};
+use tickwork_integrators::{METHODS, UnknownMethod};
+
+/// Slowest and fastest time scales the `-`/`+` keys reach.
+const TIME_SCALES: [f64; 9] = [0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
+
+/// A control a viewer can apply between frames (keys in the window).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// Pause or resume (Space).
+    TogglePause,
+    /// While paused, run exactly one fixed step (Period).
+    SingleStep,
+    /// Double the time scale, up to 16 (`+`).
+    Faster,
+    /// Halve the time scale, down to 1/16 (`-`).
+    Slower,
+    /// Switch to the next integrator of the registry (Tab).
+    NextIntegrator,
+    /// Switch to the registry's integrator number `n` (keys 1-9 are 0-8).
+    Integrator(usize),
+    /// Back to the initial state (R).
+    Reset,
+}
+
+/// Why playback stopped.
+#[derive(Debug)]
+pub enum PlaybackError {
+    /// The scene could not be loaded or built.
+    Scene(SceneError),
+    /// The clock refused a frame duration or setting.
+    Clock(ClockError),
+    /// A step failed (non-finite state, integrator failure).
+    Simulation(SimulationError),
+    /// An integrator name that is not registered.
+    Integrator(UnknownMethod),
+}
+
+impl fmt::Display for PlaybackError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Scene(e) => e.fmt(f),
+            Self::Clock(e) => e.fmt(f),
+            Self::Simulation(e) => e.fmt(f),
+            Self::Integrator(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for PlaybackError {}
+
+impl From<ClockError> for PlaybackError {
+    fn from(e: ClockError) -> Self {
+        Self::Clock(e)
+    }
+}
+impl From<SimulationError> for PlaybackError {
+    fn from(e: SimulationError) -> Self {
+        Self::Simulation(e)
+    }
+}
+impl From<UnknownMethod> for PlaybackError {
+    fn from(e: UnknownMethod) -> Self {
+        Self::Integrator(e)
+    }
+}
+
+/// A world, its clock, its initial state and what the viewer shows.
+pub struct Playback {
+    world: World,
+    initial: Snapshot,
+    clock: FixedClock,
+    /// What the camera looks at; the window's mouse moves it.
+    pub camera: Camera,
+    trails: Trails,
+    title: String,
+    last: Frame,
+    frame_seconds: f64,
+    steps_total: u64,
+    energy: Option<(u64, f64)>,
+    initial_energy: f64,
+    initial_len: usize,
+}
+
+impl fmt::Debug for Playback {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Playback")
+            .field("title", &self.title)
+            .field("tick", &self.world.tick())
+            .finish_non_exhaustive()
+    }
+}
+
+/// Worlds up to this size compute their energy every step for the HUD;
+/// larger ones every 30 steps.
+const ENERGY_EVERY_STEP: usize = 20_000;
+
+impl Playback {
+    /// Plays `world` at `rate`, seen through `camera`.
+    ///
+    /// # Errors
+    /// [`PlaybackError::Clock`] for a rate the clock refuses.
+    pub fn new(mut world: World, rate: Rate, camera: Camera, title: impl Into<String>) -> Result<Self, PlaybackError> {
+        let mut clock = FixedClock::new(ClockConfig {
+            rate,
+            ..ClockConfig::default()
+        })?;
+        let last = clock.advance(0.0)?;
+        let initial_energy = world.energy().total();
+        let world_len = world.len();
+        Ok(Self {
+            initial: world.snapshot(),
+            world,
+            clock,
+            camera,
+            trails: Trails::new(240),
+            title: title.into(),
+            last,
+            frame_seconds: 0.0,
+            steps_total: 0,
+            energy: None,
+            initial_energy,
+            initial_len: world_len,
+        })
+    }
+
+    /// Plays a scene file at its rate through its camera hint, with its
+    /// integrator or `integrator` if given; with 8 particles or fewer, each
+    /// leaves a trail.
+    ///
+    /// # Errors
+    /// [`PlaybackError::Scene`] for a scene that does not load or build,
+    /// [`PlaybackError::Integrator`] for an unknown integrator name.
+    pub fn from_scene(scene: &Scene, integrator: Option<&str>) -> Result<Self, PlaybackError> {
+        let (mut world, entities) = scene.build().map_err(PlaybackError::Scene)?;
+        if let Some(name) = integrator {
+            world.set_integrator(name)?;
+        }
+        let rate = scene.rate().map_err(PlaybackError::Scene)?;
+        let mut playback = Self::new(world, rate, Camera::from_hint(&scene.spec.camera), scene.name())?;
+        if entities.len() <= 8 {
+            for entity in entities {
+                if let Ok(row) = playback.world.row(entity) {
+                    let colour = playback.world.particles().colour[row];
+                    playback.trails.follow(entity, colour);
+                }
+            }
+        }
+        Ok(playback)
+    }
+
+    /// The world (read only: change it through fixed steps or controls).
+    #[must_use]
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The world, to change between frames (a game's per-frame update).
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// The clock.
+    #[must_use]
+    pub fn clock(&self) -> &FixedClock {
+        &self.clock
+    }
+
+    /// The trails drawn.
+    pub fn trails_mut(&mut self) -> &mut Trails {
+        &mut self.trails
+    }
+
+    /// The last frame's report (steps, alpha, dropped time).
+    #[must_use]
+    pub fn last_frame(&self) -> &Frame {
+        &self.last
+    }
+
+    /// Advances by one displayed frame of `seconds` and runs the fixed steps
+    /// it is due, recording trails after each.
+    ///
+    /// # Errors
+    /// [`PlaybackError::Clock`] for a NaN, infinite or negative duration;
+    /// [`PlaybackError::Simulation`] if a step fails.
+    pub fn advance(&mut self, seconds: f64) -> Result<&Frame, PlaybackError> {
+        let frame = self.clock.advance(seconds)?;
+        // Smoothed frame time for the HUD's fps: e <- e + (s - e) / 8.
+        self.frame_seconds = if self.frame_seconds == 0.0 {
+            seconds
+        } else {
+            self.frame_seconds + (seconds - self.frame_seconds) / 8.0
+        };
+        for step in frame.fixed_steps() {
+            self.world.step(step)?;
+            self.trails.record(&self.world);
+            self.steps_total += 1;
+        }
+        self.last = frame;
+        Ok(&self.last)
+    }
+
+    /// Applies a viewer control.
+    ///
+    /// # Errors
+    /// [`PlaybackError::Integrator`] for an integrator number beyond the
+    /// registry; [`PlaybackError::Clock`] never in practice (time scales
+    /// are from a fixed list).
+    pub fn control(&mut self, control: Control) -> Result<(), PlaybackError> {
+        match control {
+            Control::TogglePause => {
+                if self.clock.is_paused() {
+                    self.clock.resume();
+                } else {
+                    self.clock.pause();
+                }
+            }
+            Control::SingleStep => {
+                self.clock.single_step();
+            }
+            Control::Faster | Control::Slower => {
+                let scale = self.clock.config().time_scale;
+                let next = if control == Control::Faster {
+                    TIME_SCALES.iter().find(|&&s| s > scale * 1.0001)
+                } else {
+                    TIME_SCALES.iter().rev().find(|&&s| s < scale * 0.9999)
+                };
+                if let Some(&next) = next {
+                    self.clock.set_time_scale(next)?;
+                }
+            }
+            Control::NextIntegrator => {
+                let methods = METHODS;
+                let current = self.world.integrator().info().name;
+                let index = methods.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
+                self.world.set_integrator(methods[index % methods.len()].name)?;
+            }
+            Control::Integrator(n) => {
+                let methods = METHODS;
+                let Some(info) = methods.get(n) else {
+                    return Err(PlaybackError::Integrator(UnknownMethod::new(&format!("#{}", n + 1))));
+                };
+                self.world.set_integrator(info.name)?;
+            }
+            Control::Reset => {
+                let integrator = self.world.integrator().info().name;
+                self.world.restore(&self.initial);
+                // Keep the integrator the viewer chose.
+                self.world.set_integrator(integrator)?;
+                self.trails.clear_points();
+                self.energy = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// The frame to draw: the world at the last frame's alpha, with trails
+    /// and `hud` as the HUD text.
+    #[must_use]
+    pub fn view<'a>(&'a self, hud: &'a str) -> FrameView<'a> {
+        FrameView {
+            trails: Some(&self.trails),
+            hud,
+            ..FrameView::new(&self.world, self.last.alpha as f32, self.camera)
+        }
+    }
+
+    /// The HUD text: fps, steps this frame, dropped time, integrator, time
+    /// scale, particle count, energy and its drift since the start.
+    pub fn hud_text(&mut self, out: &mut String) {
+        use std::fmt::Write;
+        let tick = self.world.tick();
+        let stale = match self.energy {
+            None => true,
+            Some((at, _)) => at != tick && (self.world.len() <= ENERGY_EVERY_STEP || tick >= at + 30),
+        };
+        if stale {
+            self.energy = Some((tick, self.world.energy().total()));
+        }
+        let energy = self.energy.map_or(0.0, |(_, e)| e);
+        // Drift relative to the start, when that means something: same
+        // particles, non-zero initial energy.
+        let drift = (self.world.len() == self.initial_len && self.initial_energy.abs() > 1e-9)
+            .then(|| (energy - self.initial_energy) / self.initial_energy.abs());
+        let fps = if self.frame_seconds > 0.0 { 1.0 / self.frame_seconds } else { 0.0 };
+        out.clear();
+        let _ = writeln!(
+            out,
+            "{}  |  {}{}",
+            self.title,
+            self.world.integrator().info().name,
+            if self.clock.is_paused() { "  |  paused" } else { "" }
+        );
+        let _ = writeln!(
+            out,
+            "{fps:.0} fps  |  {} steps this frame  |  dropped {:.3} s  |  x{}",
+            self.last.steps,
+            self.clock.dropped_total(),
+            self.clock.config().time_scale
+        );
+        let _ = write!(
+            out,
+            "{} particles  |  t = {:.2} s  |  energy {energy:.4} J",
+            self.world.len(),
+            self.world.time()
+        );
+        if let Some(drift) = drift {
+            let _ = write!(out, " (drift {drift:+.2e})");
+        }
+    }
+}

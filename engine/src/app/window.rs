@@ -1,0 +1,429 @@
+//! The window runner: winit 0.30's `ApplicationHandler` around a
+//! [`Playback`], driven by the real clock (or a simulated cadence for
+//! tests), drawing through the same [`Renderer`] as the off-screen runner.
+//!
+//! Keys: Space pause, Period single step, `+`/`-` time scale, Tab or 1-9
+//! integrator, R reset, F12 screenshot, Escape close. Mouse: drag to orbit
+//! (3D) or pan (2D), wheel to zoom.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use super::{Control, Playback, RunError};
+use crate::clock::{RealTime, TimeSource};
+use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer, RendererConfig};
+
+/// Window settings.
+#[derive(Clone, Debug)]
+pub struct WindowOptions {
+    /// Inner width in physical pixels (default 1280).
+    pub width: u32,
+    /// Inner height in physical pixels (default 720).
+    pub height: u32,
+    /// Wait for the display's refresh (default true); off presents at once
+    /// (Mailbox or Immediate, whichever the surface offers).
+    pub vsync: bool,
+    /// Close after this many frames (default: run until closed).
+    pub frames: Option<u64>,
+    /// After `frames`, keep showing the last frame this many seconds before
+    /// closing (default 0), for an outside screenshot.
+    pub hold_seconds: f64,
+    /// Frame durations from a simulated display at this rate instead of the
+    /// real clock (default: real clock), so a window's frames can be
+    /// reproduced off-screen.
+    pub display_hz: Option<f64>,
+    /// Where F12 screenshots go (default: the current directory).
+    pub screenshot_dir: PathBuf,
+    /// Draw the HUD (default true).
+    pub hud: bool,
+    /// Renderer settings (default: [`RendererConfig::default`]).
+    pub renderer: RendererConfig,
+}
+
+impl Default for WindowOptions {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            vsync: true,
+            frames: None,
+            hold_seconds: 0.0,
+            display_hz: None,
+            screenshot_dir: PathBuf::from("."),
+            hud: true,
+            renderer: RendererConfig::default(),
+        }
+    }
+}
+
+/// What a window run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowSummary {
+    /// Frames presented.
+    pub frames: u64,
+    /// The adapter used.
+    pub adapter: String,
+    /// The surface format and present mode chosen.
+    pub surface: String,
+    /// Screenshots written.
+    pub screenshots: Vec<PathBuf>,
+}
+
+/// Opens a window and plays `playback` in it until it is closed (or
+/// `options.frames` have been shown).
+///
+/// # Errors
+/// [`RunError::Window`] if no window can be opened (no display),
+/// [`RunError::Render`] for no adapter or a surface that cannot be
+/// configured, [`RunError::Playback`] if a step fails.
+pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSummary, RunError> {
+    if options.width == 0 || options.height == 0 {
+        return Err(RunError::Window(format!(
+            "the window size must be at least 1x1, got {}x{}",
+            options.width, options.height
+        )));
+    }
+    if !(options.hold_seconds.is_finite() && options.hold_seconds >= 0.0) {
+        return Err(RunError::Window(format!(
+            "hold_seconds must be finite and not negative, got {}",
+            options.hold_seconds
+        )));
+    }
+    let event_loop = EventLoop::new().map_err(|e| RunError::Window(e.to_string()))?;
+    let time: Box<dyn TimeSource> = match options.display_hz {
+        Some(hz) => Box::new(crate::clock::FixedCadence::hz(hz)),
+        None => Box::new(RealTime::default()),
+    };
+    let mut app = App {
+        playback,
+        options,
+        time,
+        state: None,
+        error: None,
+        summary: WindowSummary {
+            frames: 0,
+            adapter: String::new(),
+            surface: String::new(),
+            screenshots: Vec::new(),
+        },
+        hud: String::new(),
+        drag: None,
+        cursor: (0.0, 0.0),
+        hold_started: None,
+        screenshot: false,
+    };
+    event_loop.run_app(&mut app).map_err(|e| RunError::Window(e.to_string()))?;
+    match app.error {
+        Some(error) => Err(error),
+        None => Ok(app.summary),
+    }
+}
+
+/// Everything that exists only while the window does.
+struct WindowState {
+    gpu: Gpu,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    renderer: Renderer,
+    buffers: Option<FrameBuffers>,
+    // Dropped last: the surface refers to it.
+    window: Arc<Window>,
+}
+
+struct App {
+    playback: Playback,
+    options: WindowOptions,
+    time: Box<dyn TimeSource>,
+    state: Option<WindowState>,
+    error: Option<RunError>,
+    summary: WindowSummary,
+    hud: String,
+    drag: Option<(f64, f64)>,
+    cursor: (f64, f64),
+    hold_started: Option<std::time::Instant>,
+    screenshot: bool,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: RunError) {
+        self.error.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
+        let attributes = Window::default_attributes()
+            .with_title(format!("Tickwork - {}", self.playback_title()))
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| RunError::Window(e.to_string()))?,
+        );
+        // With the display handle, so that the GL backend finds an adapter
+        // compatible with the window's surface.
+        let descriptor =
+            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+        let backends = descriptor.backends;
+        let instance = wgpu::Instance::new(descriptor);
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| RenderError::Surface(e.to_string()))?;
+        let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(wgpu::TextureFormat::is_srgb)
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
+        let present_mode = if self.options.vsync {
+            wgpu::PresentMode::Fifo
+        } else {
+            [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
+                .into_iter()
+                .find(|m| caps.present_modes.contains(m))
+                .unwrap_or(wgpu::PresentMode::Fifo)
+        };
+        let size = window.inner_size();
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode,
+            alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+            desired_maximum_frame_latency: 2,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        let renderer = Renderer::new(&gpu, format, self.options.renderer.clone())?;
+        self.summary.adapter = gpu.describe();
+        self.summary.surface = format!("{format:?}, {present_mode:?}");
+        let mut state = WindowState {
+            gpu,
+            surface,
+            config,
+            renderer,
+            buffers: None,
+            window,
+        };
+        state.resize(size.width, size.height)?;
+        Ok(state)
+    }
+
+    fn playback_title(&self) -> String {
+        self.hud.lines().next().unwrap_or("").to_string()
+    }
+
+    fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
+        if event.state != ElementState::Pressed {
+            return;
+        }
+        let control = match (&event.logical_key, event.physical_key) {
+            (Key::Named(NamedKey::Escape), _) => {
+                event_loop.exit();
+                None
+            }
+            (Key::Named(NamedKey::F12), _) => {
+                self.screenshot = true;
+                None
+            }
+            (Key::Named(NamedKey::Space), _) => Some(Control::TogglePause),
+            (Key::Named(NamedKey::Tab), _) => Some(Control::NextIntegrator),
+            (_, PhysicalKey::Code(KeyCode::Period)) => Some(Control::SingleStep),
+            (_, PhysicalKey::Code(KeyCode::NumpadAdd)) => Some(Control::Faster),
+            (_, PhysicalKey::Code(KeyCode::NumpadSubtract)) => Some(Control::Slower),
+            (_, PhysicalKey::Code(KeyCode::KeyR)) => Some(Control::Reset),
+            (Key::Character(c), _) => match c.as_str() {
+                "+" | "=" => Some(Control::Faster),
+                "-" | "_" => Some(Control::Slower),
+                d if d.len() == 1 && ("1"..="9").contains(&d) => {
+                    Some(Control::Integrator(usize::from(d.as_bytes()[0] - b'1')))
+                }
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some(control) = control
+            && let Err(error) = self.playback.control(control)
+        {
+            self.fail(event_loop, error.into());
+        }
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), RunError> {
+        let holding = self.hold_started.is_some();
+        if !holding {
+            let seconds = self.time.next_frame();
+            self.playback.advance(seconds)?;
+        }
+        if self.options.hud {
+            self.playback.hud_text(&mut self.hud);
+        } else {
+            self.hud.clear();
+        }
+        let Some(state) = self.state.as_mut() else {
+            return Ok(());
+        };
+        // Minimised (0x0): nothing to draw, nothing wrong.
+        let Some(buffers) = state.buffers.as_ref() else {
+            return Ok(());
+        };
+        let view = self.playback.view(&self.hud);
+        state.renderer.prepare(&state.gpu, buffers, &view)?;
+        let frame = match state.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(frame) | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                state.surface.configure(&state.gpu.device, &state.config);
+                return Ok(());
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                return Err(RenderError::Surface("validation error acquiring the frame".into()).into());
+            }
+        };
+        let output = frame.texture.create_view(&Default::default());
+        let mut encoder = state
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tickwork window") });
+        state.renderer.encode(&mut encoder, buffers, &output);
+        state.gpu.queue.submit(Some(encoder.finish()));
+        state.window.pre_present_notify();
+        state.gpu.queue.present(frame);
+        if std::mem::take(&mut self.screenshot) {
+            let path = screenshot(state, &self.playback, &self.hud, &self.options)?;
+            println!("tickwork: screenshot {}", path.display());
+            self.summary.screenshots.push(path);
+        }
+        if !holding {
+            self.summary.frames += 1;
+        }
+        if let Some(limit) = self.options.frames {
+            if self.summary.frames >= limit && self.hold_started.is_none() {
+                self.hold_started = Some(std::time::Instant::now());
+                println!("tickwork: frame {limit} shown; holding it {} s", self.options.hold_seconds);
+                use std::io::Write;
+                let _ = std::io::stdout().flush();
+            }
+            if let Some(start) = self.hold_started
+                && start.elapsed().as_secs_f64() >= self.options.hold_seconds
+            {
+                event_loop.exit();
+            }
+        }
+        Ok(())
+    }
+}
+
+impl WindowState {
+    /// Reconfigures for a new inner size; 0x0 (minimised) keeps the old
+    /// surface and draws nothing until the window comes back.
+    fn resize(&mut self, width: u32, height: u32) -> Result<(), RunError> {
+        if width == 0 || height == 0 {
+            self.buffers = None;
+            return Ok(());
+        }
+        self.config.width = width;
+        self.config.height = height;
+        self.surface.configure(&self.gpu.device, &self.config);
+        self.buffers = Some(FrameBuffers::new(
+            &self.gpu,
+            width,
+            height,
+            self.config.format,
+            self.renderer.config().samples,
+        )?);
+        Ok(())
+    }
+}
+
+/// Draws the window's current view off-screen at the window's size and
+/// saves it as `screenshot_NNNN.png`, never overwriting an existing file.
+fn screenshot(
+    state: &WindowState,
+    playback: &Playback,
+    hud: &str,
+    options: &WindowOptions,
+) -> Result<PathBuf, RunError> {
+    let (width, height) = (state.config.width, state.config.height);
+    let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
+    let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
+    let image = target.render(&state.gpu, &mut renderer, &playback.view(hud))?;
+    std::fs::create_dir_all(&options.screenshot_dir).map_err(|e| RunError::io(&options.screenshot_dir, &e))?;
+    let path = (0..)
+        .map(|k| options.screenshot_dir.join(format!("screenshot_{k:04}.png")))
+        .find(|p| !p.exists())
+        .unwrap_or_else(|| options.screenshot_dir.join("screenshot.png"));
+    image.save(&path).map_err(|e| RunError::io(&path, &e))?;
+    Ok(path)
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_some() {
+            return;
+        }
+        self.playback.hud_text(&mut self.hud);
+        match self.open(event_loop) {
+            Ok(state) => {
+                state.window.request_redraw();
+                self.state = Some(state);
+            }
+            Err(error) => self.fail(event_loop, error),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if let Some(state) = self.state.as_mut()
+                    && let Err(error) = state.resize(size.width, size.height)
+                {
+                    self.fail(event_loop, error);
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
+            WindowEvent::MouseInput { state, button, .. } if button == MouseButton::Left => {
+                self.drag = (state == ElementState::Pressed).then_some(self.cursor);
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = (position.x, position.y);
+                if let Some((x, y)) = self.drag {
+                    // Half a degree per pixel dragged.
+                    let (dx, dy) = (position.x - x, position.y - y);
+                    self.playback.camera.orbit(-0.5 * dx as f32, 0.5 * dy as f32);
+                    self.drag = Some(self.cursor);
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.playback.camera.zoom(1.1_f32.powf(lines));
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(error) = self.redraw(event_loop) {
+                    self.fail(event_loop, error);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+}
