@@ -1,0 +1,263 @@
+//! `tickwork render` and `tickwork view` as a user runs them: frames, GIF,
+//! errors, and a real window under Xvfb compared with the off-screen frame.
+//!
+//! Needs a graphics adapter (Mesa's software Vulkan driver) and, for the
+//! window, Xvfb and ImageMagick's `import`: `scripts/test` installs them.
+//! Nothing here skips when they are missing; the tests fail and say what.
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use tickwork_engine::render::{Tolerance, compare};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn scene(name: &str) -> String {
+    root().join("assets/scenes").join(name).display().to_string()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = root().join("target/test-render").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn tickwork(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn render_writes_frames_and_a_gif_and_refuses_to_overwrite_them() {
+    let dir = scratch("frames");
+    let out = dir.join("png");
+    let gif = dir.join("run.gif");
+    let args = [
+        "render",
+        &scene("projectile.ron"),
+        "--frames",
+        "12",
+        "--size",
+        "161x91",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--gif",
+        gif.to_str().expect("utf-8"),
+        "--display-hz",
+        "20",
+    ];
+    let output = tickwork(&args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stdout = text(&output.stdout);
+    // 12 frames of 50 ms on a 60 Hz scene: 0.6 s, 36 steps.
+    assert!(stdout.contains("rendered 12 frames (36 steps, 161x91)"), "{stdout}");
+    for k in 0..12 {
+        let frame = image::open(out.join(format!("frame_{k:05}.png"))).expect("frame").to_rgba8();
+        assert_eq!(frame.dimensions(), (161, 91));
+    }
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&gif).expect("gif"),
+    ))
+    .expect("a GIF");
+    let frames = image::AnimationDecoder::into_frames(decoder).collect_frames().expect("frames");
+    assert_eq!(frames.len(), 12);
+    let (numer, denom) = frames[0].delay().numer_denom_ms();
+    assert_eq!(f64::from(numer) / f64::from(denom), 50.0, "GIF delay");
+    // Again without --force: refused, nothing overwritten.
+    let before = std::fs::metadata(out.join("frame_00000.png")).and_then(|m| m.modified()).expect("mtime");
+    let output = tickwork(&args);
+    assert!(!output.status.success());
+    let stderr = text(&output.stderr);
+    assert!(stderr.contains("frame_00000.png: exists; pass --force to overwrite it"), "{stderr}");
+    let after = std::fs::metadata(out.join("frame_00000.png")).and_then(|m| m.modified()).expect("mtime");
+    assert_eq!(before, after);
+}
+
+#[test]
+fn a_jittery_display_runs_the_steps_its_frame_times_add_up_to() {
+    // 50 frames of a jittery 50 Hz display (+-50%, seed 1) on the scene's
+    // 240 Hz clock: as many steps as fit in the frames' total duration.
+    let mut display = tickwork_engine::clock::JitteryCadence::new(1.0 / 50.0, 1);
+    let total: f64 = (0..50).map(|_| tickwork_engine::clock::TimeSource::next_frame(&mut display)).sum();
+    let expected = (total * 240.0).floor() as u64;
+    let dir = scratch("jitter");
+    let output = tickwork(&[
+        "render",
+        &scene("bouncing_ball.ron"),
+        "--frames",
+        "50",
+        "--jitter",
+        "--display-hz",
+        "50",
+        "--size",
+        "64x64",
+        "--out",
+        dir.to_str().expect("utf-8"),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stdout = text(&output.stdout);
+    let steps: u64 = stdout
+        .split("frames (")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .expect("steps in the summary");
+    assert!(steps.abs_diff(expected) <= 1 && expected != 240, "{steps} steps, expected {expected}: {stdout}");
+}
+
+#[test]
+fn bad_options_are_errors_that_say_what_was_wrong() {
+    let cases: [(&[&str], &str); 4] = [
+        (&["--size", "0x100"], "\"0\" in \"0x100\" is not a positive whole number of pixels"),
+        (&["--size", "big"], "expected WIDTHxHEIGHT, e.g. 1280x720, got \"big\""),
+        (&["--display-hz", "-5"], "--display-hz: -5 is not a positive, finite rate"),
+        (&["--integrator", "rk5"], "unknown integrator 'rk5'; valid names are: explicit_euler"),
+    ];
+    for (extra, message) in cases {
+        let dir = scratch("bad");
+        let mut args = vec!["render", &*Box::leak(scene("projectile.ron").into_boxed_str())];
+        args.extend_from_slice(&["--frames", "1", "--out", Box::leak(dir.display().to_string().into_boxed_str())]);
+        args.extend_from_slice(extra);
+        let output = tickwork(&args);
+        assert!(!output.status.success(), "{extra:?} should fail");
+        assert!(text(&output.stderr).contains(message), "{extra:?}: {}", text(&output.stderr));
+    }
+}
+
+#[test]
+fn no_adapter_is_an_error_naming_the_backends_and_the_package() {
+    // Metal does not exist on Linux: wgpu finds no adapter at all.
+    let dir = scratch("no-adapter");
+    let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args(["render", &scene("projectile.ron"), "--frames", "1", "--out"])
+        .arg(&dir)
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(1), "a clean non-zero exit, not a panic");
+    let stderr = text(&output.stderr);
+    assert!(
+        stderr.starts_with("tickwork: no graphics adapter found (backends tried: Metal;"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("apt-get install mesa-vulkan-drivers libvulkan1"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// An X server on a free display, killed when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start(width: u32, height: u32) -> Self {
+        let mut child = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", &format!("{width}x{height}x24"), "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start Xvfb ({e}): scripts/test installs the `xvfb` package"));
+        let mut number = String::new();
+        BufReader::new(child.stdout.take().expect("stdout"))
+            .read_line(&mut number)
+            .expect("Xvfb prints its display number");
+        Self {
+            child,
+            display: format!(":{}", number.trim()),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn screenshot(display: &str, path: &Path) {
+    let status = Command::new("import")
+        .args(["-display", display, "-window", "root"])
+        .arg(path)
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run ImageMagick's import ({e}): scripts/test installs `imagemagick`"));
+    assert!(status.success(), "import failed");
+}
+
+#[test]
+fn a_window_under_xvfb_shows_what_the_offscreen_renderer_draws() {
+    let (width, height) = (480, 270);
+    let dir = scratch("window");
+    let xvfb = Xvfb::start(width, height);
+    let size = format!("{width}x{height}");
+    let mut view = Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args(["view", &scene("tops.ron"), "--size", &size, "--frames", "40", "--hold", "30"])
+        .args(["--display-hz", "60", "--screenshots"])
+        .arg(&dir)
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("tickwork view starts");
+    let mut stdout = BufReader::new(view.stdout.take().expect("stdout"));
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let mut line = String::new();
+    while !line.contains("frame 40 shown") {
+        line.clear();
+        if stdout.read_line(&mut line).expect("read") == 0 || Instant::now() > deadline {
+            let _ = view.kill();
+            let mut stderr = String::new();
+            let _ = view.stderr.take().expect("stderr").read_to_string(&mut stderr);
+            panic!("the window never showed frame 40: {stderr}");
+        }
+    }
+    // Let the held frame reach the screen, then photograph the screen.
+    std::thread::sleep(Duration::from_millis(500));
+    let shot = dir.join("window.png");
+    screenshot(&xvfb.display, &shot);
+    let _ = view.kill();
+    let _ = view.wait();
+    let window = image::open(&shot).expect("screenshot").to_rgba8();
+    // The same 40 frames off-screen.
+    let out = dir.join("offscreen");
+    let output = tickwork(&[
+        "render",
+        &scene("tops.ron"),
+        "--size",
+        &size,
+        "--frames",
+        "40",
+        "--display-hz",
+        "60",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let offscreen = image::open(out.join("frame_00039.png")).expect("frame").to_rgba8();
+    let tolerance = Tolerance {
+        channel: 32,
+        max_fraction: 0.01,
+    };
+    let comparison = compare(&window, &offscreen, tolerance).expect("same size");
+    assert!(
+        comparison.fraction() <= tolerance.max_fraction,
+        "window screenshot {} differs from the off-screen frame: {comparison:?}",
+        shot.display()
+    );
+    // And it is not an empty screen: the frame has drawn pixels.
+    let drawn = window.pixels().filter(|p| p.0[0] > 100 || p.0[1] > 100).count();
+    assert!(drawn > 200, "only {drawn} drawn pixels in the window");
+}
