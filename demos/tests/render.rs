@@ -197,9 +197,22 @@ fn screenshot(display: &str, path: &Path) {
 }
 
 #[test]
-fn a_window_under_xvfb_shows_what_the_offscreen_renderer_draws() {
+fn a_window_on_vulkan_shows_what_the_offscreen_renderer_draws() {
+    window_matches_offscreen("vulkan");
+}
+
+#[test]
+fn a_window_on_gl_shows_what_the_offscreen_renderer_draws() {
+    window_matches_offscreen("gl");
+}
+
+/// Runs `tops.ron` in a window on `backend` under Xvfb for 40 frames of a
+/// simulated 60 Hz display, photographs the screen, compares it with the
+/// off-screen frame 40, then resizes the window (down to 1x1 and back)
+/// and checks it is still running.
+fn window_matches_offscreen(backend: &str) {
     let (width, height) = (480, 270);
-    let dir = scratch("window");
+    let dir = scratch(&format!("window-{backend}"));
     let xvfb = Xvfb::start(width, height);
     let size = format!("{width}x{height}");
     let mut view = Command::new(env!("CARGO_BIN_EXE_tickwork"))
@@ -207,6 +220,7 @@ fn a_window_under_xvfb_shows_what_the_offscreen_renderer_draws() {
         .args(["--display-hz", "60", "--screenshots"])
         .arg(&dir)
         .env("DISPLAY", &xvfb.display)
+        .env("WGPU_BACKEND", backend)
         .env_remove("WAYLAND_DISPLAY")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -228,23 +242,32 @@ fn a_window_under_xvfb_shows_what_the_offscreen_renderer_draws() {
     std::thread::sleep(Duration::from_millis(500));
     let shot = dir.join("window.png");
     screenshot(&xvfb.display, &shot);
+    // Resizing, even to a single pixel, neither crashes nor errors.
+    for size in [["1", "1"], ["200", "120"], [&*width.to_string(), &*height.to_string()]] {
+        let status = Command::new("xdotool")
+            .args(["search", "--name", "^Tickwork", "windowsize", size[0], size[1]])
+            .env("DISPLAY", &xvfb.display)
+            .status()
+            .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): scripts/test installs `xdotool`"));
+        assert!(status.success(), "xdotool windowsize {size:?}");
+        std::thread::sleep(Duration::from_millis(300));
+        if let Some(status) = view.try_wait().expect("status") {
+            let mut stderr = String::new();
+            let _ = view.stderr.take().expect("stderr").read_to_string(&mut stderr);
+            panic!("the window exited ({status}) after a resize to {size:?}: {stderr}");
+        }
+    }
     let _ = view.kill();
     let _ = view.wait();
     let window = image::open(&shot).expect("screenshot").to_rgba8();
     // The same 40 frames off-screen.
     let out = dir.join("offscreen");
-    let output = tickwork(&[
-        "render",
-        &scene("tops.ron"),
-        "--size",
-        &size,
-        "--frames",
-        "40",
-        "--display-hz",
-        "60",
-        "--out",
-        out.to_str().expect("utf-8"),
-    ]);
+    let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args(["render", &scene("tops.ron"), "--size", &size, "--frames", "40", "--display-hz", "60", "--out"])
+        .arg(&out)
+        .env("WGPU_BACKEND", backend)
+        .output()
+        .expect("runs");
     assert!(output.status.success(), "{}", text(&output.stderr));
     let offscreen = image::open(out.join("frame_00039.png")).expect("frame").to_rgba8();
     let tolerance = Tolerance {
