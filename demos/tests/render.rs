@@ -63,24 +63,33 @@ fn render_writes_frames_and_a_gif_and_refuses_to_overwrite_them() {
     // 12 frames of 50 ms on a 60 Hz scene: 0.6 s, 36 steps.
     assert!(stdout.contains("rendered 12 frames (36 steps, 161x91)"), "{stdout}");
     for k in 0..12 {
-        let frame = image::open(out.join(format!("frame_{k:05}.png"))).expect("frame").to_rgba8();
+        let frame = image::open(out.join(format!("frame_{k:05}.png")))
+            .expect("frame")
+            .to_rgba8();
         assert_eq!(frame.dimensions(), (161, 91));
     }
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(&gif).expect("gif"),
-    ))
-    .expect("a GIF");
-    let frames = image::AnimationDecoder::into_frames(decoder).collect_frames().expect("frames");
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(std::fs::File::open(&gif).expect("gif")))
+        .expect("a GIF");
+    let frames = image::AnimationDecoder::into_frames(decoder)
+        .collect_frames()
+        .expect("frames");
     assert_eq!(frames.len(), 12);
     let (numer, denom) = frames[0].delay().numer_denom_ms();
     assert_eq!(f64::from(numer) / f64::from(denom), 50.0, "GIF delay");
     // Again without --force: refused, nothing overwritten.
-    let before = std::fs::metadata(out.join("frame_00000.png")).and_then(|m| m.modified()).expect("mtime");
+    let before = std::fs::metadata(out.join("frame_00000.png"))
+        .and_then(|m| m.modified())
+        .expect("mtime");
     let output = tickwork(&args);
     assert!(!output.status.success());
     let stderr = text(&output.stderr);
-    assert!(stderr.contains("frame_00000.png: exists; pass --force to overwrite it"), "{stderr}");
-    let after = std::fs::metadata(out.join("frame_00000.png")).and_then(|m| m.modified()).expect("mtime");
+    assert!(
+        stderr.contains("frame_00000.png: exists; pass --force to overwrite it"),
+        "{stderr}"
+    );
+    let after = std::fs::metadata(out.join("frame_00000.png"))
+        .and_then(|m| m.modified())
+        .expect("mtime");
     assert_eq!(before, after);
 }
 
@@ -89,7 +98,9 @@ fn a_jittery_display_runs_the_steps_its_frame_times_add_up_to() {
     // 50 frames of a jittery 50 Hz display (+-50%, seed 1) on the scene's
     // 240 Hz clock: as many steps as fit in the frames' total duration.
     let mut display = tickwork_engine::clock::JitteryCadence::new(1.0 / 50.0, 1);
-    let total: f64 = (0..50).map(|_| tickwork_engine::clock::TimeSource::next_frame(&mut display)).sum();
+    let total: f64 = (0..50)
+        .map(|_| tickwork_engine::clock::TimeSource::next_frame(&mut display))
+        .sum();
     let expected = (total * 240.0).floor() as u64;
     let dir = scratch("jitter");
     let output = tickwork(&[
@@ -113,25 +124,46 @@ fn a_jittery_display_runs_the_steps_its_frame_times_add_up_to() {
         .and_then(|s| s.split(' ').next())
         .and_then(|s| s.parse().ok())
         .expect("steps in the summary");
-    assert!(steps.abs_diff(expected) <= 1 && expected != 240, "{steps} steps, expected {expected}: {stdout}");
+    assert!(
+        steps.abs_diff(expected) <= 1 && expected != 240,
+        "{steps} steps, expected {expected}: {stdout}"
+    );
 }
 
 #[test]
 fn bad_options_are_errors_that_say_what_was_wrong() {
     let cases: [(&[&str], &str); 4] = [
-        (&["--size", "0x100"], "\"0\" in \"0x100\" is not a positive whole number of pixels"),
+        (
+            &["--size", "0x100"],
+            "\"0\" in \"0x100\" is not a positive whole number of pixels",
+        ),
         (&["--size", "big"], "expected WIDTHxHEIGHT, e.g. 1280x720, got \"big\""),
-        (&["--display-hz", "-5"], "--display-hz: -5 is not a positive, finite rate"),
-        (&["--integrator", "rk5"], "unknown integrator 'rk5'; valid names are: explicit_euler"),
+        (
+            &["--display-hz", "-5"],
+            "--display-hz: -5 is not a positive, finite rate",
+        ),
+        (
+            &["--integrator", "rk5"],
+            "unknown integrator 'rk5'; valid names are: explicit_euler",
+        ),
     ];
     for (extra, message) in cases {
         let dir = scratch("bad");
         let mut args = vec!["render", &*Box::leak(scene("projectile.ron").into_boxed_str())];
-        args.extend_from_slice(&["--frames", "1", "--out", Box::leak(dir.display().to_string().into_boxed_str())]);
+        args.extend_from_slice(&[
+            "--frames",
+            "1",
+            "--out",
+            Box::leak(dir.display().to_string().into_boxed_str()),
+        ]);
         args.extend_from_slice(extra);
         let output = tickwork(&args);
         assert!(!output.status.success(), "{extra:?} should fail");
-        assert!(text(&output.stderr).contains(message), "{extra:?}: {}", text(&output.stderr));
+        assert!(
+            text(&output.stderr).contains(message),
+            "{extra:?}: {}",
+            text(&output.stderr)
+        );
     }
 }
 
@@ -151,7 +183,10 @@ fn no_adapter_is_an_error_naming_the_backends_and_the_package() {
         stderr.starts_with("tickwork: no graphics adapter found (backends tried: Metal;"),
         "{stderr}"
     );
-    assert!(stderr.contains("apt-get install mesa-vulkan-drivers libvulkan1"), "{stderr}");
+    assert!(
+        stderr.contains("apt-get install mesa-vulkan-drivers libvulkan1"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
@@ -164,7 +199,15 @@ struct Xvfb {
 impl Xvfb {
     fn start(width: u32, height: u32) -> Self {
         let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", &format!("{width}x{height}x24"), "-nolisten", "tcp"])
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                &format!("{width}x{height}x24"),
+                "-nolisten",
+                "tcp",
+            ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -216,7 +259,16 @@ fn window_matches_offscreen(backend: &str) {
     let xvfb = Xvfb::start(width, height);
     let size = format!("{width}x{height}");
     let mut view = Command::new(env!("CARGO_BIN_EXE_tickwork"))
-        .args(["view", &scene("tops.ron"), "--size", &size, "--frames", "40", "--hold", "30"])
+        .args([
+            "view",
+            &scene("tops.ron"),
+            "--size",
+            &size,
+            "--frames",
+            "40",
+            "--hold",
+            "30",
+        ])
         .args(["--display-hz", "60", "--screenshots"])
         .arg(&dir)
         .env("DISPLAY", &xvfb.display)
@@ -263,7 +315,17 @@ fn window_matches_offscreen(backend: &str) {
     // The same 40 frames off-screen.
     let out = dir.join("offscreen");
     let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
-        .args(["render", &scene("tops.ron"), "--size", &size, "--frames", "40", "--display-hz", "60", "--out"])
+        .args([
+            "render",
+            &scene("tops.ron"),
+            "--size",
+            &size,
+            "--frames",
+            "40",
+            "--display-hz",
+            "60",
+            "--out",
+        ])
         .arg(&out)
         .env("WGPU_BACKEND", backend)
         .output()

@@ -132,7 +132,10 @@ fn a_frame_at_alpha_half_shows_the_midpoint_state() {
     // And the two ends are different pictures (the test can fail).
     let at_start = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
     let differing = tickwork_engine::render::compare(&at_start, &between, Default::default()).expect("size");
-    assert!(differing.differing > 500, "alpha 0 and 0.5 should differ: {differing:?}");
+    assert!(
+        differing.differing > 500,
+        "alpha 0 and 0.5 should differ: {differing:?}"
+    );
 }
 
 #[test]
@@ -164,7 +167,11 @@ fn a_teleported_particle_is_not_smeared_between_places() {
     let image = render(&world, 0.5, camera_2d(), 320, 180, RendererConfig::default());
     let (start, end) = ends[0];
     let mid = 0.5 * (start + end);
-    let at = |p: Vec3| image.get_pixel((160.0 + p.x * 20.0) as u32, (90.0 - p.y * 20.0) as u32).0;
+    let at = |p: Vec3| {
+        image
+            .get_pixel((160.0 + p.x * 20.0) as u32, (90.0 - p.y * 20.0) as u32)
+            .0
+    };
     assert!(at(Vec3::new(-6.0, -3.0, 0.0))[0] > 128, "drawn where it was teleported");
     assert!(at(mid)[0] < 40, "not drawn half-way: {:?}", at(mid));
 }
@@ -204,7 +211,10 @@ fn odd_widths_are_read_back_without_row_padding() {
     let lit = image.pixels().filter(|p| p.0[0] > 128).count();
     // A disc of radius 3.14 px: about 31 pixels.
     assert!((20..=45).contains(&lit), "{lit} lit pixels");
-    check("odd_size", &render(&layout(), 0.0, camera_2d(), 301, 157, RendererConfig::default()));
+    check(
+        "odd_size",
+        &render(&layout(), 0.0, camera_2d(), 301, 157, RendererConfig::default()),
+    );
 }
 
 #[test]
@@ -222,7 +232,11 @@ fn colours_are_srgb_and_blending_is_linear() {
         ..RendererConfig::default()
     };
     let image = render(&world, 0.0, Camera::default(), 64, 64, config.clone());
-    assert_eq!(image.get_pixel(32, 32).0, [128, 64, 200, 255], "an opaque colour comes out as given");
+    assert_eq!(
+        image.get_pixel(32, 32).0,
+        [128, 64, 200, 255],
+        "an opaque colour comes out as given"
+    );
     // Half-transparent white over black: 50% linear light is sRGB 188, not 128.
     world.particles_mut().colour[0] = [255, 255, 255, 128];
     let image = render(&world, 0.0, Camera::default(), 64, 64, config.clone());
@@ -279,10 +293,18 @@ fn trails_and_lines_match_their_golden_image() {
     let target = OffscreenTarget::new(gpu(), 320, 180, 4).expect("target");
     let image = target.render(gpu(), &mut renderer, &view).expect("frame");
     // The apex of the parabola (t = 1.02 s, y = 2.1) is on the trail.
-    let apex = (160.0 + (-7.0 + 5.0 * 10.0 / 9.81) * 20.0, 90.0 - (-3.0 + 100.0 / (2.0 * 9.81)) * 20.0);
+    let apex = (
+        160.0 + (-7.0 + 5.0 * 10.0 / 9.81) * 20.0,
+        90.0 - (-3.0 + 100.0 / (2.0 * 9.81)) * 20.0,
+    );
     let near_apex = (-2..=2)
         .flat_map(|dx| (-2..=2).map(move |dy| (dx, dy)))
-        .any(|(dx, dy)| image.get_pixel((apex.0 as i32 + dx) as u32, (apex.1 as i32 + dy) as u32).0[0] > 60);
+        .any(|(dx, dy)| {
+            image
+                .get_pixel((apex.0 as i32 + dx) as u32, (apex.1 as i32 + dy) as u32)
+                .0[0]
+                > 60
+        });
     assert!(near_apex, "no trail near the apex {apex:?}");
     check("trails", &image);
 }
@@ -316,7 +338,10 @@ fn rigid_body_orientation_is_visible() {
         pitch: 25.0,
         fov_y: 45.0,
     };
-    check("rigid_bodies_3d", &render(&world, 0.0, orbit, 320, 180, RendererConfig::default()));
+    check(
+        "rigid_bodies_3d",
+        &render(&world, 0.0, orbit, 320, 180, RendererConfig::default()),
+    );
 }
 
 #[test]
@@ -330,7 +355,9 @@ fn hud_text_matches_its_golden_image() {
     };
     let image = target.render(gpu(), &mut renderer, &view).expect("frame");
     // Text pixels are light grey in the top-left corner where no particle is.
-    let text = (0..60).flat_map(|y| (0..110).map(move |x| (x, y))).filter(|&(x, y)| image.get_pixel(x, y).0[0] > 150);
+    let text = (0..60)
+        .flat_map(|y| (0..110).map(move |x| (x, y)))
+        .filter(|&(x, y)| image.get_pixel(x, y).0[0] > 150);
     assert!(text.count() > 100, "no HUD text drawn");
     check("hud", &image);
 }
@@ -340,7 +367,10 @@ fn scene_files_render_through_their_camera_hints() {
     let scene = Scene::load(&root().join("assets/scenes/tops.ron")).expect("scene");
     let (world, _) = scene.build().expect("build");
     let camera = Camera::from_hint(&scene.spec.camera);
-    check("tops_scene", &render(&world, 0.0, camera, 320, 180, RendererConfig::default()));
+    check(
+        "tops_scene",
+        &render(&world, 0.0, camera, 320, 180, RendererConfig::default()),
+    );
 }
 
 #[test]
@@ -361,7 +391,42 @@ fn bad_sizes_and_settings_are_errors() {
     let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, RendererConfig::default()).expect("renderer");
     let target = OffscreenTarget::new(gpu(), 32, 32, 4).expect("target");
     let error = target
-        .render(gpu(), &mut renderer, &FrameView::new(&world, f32::NAN, Camera::default()))
+        .render(
+            gpu(),
+            &mut renderer,
+            &FrameView::new(&world, f32::NAN, Camera::default()),
+        )
         .expect_err("NaN alpha");
     assert_eq!(error.to_string(), "renderer: alpha must be finite, got NaN");
+}
+
+#[test]
+fn the_splat_path_draws_what_the_quads_draw() {
+    // 3000 small particles in 2D: drawn as quads, then by the compute splat.
+    let mut world = World::default();
+    for k in 0..3000u32 {
+        let (i, j) = (k % 75, k / 75);
+        world
+            .spawn(Particle {
+                position: Vec3::new(-7.4 + 0.2 * i as f32, -4.0 + 0.2 * j as f32, 0.0),
+                radius: 0.035 + 0.01 * (k % 3) as f32,
+                colour: [(k * 7 % 256) as u8, (k * 13 % 256) as u8, 200, 255],
+                ..Particle::default()
+            })
+            .expect("spawn");
+    }
+    let quads = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
+    let splat_config = RendererConfig {
+        splat_threshold: 0,
+        ..RendererConfig::default()
+    };
+    let splat = render(&world, 0.0, camera_2d(), 320, 180, splat_config);
+    let tolerance = tickwork_engine::render::Tolerance {
+        channel: 40,
+        max_fraction: 0.02,
+    };
+    let comparison = tickwork_engine::render::compare(&splat, &quads, tolerance).expect("size");
+    assert!(comparison.fraction() <= tolerance.max_fraction, "{comparison:?}");
+    let lit = splat.pixels().filter(|p| p.0[2] > 100).count();
+    assert!(lit > 3000, "the splat drew {lit} pixels");
 }

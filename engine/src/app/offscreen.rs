@@ -86,7 +86,9 @@ impl<'g> OffscreenRun<'g> {
         } else {
             self.hud.clear();
         }
-        Ok(self.target.render(self.gpu, &mut self.renderer, &playback.view(&self.hud))?)
+        Ok(self
+            .target
+            .render(self.gpu, &mut self.renderer, &playback.view(&self.hud))?)
     }
 
     /// Runs `frames` frames with durations from `display`, writing them to
@@ -123,7 +125,9 @@ impl<'g> OffscreenRun<'g> {
                 let file = File::create(path).map_err(|e| RunError::io(path, &e))?;
                 // Speed 10 of 1-30: good colours at a few ms per frame.
                 let mut encoder = GifEncoder::new_with_speed(BufWriter::new(file), 10);
-                encoder.set_repeat(Repeat::Infinite).map_err(|e| RunError::io(path, &e))?;
+                encoder
+                    .set_repeat(Repeat::Infinite)
+                    .map_err(|e| RunError::io(path, &e))?;
                 Some((encoder, path))
             }
             None => None,

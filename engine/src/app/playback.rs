@@ -297,7 +297,11 @@ impl Playback {
         // particles, non-zero initial energy.
         let drift = (self.world.len() == self.initial_len && self.initial_energy.abs() > 1e-9)
             .then(|| (energy - self.initial_energy) / self.initial_energy.abs());
-        let fps = if self.frame_seconds > 0.0 { 1.0 / self.frame_seconds } else { 0.0 };
+        let fps = if self.frame_seconds > 0.0 {
+            1.0 / self.frame_seconds
+        } else {
+            0.0
+        };
         out.clear();
         let _ = writeln!(
             out,

@@ -119,7 +119,9 @@ pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSu
         hold_started: None,
         screenshot: false,
     };
-    event_loop.run_app(&mut app).map_err(|e| RunError::Window(e.to_string()))?;
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| RunError::Window(e.to_string()))?;
     match app.error {
         Some(error) => Err(error),
         None => Ok(app.summary),
@@ -199,7 +201,11 @@ impl App {
             width: size.width.max(1),
             height: size.height.max(1),
             present_mode,
-            alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
             desired_maximum_frame_latency: 2,
             color_space: wgpu::SurfaceColorSpace::Auto,
@@ -294,7 +300,9 @@ impl App {
         let mut encoder = state
             .gpu
             .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tickwork window") });
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tickwork window"),
+            });
         state.renderer.encode(&mut encoder, buffers, &output);
         state.gpu.queue.submit(Some(encoder.finish()));
         state.window.pre_present_notify();
@@ -310,7 +318,10 @@ impl App {
         if let Some(limit) = self.options.frames {
             if self.summary.frames >= limit && self.hold_started.is_none() {
                 self.hold_started = Some(std::time::Instant::now());
-                println!("tickwork: frame {limit} shown; holding it {} s", self.options.hold_seconds);
+                println!(
+                    "tickwork: frame {limit} shown; holding it {} s",
+                    self.options.hold_seconds
+                );
                 use std::io::Write;
                 let _ = std::io::stdout().flush();
             }

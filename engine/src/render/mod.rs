@@ -25,6 +25,7 @@ mod golden;
 mod gpu;
 mod hud;
 mod renderer;
+mod splat;
 mod target;
 mod trails;
 

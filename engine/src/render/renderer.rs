@@ -14,6 +14,7 @@ use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut
 
 use super::camera::{Camera, CameraMatrices};
 use super::hud::Hud;
+use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::target::{DEPTH_FORMAT, FrameBuffers};
 use super::trails::Trails;
 use super::{Gpu, RenderError};
@@ -80,6 +81,12 @@ pub struct RendererConfig {
     pub spring_colour: [u8; 4],
     /// HUD text size in pixels (default 16).
     pub hud_size: f32,
+    /// Particle count from which a 2D view of small particles (drawn radius
+    /// 4 px or less) is drawn by the compute splat path instead of one quad
+    /// per particle (default 20 000; `usize::MAX` never). Software
+    /// rasterisers pay about a microsecond per primitive; the splat pays
+    /// per covered pixel.
+    pub splat_threshold: usize,
 }
 
 impl Default for RendererConfig {
@@ -94,6 +101,7 @@ impl Default for RendererConfig {
             rigid_bodies: true,
             spring_colour: [150, 150, 170, 200],
             hud_size: 16.0,
+            splat_threshold: 20_000,
         }
     }
 }
@@ -152,13 +160,15 @@ struct Globals {
     pixels_per_unit: f32,
     t: f32,
     min_radius_px: f32,
-    _pad: [f32; 3],
+    /// Particles drawn (read by the splat pass).
+    count: u32,
+    _pad: [f32; 2],
 }
 
 /// One particle as the shader reads it (32 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct Instance {
+pub(crate) struct Instance {
     previous: [f32; 3],
     radius: f32,
     current: [f32; 3],
@@ -195,6 +205,10 @@ pub struct Renderer {
     instance_scratch: Vec<Instance>,
     /// The world state last uploaded: (world id, revision).
     uploaded: Option<(u64, u64)>,
+    /// Largest particle radius in the last upload (world units).
+    max_radius: f32,
+    splat: Splat,
+    splat_active: bool,
     hud: Hud,
 }
 
@@ -243,7 +257,7 @@ impl Renderer {
         });
         let globals_entry = wgpu::BindGroupLayoutEntry {
             binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
             ty: wgpu::BindingType::Buffer {
                 ty: wgpu::BufferBindingType::Uniform,
                 has_dynamic_offset: false,
@@ -350,6 +364,9 @@ impl Renderer {
             line_scratch: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: None,
+            max_radius: 0.0,
+            splat: Splat::new(device, format, multisample),
+            splat_active: false,
             hud,
         })
     }
@@ -387,16 +404,25 @@ impl Renderer {
             pixels_per_unit,
         } = view.camera.matrices(buffers.width, buffers.height);
         let t = self.config.interpolation.parameter(view.alpha);
+        self.upload_particles(gpu, view.world);
+        self.splat_active = self.instance_count as usize >= self.config.splat_threshold
+            && self.instance_count < 1 << 24
+            && matches!(view.camera, Camera::TwoD { .. })
+            && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
+        if self.splat_active {
+            self.splat
+                .resize(gpu, buffers.width, buffers.height, &self.globals, &self.instances);
+        }
         let globals = Globals {
             view_proj: view_proj.to_cols_array_2d(),
             viewport: [buffers.width as f32, buffers.height as f32],
             pixels_per_unit,
             t,
             min_radius_px: self.config.min_radius_px,
-            _pad: [0.0; 3],
+            count: self.instance_count,
+            _pad: [0.0; 2],
         };
         gpu.queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
-        self.upload_particles(gpu, view.world);
         self.build_lines(view, t);
         self.upload_lines(gpu);
         self.hud
@@ -408,6 +434,9 @@ impl Renderer {
     /// Records the frame's render pass into `encoder`, drawing into
     /// `output` through `buffers`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, buffers: &FrameBuffers, output: &wgpu::TextureView) {
+        if self.splat_active {
+            self.splat.encode_compute(encoder, self.instance_count);
+        }
         let [r, g, b, a] = self.config.background.map(|c| f64::from(c) / 255.0);
         // The clear colour is given in sRGB; the attachment is linear.
         let clear = wgpu::Color {
@@ -430,7 +459,9 @@ impl Renderer {
             pass.set_vertex_buffer(0, self.line_buffer.slice(..));
             pass.draw(0..self.line_count, 0..1);
         }
-        if self.instance_count > 0 {
+        if self.splat_active {
+            self.splat.encode_composite(&mut pass);
+        } else if self.instance_count > 0 {
             pass.set_pipeline(&self.particle_pipeline);
             pass.set_bind_group(0, &self.particle_bind_group, &[]);
             pass.draw(0..4, 0..self.instance_count);
@@ -454,6 +485,7 @@ impl Renderer {
         let particles = world.particles();
         let n = particles.len();
         self.instance_count = n as u32;
+        self.max_radius = particles.radius.iter().fold(0.0, |m: f32, &r| m.max(r));
         if n == 0 {
             return;
         }
@@ -462,6 +494,7 @@ impl Renderer {
             self.instances = storage_buffer(&gpu.device, n.next_power_of_two());
             self.particle_bind_group =
                 particle_bind_group(&gpu.device, &self.particle_layout, &self.globals, &self.instances);
+            self.splat.invalidate();
         }
         // Fill a reused scratch copy (in parallel for large worlds), then
         // hand it to the queue.
@@ -649,6 +682,17 @@ fn particle_bind_group(
     })
 }
 
+/// Depth test (less or equal) with or without writes.
+pub(crate) fn depth_state(write: bool) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn pipeline(
     device: &wgpu::Device,
@@ -679,13 +723,7 @@ fn pipeline(
             topology,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(depth_write),
-            depth_compare: Some(wgpu::CompareFunction::LessEqual),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(depth_state(depth_write)),
         multisample,
         fragment: Some(wgpu::FragmentState {
             module: shader,

@@ -1,0 +1,201 @@
+//! The compute splat path: many small particles in a 2D view drawn by one
+//! compute invocation each instead of one quad each (see
+//! `assets/shaders/splat.wgsl` for the method and why).
+
+use super::renderer::depth_state;
+
+/// Largest drawn radius in pixels the splat path handles (as in the shader).
+pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;
+
+/// Particles per workgroup (as in the shader).
+const WORKGROUP: u32 = 64;
+
+/// Pipelines and the per-pixel owner buffer of the splat path.
+pub(crate) struct Splat {
+    compute_layout: wgpu::BindGroupLayout,
+    composite_layout: wgpu::BindGroupLayout,
+    compute: wgpu::ComputePipeline,
+    composite: wgpu::RenderPipeline,
+    /// Owner buffer, its size, and the bind groups over it.
+    state: Option<SplatState>,
+}
+
+struct SplatState {
+    size: (u32, u32),
+    owners: wgpu::Buffer,
+    compute_group: wgpu::BindGroup,
+    composite_group: wgpu::BindGroup,
+}
+
+fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl Splat {
+    pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat, multisample: wgpu::MultisampleState) -> Self {
+        use wgpu::BufferBindingType::{Storage, Uniform};
+        use wgpu::ShaderStages as S;
+        let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork splat"),
+            entries: &[
+                entry(0, S::COMPUTE, Uniform),
+                entry(1, S::COMPUTE, Storage { read_only: true }),
+                entry(2, S::COMPUTE, Storage { read_only: false }),
+            ],
+        });
+        let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork splat composite"),
+            entries: &[
+                entry(0, S::FRAGMENT, Uniform),
+                entry(1, S::FRAGMENT, Storage { read_only: true }),
+                entry(2, S::FRAGMENT, Storage { read_only: true }),
+            ],
+        });
+        let compute_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("splat.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/splat.wgsl").into()),
+        });
+        let composite_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("splat_composite.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/splat_composite.wgsl").into()),
+        });
+        let compute_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&compute_layout)],
+            immediate_size: 0,
+        });
+        let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tickwork splat"),
+            layout: Some(&compute_pipeline_layout),
+            module: &compute_module,
+            entry_point: Some("splat"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let composite_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&composite_layout)],
+            immediate_size: 0,
+        });
+        let composite = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("tickwork splat composite"),
+            layout: Some(&composite_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &composite_module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(depth_state(false)),
+            multisample,
+            fragment: Some(wgpu::FragmentState {
+                module: &composite_module,
+                entry_point: Some("fs_composite"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self {
+            compute_layout,
+            composite_layout,
+            compute,
+            composite,
+            state: None,
+        }
+    }
+
+    /// Forgets the bind groups (the instance buffer was replaced).
+    pub(crate) fn invalidate(&mut self) {
+        self.state = None;
+    }
+
+    /// Makes the owner buffer match the target size.
+    pub(crate) fn resize(
+        &mut self,
+        gpu: &super::Gpu,
+        width: u32,
+        height: u32,
+        globals: &wgpu::Buffer,
+        instances: &wgpu::Buffer,
+    ) {
+        if self.state.as_ref().is_some_and(|s| s.size == (width, height)) {
+            return;
+        }
+        let owners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork splat owners"),
+            size: u64::from(width) * u64::from(height) * 4,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = |layout: &wgpu::BindGroupLayout| {
+            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("tickwork splat"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: globals.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: instances.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: owners.as_entire_binding(),
+                    },
+                ],
+            })
+        };
+        self.state = Some(SplatState {
+            size: (width, height),
+            compute_group: group(&self.compute_layout),
+            composite_group: group(&self.composite_layout),
+            owners,
+        });
+    }
+
+    /// Clears the owners and splats `count` particles.
+    pub(crate) fn encode_compute(&self, encoder: &mut wgpu::CommandEncoder, count: u32) {
+        let Some(state) = &self.state else {
+            return;
+        };
+        encoder.clear_buffer(&state.owners, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("tickwork splat"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.compute);
+        pass.set_bind_group(0, &state.compute_group, &[]);
+        // At most 65 535 workgroups per dimension: wrap into y.
+        let groups = count.div_ceil(WORKGROUP);
+        let x = groups.min(65_535);
+        pass.dispatch_workgroups(x, groups.div_ceil(65_535).max(1), 1);
+    }
+
+    /// Composites the owners over what the pass has drawn so far.
+    pub(crate) fn encode_composite(&self, pass: &mut wgpu::RenderPass<'_>) {
+        let Some(state) = &self.state else {
+            return;
+        };
+        pass.set_pipeline(&self.composite);
+        pass.set_bind_group(0, &state.composite_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
