@@ -404,7 +404,11 @@ impl ApplicationHandler for App {
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
-            WindowEvent::MouseInput { state, button, .. } if button == MouseButton::Left => {
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
                 self.drag = (state == ElementState::Pressed).then_some(self.cursor);
             }
             WindowEvent::CursorMoved { position, .. } => {

@@ -561,7 +561,7 @@ impl Renderer {
                 let centre = at(row);
                 let q = slerp_param(rigid.previous_orientation[body], rigid.orientation[body], t);
                 let transform = Mat4::from_rotation_translation(q, centre);
-                let h = Vec3::from(rigid.half_extents[body]);
+                let h = rigid.half_extents[body];
                 let corner =
                     |i: usize| transform.transform_point3(h * Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)));
                 let colour = particles.colour[row];
