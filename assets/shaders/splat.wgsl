@@ -63,3 +63,47 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
 }
+
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    let low = c / 12.92;
+    let high = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
+    return select(high, low, c <= vec3<f32>(0.04045));
+}
+
+// Additive blending: colours add up, so each covered pixel gets the
+// particle's linear, premultiplied colour times its coverage, in fixed point
+// (1/1024), summed by atomicAdd into three channels: integer sums are
+// exact and independent of order, so frames stay deterministic.
+@compute @workgroup_size(64)
+fn splat_additive(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = id.x + id.y * 65535u * 64u;
+    if index >= globals.count {
+        return;
+    }
+    let particle = instances[index];
+    let position = mix(particle.previous, particle.current, globals.t);
+    let clip = globals.view_proj * vec4<f32>(position, 1.0);
+    let ndc = clip.xy / clip.w;
+    let centre = vec2<f32>((ndc.x * 0.5 + 0.5) * globals.viewport.x, (0.5 - ndc.y * 0.5) * globals.viewport.y);
+    let radius_px = particle.radius * globals.pixels_per_unit / clip.w;
+    let drawn = clamp(radius_px, globals.min_radius_px, MAX_RADIUS);
+    let scale = min((radius_px * radius_px) / (drawn * drawn), 1.0);
+    let srgb = unpack4x8unorm(particle.colour);
+    let colour = srgb_to_linear(srgb.rgb) * srgb.a * scale * 1024.0;
+    let size = vec2<i32>(globals.viewport);
+    let low = max(vec2<i32>(floor(centre - drawn - 0.5)), vec2<i32>(0));
+    let high = min(vec2<i32>(ceil(centre + drawn + 0.5)), size - 1);
+    for (var y = low.y; y <= high.y; y++) {
+        for (var x = low.x; x <= high.x; x++) {
+            let d = length(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5) - centre) - drawn;
+            let coverage = clamp(0.5 - d, 0.0, 1.0);
+            if coverage > 0.0 {
+                let add = vec3<u32>(round(colour * coverage));
+                let p = 3u * (u32(y) * u32(size.x) + u32(x));
+                atomicAdd(&owners[p], add.r);
+                atomicAdd(&owners[p + 1u], add.g);
+                atomicAdd(&owners[p + 2u], add.b);
+            }
+        }
+    }
+}

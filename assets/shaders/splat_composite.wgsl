@@ -65,3 +65,15 @@ fn fs_composite(in: VertexOut) -> @location(0) vec4<f32> {
     let a = srgb.a * coverage;
     return vec4<f32>(srgb_to_linear(srgb.rgb) * a, a);
 }
+
+// Additive: the three fixed-point sums (see splat.wgsl), added to the frame.
+@fragment
+fn fs_composite_additive(in: VertexOut) -> @location(0) vec4<f32> {
+    let pixel = vec2<u32>(in.clip.xy);
+    let p = 3u * (pixel.y * u32(globals.viewport.x) + pixel.x);
+    let sum = vec3<f32>(f32(owners[p]), f32(owners[p + 1u]), f32(owners[p + 2u])) / 1024.0;
+    if all(sum == vec3<f32>(0.0)) {
+        discard;
+    }
+    return vec4<f32>(sum, 0.0);
+}

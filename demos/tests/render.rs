@@ -294,6 +294,30 @@ fn window_matches_offscreen(backend: &str) {
     std::thread::sleep(Duration::from_millis(500));
     let shot = dir.join("window.png");
     screenshot(&xvfb.display, &shot);
+    let window = image::open(&shot).expect("screenshot").to_rgba8();
+    // F12 writes a screenshot of the window's frame (through XTEST, to the
+    // focused window, as a real key press).
+    let status = Command::new("xdotool")
+        .args(["search", "--name", "^Tickwork", "windowfocus", "--sync", "key", "F12"])
+        .env("DISPLAY", &xvfb.display)
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): scripts/test installs `xdotool`"));
+    assert!(status.success(), "xdotool key F12");
+    let mut line = String::new();
+    while !line.starts_with("tickwork: screenshot ") {
+        line.clear();
+        if stdout.read_line(&mut line).expect("read") == 0 || Instant::now() > deadline {
+            panic!("F12 wrote no screenshot");
+        }
+    }
+    let f12 = image::open(line.trim_start_matches("tickwork: screenshot ").trim())
+        .expect("the F12 screenshot is a PNG")
+        .to_rgba8();
+    let f12_vs_screen = compare(&f12, &window, Tolerance::default()).expect("the window's size");
+    assert!(
+        f12_vs_screen.fraction() < 0.01,
+        "F12 screenshot differs from the screen: {f12_vs_screen:?}"
+    );
     // Resizing, even to a single pixel, neither crashes nor errors.
     for size in [["1", "1"], ["200", "120"], [&*width.to_string(), &*height.to_string()]] {
         let status = Command::new("xdotool")
@@ -311,7 +335,6 @@ fn window_matches_offscreen(backend: &str) {
     }
     let _ = view.kill();
     let _ = view.wait();
-    let window = image::open(&shot).expect("screenshot").to_rgba8();
     // The same 40 frames off-screen.
     let out = dir.join("offscreen");
     let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))

@@ -429,4 +429,71 @@ fn the_splat_path_draws_what_the_quads_draw() {
     assert!(comparison.fraction() <= tolerance.max_fraction, "{comparison:?}");
     let lit = splat.pixels().filter(|p| p.0[2] > 100).count();
     assert!(lit > 3000, "the splat drew {lit} pixels");
+    // Additive blending through the splat sums like additive quads.
+    let additive = |splat_threshold| RendererConfig {
+        blend: Blend::Additive,
+        splat_threshold,
+        ..RendererConfig::default()
+    };
+    let quads = render(&world, 0.0, camera_2d(), 320, 180, additive(usize::MAX));
+    let splat = render(&world, 0.0, camera_2d(), 320, 180, additive(0));
+    let comparison = tickwork_engine::render::compare(&splat, &quads, tolerance).expect("size");
+    assert!(
+        comparison.fraction() <= tolerance.max_fraction,
+        "additive: {comparison:?}"
+    );
+}
+
+#[test]
+fn overlapping_additive_splats_sum_exactly() {
+    // Two half-bright particles on the same spot: 2 x linear(188) = 1.0.
+    let mut world = World::default();
+    for _ in 0..2 {
+        world
+            .spawn(Particle {
+                radius: 0.3,
+                colour: [188, 188, 188, 255],
+                ..Particle::default()
+            })
+            .expect("spawn");
+    }
+    let config = RendererConfig {
+        blend: Blend::Additive,
+        splat_threshold: 0,
+        background: [0, 0, 0, 255],
+        ..RendererConfig::default()
+    };
+    let image = render(&world, 0.0, Camera::default(), 64, 64, config);
+    assert!(image.get_pixel(32, 32).0[0] >= 254, "{:?}", image.get_pixel(32, 32));
+    assert_eq!(image.get_pixel(2, 2).0, [0, 0, 0, 255]);
+}
+
+#[test]
+fn springs_are_drawn_between_their_ends() {
+    let scene = Scene::load(&root().join("assets/scenes/pendulum_chain.ron")).expect("scene");
+    let (mut world, entities) = scene.build().expect("build");
+    let mut clock = FixedClock::new(tickwork_engine::ClockConfig {
+        rate: scene.rate().expect("rate"),
+        ..Default::default()
+    })
+    .expect("clock");
+    for step in clock.step(60).fixed_steps() {
+        world.step(step).expect("step");
+    }
+    let camera = Camera::from_hint(&scene.spec.camera);
+    let image = render(&world, 0.0, camera, 320, 180, RendererConfig::default());
+    // Half-way between the anchor (0, 0) and the first mass, the spring's
+    // grey line is drawn.
+    let first = world.position(entities[0]).expect("alive");
+    let matrices = camera.matrices(320, 180);
+    let mid = matrices.view_proj.project_point3(0.5 * first);
+    let (x, y) = ((mid.x + 1.0) * 160.0, (1.0 - mid.y) * 90.0);
+    let near = (-1..=1)
+        .flat_map(|dx| (-1..=1).map(move |dy| (dx, dy)))
+        .any(|(dx, dy)| {
+            let p = image.get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32).0;
+            p[0] > 60 && p[2] > 60
+        });
+    assert!(near, "no spring line near ({x}, {y})");
+    check("springs", &image);
 }

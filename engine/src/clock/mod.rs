@@ -290,10 +290,14 @@ impl FixedClock {
         let counted = real_seconds.min(self.config.max_frame_time);
         let mut dropped = real_seconds - counted;
         let speed = self.config.time_scale * self.dilation;
-        let nanos = (counted * speed * 1e9).round() as u128;
+        // Straight into accumulator units (1 / (1e9 denom) s), rounded: a
+        // display frame of exactly 1/30 s is then exactly two 60 Hz steps,
+        // where whole nanoseconds (33 333 333) would fall a third of a
+        // nanosecond short and run 1, 2, 2, 1, ... steps.
         let (_, denom) = self.timeline.rate.fraction();
-        self.accumulator += nanos * u128::from(denom);
-        self.accepted_nanos += nanos;
+        let units = (counted * speed * 1e9 * denom as f64).round() as u128;
+        self.accumulator += units;
+        self.accepted_nanos += units.div_ceil(u128::from(denom));
 
         let needed = self.accumulator / step_units;
         let cap = u128::from(self.config.max_steps_per_frame);

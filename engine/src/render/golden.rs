@@ -296,6 +296,6 @@ mod tests {
         assert!(compare(&a, &RgbaImage::new(9, 10), Tolerance::default()).is_none());
         let diff = diff_image(&a, &b, 24);
         assert_eq!(diff.get_pixel(1, 0), &Rgba([255, 0, 0, 255]));
-        assert_eq!(diff.get_pixel(0, 0), &Rgba([33, 33, 33, 255]));
+        assert_eq!(diff.get_pixel(0, 0), &Rgba([34, 34, 34, 255])); // (110 + 100 + 100) / 9
     }
 }

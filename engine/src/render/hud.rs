@@ -20,6 +20,10 @@ pub(crate) struct Hud {
     viewport: Viewport,
     atlas: TextAtlas,
     renderer: TextRenderer,
+    /// For single-sampled frames (the splat path).
+    renderer_single: TextRenderer,
+    /// Which of the two the last `prepare` filled.
+    single: bool,
     buffer: Buffer,
     text: String,
     laid_out: (u32, u32),
@@ -44,7 +48,9 @@ impl Hud {
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let renderer = TextRenderer::new(&mut atlas, &gpu.device, multisample, Some(depth));
+        let renderer = TextRenderer::new(&mut atlas, &gpu.device, multisample, Some(depth.clone()));
+        let renderer_single =
+            TextRenderer::new(&mut atlas, &gpu.device, wgpu::MultisampleState::default(), Some(depth));
         let buffer = Buffer::new(&mut fonts, Metrics::new(size, size * 1.3));
         Self {
             fonts,
@@ -52,6 +58,8 @@ impl Hud {
             viewport,
             atlas,
             renderer,
+            renderer_single,
+            single: false,
             buffer,
             text: String::new(),
             laid_out: (0, 0),
@@ -60,7 +68,15 @@ impl Hud {
     }
 
     /// Lays out `text` (only if it changed) and uploads its glyphs.
-    pub(crate) fn prepare(&mut self, gpu: &Gpu, width: u32, height: u32, text: &str) -> Result<(), PrepareError> {
+    pub(crate) fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        text: &str,
+        single: bool,
+    ) -> Result<(), PrepareError> {
+        self.single = single;
         self.viewport.update(&gpu.queue, Resolution { width, height });
         if text != self.text || (width, height) != self.laid_out {
             self.laid_out = (width, height);
@@ -86,7 +102,12 @@ impl Hud {
             default_color: Color::rgb(235, 235, 235),
             custom_glyphs: &[],
         };
-        self.renderer.prepare(
+        let renderer = if single {
+            &mut self.renderer_single
+        } else {
+            &mut self.renderer
+        };
+        renderer.prepare(
             &gpu.device,
             &gpu.queue,
             &mut self.fonts,
@@ -101,6 +122,11 @@ impl Hud {
     pub(crate) fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
         // Fails only if glyphs were evicted between prepare and render,
         // which cannot happen within one frame.
-        let _ = self.renderer.render(&self.atlas, &self.viewport, pass);
+        let renderer = if self.single {
+            &self.renderer_single
+        } else {
+            &self.renderer
+        };
+        let _ = renderer.render(&self.atlas, &self.viewport, pass);
     }
 }

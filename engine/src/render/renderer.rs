@@ -198,6 +198,8 @@ pub struct Renderer {
     particle_bind_group: wgpu::BindGroup,
     instance_count: u32,
     line_pipeline: wgpu::RenderPipeline,
+    /// Lines in single-sampled frames (the splat path).
+    line_pipeline_single: wgpu::RenderPipeline,
     line_bind_group: wgpu::BindGroup,
     line_buffer: wgpu::Buffer,
     line_count: u32,
@@ -321,21 +323,25 @@ impl Renderer {
             source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/lines.wgsl").into()),
         });
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
-        let line_pipeline = pipeline(
-            device,
-            &line_layout,
-            &line_shader,
-            &[Some(wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<LineVertex>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &line_attributes,
-            })],
-            wgpu::PrimitiveTopology::LineList,
-            format,
-            wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
-            false,
-            multisample,
-        );
+        let line_pipeline_for = |multisample| {
+            pipeline(
+                device,
+                &line_layout,
+                &line_shader,
+                &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<LineVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &line_attributes,
+                })],
+                wgpu::PrimitiveTopology::LineList,
+                format,
+                wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
+                false,
+                multisample,
+            )
+        };
+        let line_pipeline = line_pipeline_for(multisample);
+        let line_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default());
         let instances = storage_buffer(device, 1024);
         let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
         let line_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -348,6 +354,7 @@ impl Renderer {
         });
         let line_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
+        let splat = Splat::new(device, format, config.blend);
         Ok(Self {
             config,
             format,
@@ -358,6 +365,7 @@ impl Renderer {
             particle_bind_group,
             instance_count: 0,
             line_pipeline,
+            line_pipeline_single,
             line_bind_group,
             line_buffer,
             line_count: 0,
@@ -365,7 +373,7 @@ impl Renderer {
             instance_scratch: Vec::new(),
             uploaded: None,
             max_radius: 0.0,
-            splat: Splat::new(device, format, multisample),
+            splat,
             splat_active: false,
             hud,
         })
@@ -426,7 +434,7 @@ impl Renderer {
         self.build_lines(view, t);
         self.upload_lines(gpu);
         self.hud
-            .prepare(gpu, buffers.width, buffers.height, view.hud)
+            .prepare(gpu, buffers.width, buffers.height, view.hud, self.splat_active)
             .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
         Ok(())
     }
@@ -445,16 +453,29 @@ impl Renderer {
             b: srgb_to_linear(b),
             a,
         };
+        // A splat frame is single-sampled: its particles are anti-aliased
+        // analytically, the HUD's glyphs carry their own coverage, and MSAA
+        // costs software rasterisers more than the splat itself.
+        let single = self.splat_active;
+        let colour = if single {
+            buffers.single_sample_attachment(output, clear)
+        } else {
+            buffers.colour_attachment(output, clear)
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tickwork frame"),
-            color_attachments: &[Some(buffers.colour_attachment(output, clear))],
-            depth_stencil_attachment: Some(buffers.depth_attachment()),
+            color_attachments: &[Some(colour)],
+            depth_stencil_attachment: Some(buffers.depth_attachment(single)),
             timestamp_writes: None,
             occlusion_query_set: None,
             multiview_mask: None,
         });
         if self.line_count > 0 {
-            pass.set_pipeline(&self.line_pipeline);
+            pass.set_pipeline(if single {
+                &self.line_pipeline_single
+            } else {
+                &self.line_pipeline
+            });
             pass.set_bind_group(0, &self.line_bind_group, &[]);
             pass.set_vertex_buffer(0, self.line_buffer.slice(..));
             pass.draw(0..self.line_count, 0..1);

@@ -2,7 +2,7 @@
 //! compute invocation each instead of one quad each (see
 //! `assets/shaders/splat.wgsl` for the method and why).
 
-use super::renderer::depth_state;
+use super::renderer::{Blend, depth_state};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;
@@ -16,6 +16,8 @@ pub(crate) struct Splat {
     composite_layout: wgpu::BindGroupLayout,
     compute: wgpu::ComputePipeline,
     composite: wgpu::RenderPipeline,
+    /// Words per pixel in the owner buffer: 1 (owner key) or 3 (additive sums).
+    words: u64,
     /// Owner buffer, its size, and the bind groups over it.
     state: Option<SplatState>,
 }
@@ -41,7 +43,8 @@ fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BufferBindingTy
 }
 
 impl Splat {
-    pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat, multisample: wgpu::MultisampleState) -> Self {
+    pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat, blend: Blend) -> Self {
+        let additive = blend == Blend::Additive;
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -77,7 +80,7 @@ impl Splat {
             label: Some("tickwork splat"),
             layout: Some(&compute_pipeline_layout),
             module: &compute_module,
-            entry_point: Some("splat"),
+            entry_point: Some(if additive { "splat_additive" } else { "splat" }),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -97,14 +100,30 @@ impl Splat {
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(depth_state(false)),
-            multisample,
+            // Splat frames are single-sampled (see Renderer::encode).
+            multisample: wgpu::MultisampleState::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &composite_module,
-                entry_point: Some("fs_composite"),
+                entry_point: Some(if additive {
+                    "fs_composite_additive"
+                } else {
+                    "fs_composite"
+                }),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format,
-                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                    blend: Some(if additive {
+                        wgpu::BlendState {
+                            color: wgpu::BlendComponent {
+                                src_factor: wgpu::BlendFactor::One,
+                                dst_factor: wgpu::BlendFactor::One,
+                                operation: wgpu::BlendOperation::Add,
+                            },
+                            alpha: wgpu::BlendComponent::OVER,
+                        }
+                    } else {
+                        wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING
+                    }),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),
@@ -116,6 +135,7 @@ impl Splat {
             composite_layout,
             compute,
             composite,
+            words: if additive { 3 } else { 1 },
             state: None,
         }
     }
@@ -139,7 +159,7 @@ impl Splat {
         }
         let owners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork splat owners"),
-            size: u64::from(width) * u64::from(height) * 4,
+            size: u64::from(width) * u64::from(height) * 4 * self.words,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });

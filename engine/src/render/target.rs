@@ -30,6 +30,9 @@ pub struct FrameBuffers {
     pub samples: u32,
     msaa: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
+    /// Single-sampled depth for frames drawn without MSAA (the splat path);
+    /// the same as `depth` when `samples` is 1.
+    single_depth: wgpu::TextureView,
 }
 
 impl FrameBuffers {
@@ -65,6 +68,11 @@ impl FrameBuffers {
         let msaa =
             (samples > 1).then(|| texture("tickwork msaa colour", format, samples).create_view(&Default::default()));
         let depth = texture("tickwork depth", DEPTH_FORMAT, samples).create_view(&Default::default());
+        let single_depth = if samples > 1 {
+            texture("tickwork single-sample depth", DEPTH_FORMAT, 1).create_view(&Default::default())
+        } else {
+            depth.clone()
+        };
         Ok(Self {
             width,
             height,
@@ -72,6 +80,7 @@ impl FrameBuffers {
             samples,
             msaa,
             depth,
+            single_depth,
         })
     }
 
@@ -103,11 +112,31 @@ impl FrameBuffers {
         }
     }
 
-    /// The depth attachment, cleared to the far plane.
+    /// The colour attachment that draws straight into `output`, one sample
+    /// per pixel (frames whose particles are anti-aliased analytically).
     #[must_use]
-    pub fn depth_attachment(&self) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    pub fn single_sample_attachment<'a>(
+        &'a self,
+        output: &'a wgpu::TextureView,
+        clear: wgpu::Color,
+    ) -> wgpu::RenderPassColorAttachment<'a> {
+        wgpu::RenderPassColorAttachment {
+            view: output,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(clear),
+                store: wgpu::StoreOp::Store,
+            },
+        }
+    }
+
+    /// The depth attachment, cleared to the far plane; `single` selects the
+    /// single-sampled one.
+    #[must_use]
+    pub fn depth_attachment(&self, single: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
         wgpu::RenderPassDepthStencilAttachment {
-            view: &self.depth,
+            view: if single { &self.single_depth } else { &self.depth },
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
                 store: wgpu::StoreOp::Discard,

@@ -52,6 +52,14 @@ impl Trails {
         self.trails.iter().map(|t| t.entity)
     }
 
+    /// The recorded points of `entity`'s trail, oldest first (none if it is
+    /// not followed).
+    pub fn points(&self, entity: Entity) -> impl Iterator<Item = Vec3> + '_ {
+        let trail = self.trails.iter().find(|t| t.entity == entity);
+        let n = trail.map_or(0, |t| t.points.len());
+        (0..n).filter_map(move |k| trail.map(|t| t.points[(t.start + k) % n]))
+    }
+
     /// Forgets every recorded point (after a reset or teleport).
     pub fn clear_points(&mut self) {
         for trail in &mut self.trails {
