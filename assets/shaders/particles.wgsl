@@ -17,9 +17,19 @@ struct Globals {
     // their coverage scaled by the area ratio, so they neither vanish nor
     // shimmer.
     min_radius_px: f32,
-    _pad0: f32,
-    _pad1: f32,
-    _pad2: f32,
+    // Particles drawn.
+    count: u32,
+    // Words per row of the splat's output buffer (rows padded to 256 bytes).
+    stride: u32,
+    // 1 when the target is BGRA (the splat packs pixels itself).
+    swap_rb: u32,
+    // Clear colour, linear RGBA.
+    background: vec4<f32>,
+    // Clear colour as the target's packed 8-bit word.
+    background_word: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 // One particle, 32 bytes: previous position and radius, current position and

@@ -11,13 +11,29 @@
 
 struct Globals {
     view_proj: mat4x4<f32>,
+    // Image size in pixels.
     viewport: vec2<f32>,
+    // Pixels per world unit at clip w = 1 (see Camera::matrices).
     pixels_per_unit: f32,
+    // Interpolation parameter: alpha (interpolate) or 1 + alpha (extrapolate).
     t: f32,
+    // Discs smaller than this radius in pixels are drawn at this radius with
+    // their coverage scaled by the area ratio, so they neither vanish nor
+    // shimmer.
     min_radius_px: f32,
+    // Particles drawn.
     count: u32,
-    _pad1: f32,
-    _pad2: f32,
+    // Words per row of the splat's output buffer (rows padded to 256 bytes).
+    stride: u32,
+    // 1 when the target is BGRA (the splat packs pixels itself).
+    swap_rb: u32,
+    // Clear colour, linear RGBA.
+    background: vec4<f32>,
+    // Clear colour as the target's packed 8-bit word.
+    background_word: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 struct Instance {
@@ -50,15 +66,25 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     let drawn = clamp(radius_px, globals.min_radius_px, MAX_RADIUS);
     let scale = min((radius_px * radius_px) / (drawn * drawn), 1.0);
     let size = vec2<i32>(globals.viewport);
-    let low = max(vec2<i32>(floor(centre - drawn - 0.5)), vec2<i32>(0));
-    let high = min(vec2<i32>(ceil(centre + drawn + 0.5)), size - 1);
+    // Pixels whose centre (x + 0.5) lies within drawn + 0.5 of the centre:
+    // the only ones with coverage.
+    let low = max(vec2<i32>(ceil(centre - drawn - 1.0)), vec2<i32>(0));
+    let high = min(vec2<i32>(floor(centre + drawn)), size - 1);
+    // Coverage is zero beyond drawn + 0.5 from the centre: test the squared
+    // distance first and take the square root only inside.
+    let reach = (drawn + 0.5) * (drawn + 0.5);
     for (var y = low.y; y <= high.y; y++) {
+        let dy = f32(y) + 0.5 - centre.y;
+        let row = u32(y) * u32(size.x);
         for (var x = low.x; x <= high.x; x++) {
-            let d = length(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5) - centre) - drawn;
-            let coverage = clamp(0.5 - d, 0.0, 1.0) * scale;
-            let q = u32(round(coverage * 255.0));
-            if q > 0u {
-                atomicMax(&owners[u32(y) * u32(size.x) + u32(x)], (q << 24u) | index);
+            let dx = f32(x) + 0.5 - centre.x;
+            let d2 = dx * dx + dy * dy;
+            if d2 < reach {
+                let coverage = clamp(0.5 - (sqrt(d2) - drawn), 0.0, 1.0) * scale;
+                let q = u32(round(coverage * 255.0));
+                if q > 0u {
+                    atomicMax(&owners[row + u32(x)], (q << 24u) | index);
+                }
             }
         }
     }
@@ -91,8 +117,10 @@ fn splat_additive(@builtin(global_invocation_id) id: vec3<u32>) {
     let srgb = unpack4x8unorm(particle.colour);
     let colour = srgb_to_linear(srgb.rgb) * srgb.a * scale * 1024.0;
     let size = vec2<i32>(globals.viewport);
-    let low = max(vec2<i32>(floor(centre - drawn - 0.5)), vec2<i32>(0));
-    let high = min(vec2<i32>(ceil(centre + drawn + 0.5)), size - 1);
+    // Pixels whose centre (x + 0.5) lies within drawn + 0.5 of the centre:
+    // the only ones with coverage.
+    let low = max(vec2<i32>(ceil(centre - drawn - 1.0)), vec2<i32>(0));
+    let high = min(vec2<i32>(floor(centre + drawn)), size - 1);
     for (var y = low.y; y <= high.y; y++) {
         for (var x = low.x; x <= high.x; x++) {
             let d = length(vec2<f32>(f32(x) + 0.5, f32(y) + 0.5) - centre) - drawn;

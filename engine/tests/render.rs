@@ -403,18 +403,7 @@ fn bad_sizes_and_settings_are_errors() {
 #[test]
 fn the_splat_path_draws_what_the_quads_draw() {
     // 3000 small particles in 2D: drawn as quads, then by the compute splat.
-    let mut world = World::default();
-    for k in 0..3000u32 {
-        let (i, j) = (k % 75, k / 75);
-        world
-            .spawn(Particle {
-                position: Vec3::new(-7.4 + 0.2 * i as f32, -4.0 + 0.2 * j as f32, 0.0),
-                radius: 0.035 + 0.01 * (k % 3) as f32,
-                colour: [(k * 7 % 256) as u8, (k * 13 % 256) as u8, 200, 255],
-                ..Particle::default()
-            })
-            .expect("spawn");
-    }
+    let world = small_lattice();
     let quads = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
     let splat_config = RendererConfig {
         splat_threshold: 0,
@@ -496,4 +485,98 @@ fn springs_are_drawn_between_their_ends() {
         });
     assert!(near, "no spring line near ({x}, {y})");
     check("springs", &image);
+}
+
+/// 3000 small particles on a lattice, for the splat tests.
+fn small_lattice() -> World {
+    let mut world = World::default();
+    for k in 0..3000u32 {
+        let (i, j) = (k % 75, k / 75);
+        world
+            .spawn(Particle {
+                position: Vec3::new(-7.4 + 0.2 * i as f32, -4.0 + 0.2 * j as f32, 0.0),
+                radius: 0.035 + 0.01 * (k % 3) as f32,
+                colour: [(k * 7 % 256) as u8, (k * 13 % 256) as u8, 200, 255],
+                ..Particle::default()
+            })
+            .expect("spawn");
+    }
+    world
+}
+
+#[test]
+fn the_splat_resolves_odd_widths_and_composites_into_targets_that_refuse_copies() {
+    let world = small_lattice();
+    let splat = RendererConfig {
+        splat_threshold: 0,
+        ..RendererConfig::default()
+    };
+    let tolerance = tickwork_engine::render::Tolerance {
+        channel: 40,
+        max_fraction: 0.02,
+    };
+    // Odd width: the resolved rows are padded to 256 bytes before the copy.
+    let quads = render(&world, 0.0, camera_2d(), 301, 157, RendererConfig::default());
+    let resolved = render(&world, 0.0, camera_2d(), 301, 157, splat.clone());
+    let comparison = tickwork_engine::render::compare(&resolved, &quads, tolerance).expect("size");
+    assert!(
+        comparison.fraction() <= tolerance.max_fraction,
+        "odd width: {comparison:?}"
+    );
+
+    // A texture without COPY_DST (as some window surfaces): the splat is
+    // composited by a full-screen pass instead of copied in.
+    let (width, height) = (320, 180);
+    let texture = gpu().device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: OFFSCREEN_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = texture.create_view(&Default::default());
+    let buffers =
+        tickwork_engine::render::FrameBuffers::new(gpu(), width, height, OFFSCREEN_FORMAT, 4).expect("buffers");
+    let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, splat).expect("renderer");
+    renderer
+        .prepare(gpu(), &buffers, &FrameView::new(&world, 0.0, camera_2d()))
+        .expect("prepare");
+    let readback = gpu().device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: u64::from(width * 4 * height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu().device.create_command_encoder(&Default::default());
+    renderer.encode(&mut encoder, &buffers, &view);
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(width * 4), // 1280: already a multiple of 256
+                rows_per_image: Some(height),
+            },
+        },
+        texture.size(),
+    );
+    gpu().queue.submit(Some(encoder.finish()));
+    readback.slice(..).map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+    gpu().device.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
+    let pixels = readback.slice(..).get_mapped_range().expect("mapped").to_vec();
+    let composited = RgbaImage::from_raw(width, height, pixels).expect("size");
+    let quads = render(&world, 0.0, camera_2d(), width, height, RendererConfig::default());
+    let comparison = tickwork_engine::render::compare(&composited, &quads, tolerance).expect("size");
+    assert!(
+        comparison.fraction() <= tolerance.max_fraction,
+        "composited: {comparison:?}"
+    );
 }

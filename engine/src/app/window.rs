@@ -195,8 +195,10 @@ impl App {
                 .unwrap_or(wgpu::PresentMode::Fifo)
         };
         let size = window.inner_size();
+        // Copies into the surface let the splat path skip a full-screen pass.
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
         let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            usage,
             format,
             width: size.width.max(1),
             height: size.height.max(1),

@@ -162,7 +162,15 @@ struct Globals {
     min_radius_px: f32,
     /// Particles drawn (read by the splat pass).
     count: u32,
-    _pad: [f32; 2],
+    /// Words per row of the splat's pixel buffer.
+    stride: u32,
+    /// 1 for BGRA targets (the splat packs pixels itself).
+    swap_rb: u32,
+    /// Clear colour, linear RGBA.
+    background: [f32; 4],
+    /// Clear colour packed as the target stores it (sRGB bytes, RGBA or BGRA).
+    background_word: u32,
+    _pad: [u32; 3],
 }
 
 /// One particle as the shader reads it (32 bytes).
@@ -428,7 +436,14 @@ impl Renderer {
             t,
             min_radius_px: self.config.min_radius_px,
             count: self.instance_count,
-            _pad: [0.0; 2],
+            stride: self.splat.stride(),
+            swap_rb: u32::from(self.bgra()),
+            background: self.background_linear(),
+            background_word: {
+                let [r, g, b, a] = self.config.background;
+                u32::from_le_bytes(if self.bgra() { [b, g, r, a] } else { [r, g, b, a] })
+            },
+            _pad: [0; 3],
         };
         gpu.queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.build_lines(view, t);
@@ -442,23 +457,31 @@ impl Renderer {
     /// Records the frame's render pass into `encoder`, drawing into
     /// `output` through `buffers`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, buffers: &FrameBuffers, output: &wgpu::TextureView) {
+        // The splat resolves straight into targets that accept copies (an
+        // 8-bit sRGB format and COPY_DST), which the pass then only loads.
+        let resolved = self.splat_active && {
+            let texture = output.texture();
+            texture.usage().contains(wgpu::TextureUsages::COPY_DST)
+                && matches!(
+                    texture.format(),
+                    wgpu::TextureFormat::Rgba8UnormSrgb | wgpu::TextureFormat::Bgra8UnormSrgb
+                )
+                && (texture.width(), texture.height()) == (buffers.width, buffers.height)
+        };
         if self.splat_active {
             self.splat.encode_compute(encoder, self.instance_count);
+            if resolved {
+                self.splat.encode_resolve(encoder, output.texture());
+            }
         }
-        let [r, g, b, a] = self.config.background.map(|c| f64::from(c) / 255.0);
-        // The clear colour is given in sRGB; the attachment is linear.
-        let clear = wgpu::Color {
-            r: srgb_to_linear(r),
-            g: srgb_to_linear(g),
-            b: srgb_to_linear(b),
-            a,
-        };
+        let [r, g, b, a] = self.background_linear().map(f64::from);
+        let clear = wgpu::Color { r, g, b, a };
         // A splat frame is single-sampled: its particles are anti-aliased
         // analytically, the HUD's glyphs carry their own coverage, and MSAA
         // costs software rasterisers more than the splat itself.
         let single = self.splat_active;
         let colour = if single {
-            buffers.single_sample_attachment(output, clear)
+            buffers.single_sample_attachment(output, (!resolved).then_some(clear))
         } else {
             buffers.colour_attachment(output, clear)
         };
@@ -481,13 +504,34 @@ impl Renderer {
             pass.draw(0..self.line_count, 0..1);
         }
         if self.splat_active {
-            self.splat.encode_composite(&mut pass);
+            if !resolved {
+                self.splat.encode_composite(&mut pass);
+            }
         } else if self.instance_count > 0 {
             pass.set_pipeline(&self.particle_pipeline);
             pass.set_bind_group(0, &self.particle_bind_group, &[]);
             pass.draw(0..4, 0..self.instance_count);
         }
         self.hud.render(&mut pass);
+    }
+
+    /// Whether the target stores blue first.
+    fn bgra(&self) -> bool {
+        matches!(
+            self.format,
+            wgpu::TextureFormat::Bgra8UnormSrgb | wgpu::TextureFormat::Bgra8Unorm
+        )
+    }
+
+    /// The clear colour in linear light (it is given in sRGB).
+    fn background_linear(&self) -> [f32; 4] {
+        let [r, g, b, a] = self.config.background.map(|c| f64::from(c) / 255.0);
+        [
+            srgb_to_linear(r) as f32,
+            srgb_to_linear(g) as f32,
+            srgb_to_linear(b) as f32,
+            a as f32,
+        ]
     }
 
     /// Forgets what was uploaded, so the next frame uploads the world again

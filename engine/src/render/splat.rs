@@ -15,6 +15,7 @@ pub(crate) struct Splat {
     compute_layout: wgpu::BindGroupLayout,
     composite_layout: wgpu::BindGroupLayout,
     compute: wgpu::ComputePipeline,
+    resolve: wgpu::ComputePipeline,
     composite: wgpu::RenderPipeline,
     /// Words per pixel in the owner buffer: 1 (owner key) or 3 (additive sums).
     words: u64,
@@ -25,6 +26,10 @@ pub(crate) struct Splat {
 struct SplatState {
     size: (u32, u32),
     owners: wgpu::Buffer,
+    /// Final pixels, rows padded to 256 bytes, for the copy into the target.
+    pixels: wgpu::Buffer,
+    /// Bytes per padded row.
+    row_bytes: u32,
     compute_group: wgpu::BindGroup,
     composite_group: wgpu::BindGroup,
 }
@@ -58,9 +63,10 @@ impl Splat {
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork splat composite"),
             entries: &[
-                entry(0, S::FRAGMENT, Uniform),
-                entry(1, S::FRAGMENT, Storage { read_only: true }),
-                entry(2, S::FRAGMENT, Storage { read_only: true }),
+                entry(0, S::FRAGMENT | S::COMPUTE, Uniform),
+                entry(1, S::FRAGMENT | S::COMPUTE, Storage { read_only: true }),
+                entry(2, S::FRAGMENT | S::COMPUTE, Storage { read_only: true }),
+                entry(3, S::COMPUTE, Storage { read_only: false }),
             ],
         });
         let compute_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -76,19 +82,31 @@ impl Splat {
             bind_group_layouts: &[Some(&compute_layout)],
             immediate_size: 0,
         });
-        let compute = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("tickwork splat"),
-            layout: Some(&compute_pipeline_layout),
-            module: &compute_module,
-            entry_point: Some(if additive { "splat_additive" } else { "splat" }),
-            compilation_options: Default::default(),
-            cache: None,
-        });
         let composite_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,
             bind_group_layouts: &[Some(&composite_layout)],
             immediate_size: 0,
         });
+        let compute_entry = |layout, module, entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("tickwork splat"),
+                layout: Some(layout),
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let compute = compute_entry(
+            &compute_pipeline_layout,
+            &compute_module,
+            if additive { "splat_additive" } else { "splat" },
+        );
+        let resolve = compute_entry(
+            &composite_pipeline_layout,
+            &composite_module,
+            if additive { "resolve_additive" } else { "resolve" },
+        );
         let composite = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("tickwork splat composite"),
             layout: Some(&composite_pipeline_layout),
@@ -134,6 +152,7 @@ impl Splat {
             compute_layout,
             composite_layout,
             compute,
+            resolve,
             composite,
             words: if additive { 3 } else { 1 },
             state: None,
@@ -163,31 +182,47 @@ impl Splat {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let group = |layout: &wgpu::BindGroupLayout| {
+        let row_bytes = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let pixels = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork splat pixels"),
+            size: u64::from(row_bytes) * u64::from(height),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group = |layout: &wgpu::BindGroupLayout, with_pixels: bool| {
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: owners.as_entire_binding(),
+                },
+            ];
+            if with_pixels {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: pixels.as_entire_binding(),
+                });
+            }
             gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("tickwork splat"),
                 layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: globals.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: instances.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: owners.as_entire_binding(),
-                    },
-                ],
+                entries: &entries,
             })
         };
         self.state = Some(SplatState {
             size: (width, height),
-            compute_group: group(&self.compute_layout),
-            composite_group: group(&self.composite_layout),
+            compute_group: group(&self.compute_layout, false),
+            composite_group: group(&self.composite_layout, true),
             owners,
+            pixels,
+            row_bytes,
         });
     }
 
@@ -207,6 +242,47 @@ impl Splat {
         let groups = count.div_ceil(WORKGROUP);
         let x = groups.min(65_535);
         pass.dispatch_workgroups(x, groups.div_ceil(65_535).max(1), 1);
+    }
+
+    /// Words per padded row of the pixel buffer (for the shader), once sized.
+    pub(crate) fn stride(&self) -> u32 {
+        self.state.as_ref().map_or(0, |s| s.row_bytes / 4)
+    }
+
+    /// Resolves the final pixels (over the background) and copies them into
+    /// `texture`, which must accept copies and match the size.
+    pub(crate) fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) {
+        let Some(state) = &self.state else {
+            return;
+        };
+        let (width, height) = state.size;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tickwork splat resolve"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.resolve);
+            pass.set_bind_group(0, &state.composite_group, &[]);
+            // One invocation per run of 16 pixels of a row (as in the shader).
+            let invocations = width.div_ceil(16) * height;
+            pass.dispatch_workgroups(invocations.div_ceil(WORKGROUP), 1, 1);
+        }
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &state.pixels,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(state.row_bytes),
+                    rows_per_image: Some(height),
+                },
+            },
+            texture.as_image_copy(),
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
     }
 
     /// Composites the owners over what the pass has drawn so far.

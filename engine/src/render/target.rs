@@ -113,19 +113,20 @@ impl FrameBuffers {
     }
 
     /// The colour attachment that draws straight into `output`, one sample
-    /// per pixel (frames whose particles are anti-aliased analytically).
+    /// per pixel (frames whose particles are anti-aliased analytically),
+    /// cleared to `clear` or, with `None`, keeping what `output` holds.
     #[must_use]
     pub fn single_sample_attachment<'a>(
         &'a self,
         output: &'a wgpu::TextureView,
-        clear: wgpu::Color,
+        clear: Option<wgpu::Color>,
     ) -> wgpu::RenderPassColorAttachment<'a> {
         wgpu::RenderPassColorAttachment {
             view: output,
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(clear),
+                load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
                 store: wgpu::StoreOp::Store,
             },
         }
@@ -185,7 +186,10 @@ impl OffscreenTarget {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: OFFSCREEN_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            // COPY_DST: the splat path copies its resolved pixels in.
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
