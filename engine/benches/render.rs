@@ -1,6 +1,7 @@
 //! Off-screen frame time at 1280x720 for 1k, 10k, 100k and 1M particles,
 //! on whatever adapter is present (lavapipe on CI's kind of machine):
 //! drawing alone (the world unchanged since the last frame: no upload),
+//! the same with one quad per particle (the path below the splat threshold),
 //! drawing after a step (upload of the changed columns), and with the
 //! read-back of the image.
 //!
@@ -50,6 +51,13 @@ fn frames(c: &mut Criterion) {
     };
     let target = OffscreenTarget::new(&gpu, WIDTH, HEIGHT, 4).expect("target");
     let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, RendererConfig::default()).expect("renderer");
+    // The same frames with one anti-aliased quad per particle (MSAA 4x), the
+    // path used below the splat threshold: the peer measured in the same run.
+    let quads_config = RendererConfig {
+        splat_threshold: Some(usize::MAX),
+        ..RendererConfig::default()
+    };
+    let mut quads = Renderer::new(&gpu, OFFSCREEN_FORMAT, quads_config).expect("renderer");
     for n in [1_000, 10_000, 100_000, 1_000_000] {
         let mut world = cloud(n);
         let mut group = c.benchmark_group(format!("render_{n}"));
@@ -64,6 +72,16 @@ fn frames(c: &mut Criterion) {
                 wait(&gpu);
             });
         });
+        if n <= 100_000 {
+            group.bench_function("draw_quads", |b| {
+                b.iter(|| {
+                    target
+                        .draw(&gpu, &mut quads, &FrameView::new(&world, 0.5, camera), false)
+                        .expect("draw");
+                    wait(&gpu);
+                });
+            });
+        }
         group.bench_function("upload_draw", |b| {
             b.iter(|| {
                 world.particles_mut(); // counts as a change: the next frame uploads

@@ -404,9 +404,9 @@ fn bad_sizes_and_settings_are_errors() {
 fn the_splat_path_draws_what_the_quads_draw() {
     // 3000 small particles in 2D: drawn as quads, then by the compute splat.
     let world = small_lattice();
-    let quads = render(&world, 0.0, camera_2d(), 320, 180, RendererConfig::default());
+    let quads = render(&world, 0.0, camera_2d(), 320, 180, quads_only());
     let splat_config = RendererConfig {
-        splat_threshold: 0,
+        splat_threshold: Some(0),
         ..RendererConfig::default()
     };
     let splat = render(&world, 0.0, camera_2d(), 320, 180, splat_config);
@@ -424,8 +424,8 @@ fn the_splat_path_draws_what_the_quads_draw() {
         splat_threshold,
         ..RendererConfig::default()
     };
-    let quads = render(&world, 0.0, camera_2d(), 320, 180, additive(usize::MAX));
-    let splat = render(&world, 0.0, camera_2d(), 320, 180, additive(0));
+    let quads = render(&world, 0.0, camera_2d(), 320, 180, additive(Some(usize::MAX)));
+    let splat = render(&world, 0.0, camera_2d(), 320, 180, additive(Some(0)));
     let comparison = tickwork_engine::render::compare(&splat, &quads, tolerance).expect("size");
     assert!(
         comparison.fraction() <= tolerance.max_fraction,
@@ -448,7 +448,7 @@ fn overlapping_additive_splats_sum_exactly() {
     }
     let config = RendererConfig {
         blend: Blend::Additive,
-        splat_threshold: 0,
+        splat_threshold: Some(0),
         background: [0, 0, 0, 255],
         ..RendererConfig::default()
     };
@@ -487,6 +487,14 @@ fn springs_are_drawn_between_their_ends() {
     check("springs", &image);
 }
 
+/// One anti-aliased quad per particle, whatever the count.
+fn quads_only() -> RendererConfig {
+    RendererConfig {
+        splat_threshold: Some(usize::MAX),
+        ..RendererConfig::default()
+    }
+}
+
 /// 3000 small particles on a lattice, for the splat tests.
 fn small_lattice() -> World {
     let mut world = World::default();
@@ -508,7 +516,7 @@ fn small_lattice() -> World {
 fn the_splat_resolves_odd_widths_and_composites_into_targets_that_refuse_copies() {
     let world = small_lattice();
     let splat = RendererConfig {
-        splat_threshold: 0,
+        splat_threshold: Some(0),
         ..RendererConfig::default()
     };
     let tolerance = tickwork_engine::render::Tolerance {
@@ -516,7 +524,7 @@ fn the_splat_resolves_odd_widths_and_composites_into_targets_that_refuse_copies(
         max_fraction: 0.02,
     };
     // Odd width: the resolved rows are padded to 256 bytes before the copy.
-    let quads = render(&world, 0.0, camera_2d(), 301, 157, RendererConfig::default());
+    let quads = render(&world, 0.0, camera_2d(), 301, 157, quads_only());
     let resolved = render(&world, 0.0, camera_2d(), 301, 157, splat.clone());
     let comparison = tickwork_engine::render::compare(&resolved, &quads, tolerance).expect("size");
     assert!(
@@ -573,7 +581,7 @@ fn the_splat_resolves_odd_widths_and_composites_into_targets_that_refuse_copies(
     gpu().device.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
     let pixels = readback.slice(..).get_mapped_range().expect("mapped").to_vec();
     let composited = RgbaImage::from_raw(width, height, pixels).expect("size");
-    let quads = render(&world, 0.0, camera_2d(), width, height, RendererConfig::default());
+    let quads = render(&world, 0.0, camera_2d(), width, height, quads_only());
     let comparison = tickwork_engine::render::compare(&composited, &quads, tolerance).expect("size");
     assert!(
         comparison.fraction() <= tolerance.max_fraction,

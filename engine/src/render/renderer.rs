@@ -83,10 +83,11 @@ pub struct RendererConfig {
     pub hud_size: f32,
     /// Particle count from which a 2D view of small particles (drawn radius
     /// 4 px or less) is drawn by the compute splat path instead of one quad
-    /// per particle (default 20 000; `usize::MAX` never). Software
-    /// rasterisers pay about a microsecond per primitive; the splat pays
-    /// per covered pixel.
-    pub splat_threshold: usize,
+    /// per particle (`usize::MAX`: never). Default `None`: chosen by the
+    /// adapter, 2 000 on a software (CPU) adapter, where every primitive
+    /// costs about a microsecond and MSAA a dozen milliseconds a frame, and
+    /// 250 000 on a GPU, where quads are cheap.
+    pub splat_threshold: Option<usize>,
 }
 
 impl Default for RendererConfig {
@@ -101,7 +102,7 @@ impl Default for RendererConfig {
             rigid_bodies: true,
             spring_colour: [150, 150, 170, 200],
             hud_size: 16.0,
-            splat_threshold: 20_000,
+            splat_threshold: None,
         }
     }
 }
@@ -218,6 +219,8 @@ pub struct Renderer {
     /// Largest particle radius in the last upload (world units).
     max_radius: f32,
     splat: Splat,
+    /// `config.splat_threshold`, or the adapter's default.
+    splat_threshold: usize,
     splat_active: bool,
     hud: Hud,
 }
@@ -363,6 +366,14 @@ impl Renderer {
         let line_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
         let splat = Splat::new(device, format, config.blend);
+        let splat_threshold =
+            config
+                .splat_threshold
+                .unwrap_or(if gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu {
+                    2_000
+                } else {
+                    250_000
+                });
         Ok(Self {
             config,
             format,
@@ -382,6 +393,7 @@ impl Renderer {
             uploaded: None,
             max_radius: 0.0,
             splat,
+            splat_threshold,
             splat_active: false,
             hud,
         })
@@ -421,7 +433,7 @@ impl Renderer {
         } = view.camera.matrices(buffers.width, buffers.height);
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view.world);
-        self.splat_active = self.instance_count as usize >= self.config.splat_threshold
+        self.splat_active = self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
             && matches!(view.camera, Camera::TwoD { .. })
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
