@@ -45,6 +45,8 @@ struct Instance {
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
+// One word per pixel (three for additive sums), rows `stride` words long
+// like the output's, so the resolve can read and write four pixels at once.
 @group(0) @binding(2) var<storage, read_write> owners: array<atomic<u32>>;
 
 // Largest drawn radius in pixels the splat handles (the renderer checks).
@@ -75,7 +77,7 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     let reach = (drawn + 0.5) * (drawn + 0.5);
     for (var y = low.y; y <= high.y; y++) {
         let dy = f32(y) + 0.5 - centre.y;
-        let row = u32(y) * u32(size.x);
+        let row = u32(y) * globals.stride;
         for (var x = low.x; x <= high.x; x++) {
             let dx = f32(x) + 0.5 - centre.x;
             let d2 = dx * dx + dy * dy;
@@ -127,7 +129,7 @@ fn splat_additive(@builtin(global_invocation_id) id: vec3<u32>) {
             let coverage = clamp(0.5 - d, 0.0, 1.0);
             if coverage > 0.0 {
                 let add = vec3<u32>(round(colour * coverage));
-                let p = 3u * (u32(y) * u32(size.x) + u32(x));
+                let p = 3u * (u32(y) * globals.stride + u32(x));
                 atomicAdd(&owners[p], add.r);
                 atomicAdd(&owners[p + 1u], add.g);
                 atomicAdd(&owners[p + 2u], add.b);

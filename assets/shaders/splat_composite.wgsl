@@ -48,7 +48,12 @@ struct Instance {
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
-@group(0) @binding(2) var<storage, read> owners: array<u32>;
+// The splat's owner words (see splat.wgsl), four pixels per element.
+@group(0) @binding(2) var<storage, read> owners: array<vec4<u32>>;
+
+fn owner_word(i: u32) -> u32 {
+    return owners[i / 4u][i % 4u];
+}
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -72,7 +77,7 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
 @fragment
 fn fs_composite(in: VertexOut) -> @location(0) vec4<f32> {
     let pixel = vec2<u32>(in.clip.xy);
-    let key = owners[pixel.y * u32(globals.viewport.x) + pixel.x];
+    let key = owner_word(pixel.y * globals.stride + pixel.x);
     if key == 0u {
         discard;
     }
@@ -86,8 +91,8 @@ fn fs_composite(in: VertexOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_composite_additive(in: VertexOut) -> @location(0) vec4<f32> {
     let pixel = vec2<u32>(in.clip.xy);
-    let p = 3u * (pixel.y * u32(globals.viewport.x) + pixel.x);
-    let sum = vec3<f32>(f32(owners[p]), f32(owners[p + 1u]), f32(owners[p + 2u])) / 1024.0;
+    let p = 3u * (pixel.y * globals.stride + pixel.x);
+    let sum = vec3<f32>(f32(owner_word(p)), f32(owner_word(p + 1u)), f32(owner_word(p + 2u))) / 1024.0;
     if all(sum == vec3<f32>(0.0)) {
         discard;
     }
@@ -103,7 +108,7 @@ fn fs_composite_additive(in: VertexOut) -> @location(0) vec4<f32> {
 // renderer several times more. Used when the target
 // accepts copies (off-screen targets; window surfaces that allow it).
 
-@group(0) @binding(3) var<storage, read_write> pixels: array<u32>;
+@group(0) @binding(3) var<storage, read_write> pixels: array<vec4<u32>>;
 
 fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
     let low = c * 12.92;
@@ -111,61 +116,68 @@ fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
     return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
-fn store(x: u32, y: u32, colour: vec4<f32>) {
+fn encode(colour: vec4<f32>) -> u32 {
     let srgb = vec4<f32>(linear_to_srgb(clamp(colour.rgb, vec3<f32>(0.0), vec3<f32>(1.0))), clamp(colour.a, 0.0, 1.0));
-    let ordered = select(srgb, srgb.bgra, globals.swap_rb == 1u);
-    pixels[y * globals.stride + x] = pack4x8unorm(ordered);
+    return pack4x8unorm(select(srgb, srgb.bgra, globals.swap_rb == 1u));
 }
 
-// Each invocation resolves a run of RUN pixels of one row: a software
-// renderer pays per invocation as much as per pixel.
-const RUN: u32 = 16u;
+// One pixel's final word from its owner key.
+fn resolve_key(key: u32) -> u32 {
+    if key == 0u {
+        // The background, packed once on the CPU.
+        return globals.background_word;
+    }
+    let packed = instances[key & 0xFFFFFFu].colour;
+    let srgb = unpack4x8unorm(packed);
+    if (key >> 24u) == 255u && (packed >> 24u) == 255u {
+        // Opaque and fully covered: the particle's own sRGB bytes.
+        return pack4x8unorm(select(srgb, srgb.bgra, globals.swap_rb == 1u));
+    }
+    // Edges and translucent particles: premultiplied "over" the background,
+    // in linear light.
+    let a = srgb.a * f32(key >> 24u) / 255.0;
+    let b = globals.background;
+    return encode(vec4<f32>(srgb_to_linear(srgb.rgb) * a + b.rgb * (1.0 - a), a + b.a * (1.0 - a)));
+}
 
+// Rows are `stride` words, a multiple of 64, so element k of a row holds
+// pixels 4k..4k+3 of it. Each invocation resolves ELEMENTS elements: a
+// software renderer pays microseconds per workgroup, so fewer, longer
+// invocations are faster.
+const ELEMENTS: u32 = 16u;
 @compute @workgroup_size(64)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = vec2<u32>(globals.viewport);
-    let runs = (size.x + RUN - 1u) / RUN;
-    let y = id.x / runs;
-    if y >= size.y {
-        return;
-    }
-    let x0 = (id.x % runs) * RUN;
-    for (var x = x0; x < min(x0 + RUN, size.x); x++) {
-        let key = owners[y * size.x + x];
-        let out = y * globals.stride + x;
-        if key == 0u {
-            // Most pixels: the background, packed once on the CPU.
-            pixels[out] = globals.background_word;
-            continue;
+    let n = globals.stride / 4u * u32(globals.viewport.y);
+    let first = (id.x + id.y * 65535u * 64u) * ELEMENTS;
+    for (var i = first; i < min(first + ELEMENTS, n); i++) {
+        let keys = owners[i];
+        if all(keys == vec4<u32>(0u)) {
+            pixels[i] = vec4<u32>(globals.background_word);
+        } else {
+            pixels[i] = vec4<u32>(resolve_key(keys.x), resolve_key(keys.y), resolve_key(keys.z), resolve_key(keys.w));
         }
-        let packed = instances[key & 0xFFFFFFu].colour;
-        if (key >> 24u) == 255u && (packed >> 24u) == 255u {
-            // Opaque and fully covered: the particle's own sRGB bytes.
-            let srgb = unpack4x8unorm(packed);
-            pixels[out] = pack4x8unorm(select(srgb, srgb.bgra, globals.swap_rb == 1u));
-            continue;
-        }
-        // Edges and translucent particles: premultiplied "over" the
-        // background, in linear light.
-        let srgb = unpack4x8unorm(packed);
-        let a = srgb.a * f32(key >> 24u) / 255.0;
-        let colour = globals.background;
-        store(x, y, vec4<f32>(srgb_to_linear(srgb.rgb) * a + colour.rgb * (1.0 - a), a + colour.a * (1.0 - a)));
     }
 }
 
 @compute @workgroup_size(64)
 fn resolve_additive(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = vec2<u32>(globals.viewport);
-    let runs = (size.x + RUN - 1u) / RUN;
-    let y = id.x / runs;
-    if y >= size.y {
-        return;
+    let n = globals.stride / 4u * u32(globals.viewport.y);
+    let first = (id.x + id.y * 65535u * 64u) * ELEMENTS;
+    for (var i = first; i < min(first + ELEMENTS, n); i++) {
+        resolve_sums(i);
     }
-    let x0 = (id.x % runs) * RUN;
-    for (var x = x0; x < min(x0 + RUN, size.x); x++) {
-        let p = 3u * (y * size.x + x);
-        let sum = vec3<f32>(f32(owners[p]), f32(owners[p + 1u]), f32(owners[p + 2u]));
-        store(x, y, vec4<f32>(globals.background.rgb + sum / 1024.0, globals.background.a));
+}
+
+fn resolve_sums(i: u32) {
+    // Pixels 4i..4i+3 have their sums in words 12i..12i+11.
+    let a = owners[3u * i];
+    let b = owners[3u * i + 1u];
+    let c = owners[3u * i + 2u];
+    let sums = array<vec3<u32>, 4>(a.xyz, vec3<u32>(a.w, b.xy), vec3<u32>(b.zw, c.x), c.yzw);
+    var out = vec4<u32>(0u);
+    for (var k = 0u; k < 4u; k++) {
+        let sum = vec3<f32>(sums[k]) / 1024.0;
+        out[k] = encode(vec4<f32>(globals.background.rgb + sum, globals.background.a));
     }
+    pixels[i] = out;
 }

@@ -176,13 +176,14 @@ impl Splat {
         if self.state.as_ref().is_some_and(|s| s.size == (width, height)) {
             return;
         }
+        // Rows of owners and pixels are both padded to 256 bytes.
+        let row_bytes = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let owners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork splat owners"),
-            size: u64::from(width) * u64::from(height) * 4 * self.words,
+            size: u64::from(row_bytes) * u64::from(height) * self.words,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let row_bytes = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let pixels = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork splat pixels"),
             size: u64::from(row_bytes) * u64::from(height),
@@ -238,10 +239,7 @@ impl Splat {
         });
         pass.set_pipeline(&self.compute);
         pass.set_bind_group(0, &state.compute_group, &[]);
-        // At most 65 535 workgroups per dimension: wrap into y.
-        let groups = count.div_ceil(WORKGROUP);
-        let x = groups.min(65_535);
-        pass.dispatch_workgroups(x, groups.div_ceil(65_535).max(1), 1);
+        dispatch(&mut pass, count);
     }
 
     /// Words per padded row of the pixel buffer (for the shader), once sized.
@@ -263,9 +261,8 @@ impl Splat {
             });
             pass.set_pipeline(&self.resolve);
             pass.set_bind_group(0, &state.composite_group, &[]);
-            // One invocation per run of 16 pixels of a row (as in the shader).
-            let invocations = width.div_ceil(16) * height;
-            pass.dispatch_workgroups(invocations.div_ceil(WORKGROUP), 1, 1);
+            // One invocation per 16 elements of four pixels (as in the shader).
+            dispatch(&mut pass, (state.row_bytes / 16 * height).div_ceil(16));
         }
         encoder.copy_buffer_to_texture(
             wgpu::TexelCopyBufferInfo {
@@ -294,4 +291,11 @@ impl Splat {
         pass.set_bind_group(0, &state.composite_group, &[]);
         pass.draw(0..3, 0..1);
     }
+}
+
+/// Dispatches `invocations` in workgroups of 64, at most 65 535 workgroups
+/// per dimension (wrapped into y, as the shaders expect).
+fn dispatch(pass: &mut wgpu::ComputePass<'_>, invocations: u32) {
+    let groups = invocations.div_ceil(WORKGROUP);
+    pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535).max(1), 1);
 }
