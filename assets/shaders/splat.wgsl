@@ -52,12 +52,19 @@ struct Instance {
 // Largest drawn radius in pixels the splat handles (the renderer checks).
 const MAX_RADIUS: f32 = 4.0;
 
+// Particles per invocation: a software renderer pays microseconds per
+// workgroup, so fewer, longer invocations are faster.
+const PER_INVOCATION: u32 = 16u;
+
 @compute @workgroup_size(64)
 fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
-    let index = id.x + id.y * 65535u * 64u;
-    if index >= globals.count {
-        return;
+    let first = (id.x + id.y * 65535u * 64u) * PER_INVOCATION;
+    for (var index = first; index < min(first + PER_INVOCATION, globals.count); index++) {
+        splat_one(index);
     }
+}
+
+fn splat_one(index: u32) {
     let particle = instances[index];
     let position = mix(particle.previous, particle.current, globals.t);
     let clip = globals.view_proj * vec4<f32>(position, 1.0);
@@ -104,10 +111,13 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
 // exact and independent of order, so frames stay deterministic.
 @compute @workgroup_size(64)
 fn splat_additive(@builtin(global_invocation_id) id: vec3<u32>) {
-    let index = id.x + id.y * 65535u * 64u;
-    if index >= globals.count {
-        return;
+    let first = (id.x + id.y * 65535u * 64u) * PER_INVOCATION;
+    for (var index = first; index < min(first + PER_INVOCATION, globals.count); index++) {
+        splat_additive_one(index);
     }
+}
+
+fn splat_additive_one(index: u32) {
     let particle = instances[index];
     let position = mix(particle.previous, particle.current, globals.t);
     let clip = globals.view_proj * vec4<f32>(position, 1.0);

@@ -239,7 +239,8 @@ impl Splat {
         });
         pass.set_pipeline(&self.compute);
         pass.set_bind_group(0, &state.compute_group, &[]);
-        dispatch(&mut pass, count);
+        // Sixteen particles per invocation (as in the shader).
+        dispatch(&mut pass, count.div_ceil(16));
     }
 
     /// Words per padded row of the pixel buffer (for the shader), once sized.
