@@ -4,42 +4,8 @@
 // a storage buffer (no vertex buffer): the quad is the disc's bounding square
 // in pixels plus a one-pixel margin for the anti-aliased edge, so tiny
 // particles cost a few fragments, not a fixed-size sprite's worth.
-
-struct Globals {
-    view_proj: mat4x4<f32>,
-    // Image size in pixels.
-    viewport: vec2<f32>,
-    // Pixels per world unit at clip w = 1 (see Camera::matrices).
-    pixels_per_unit: f32,
-    // Interpolation parameter: alpha (interpolate) or 1 + alpha (extrapolate).
-    t: f32,
-    // Discs smaller than this radius in pixels are drawn at this radius with
-    // their coverage scaled by the area ratio, so they neither vanish nor
-    // shimmer.
-    min_radius_px: f32,
-    // Particles drawn.
-    count: u32,
-    // Words per row of the splat's output buffer (rows padded to 256 bytes).
-    stride: u32,
-    // 1 when the target is BGRA (the splat packs pixels itself).
-    swap_rb: u32,
-    // Clear colour, linear RGBA.
-    background: vec4<f32>,
-    // Clear colour as the target's packed 8-bit word.
-    background_word: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-};
-
-// One particle, 32 bytes: previous position and radius, current position and
-// colour (RGBA8, sRGB).
-struct Instance {
-    previous: vec3<f32>,
-    radius: f32,
-    current: vec3<f32>,
-    colour: u32,
-};
+//
+// (common.wgsl is prepended: Globals, Instance, sRGB conversions.)
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
@@ -54,18 +20,12 @@ struct VertexOut {
     @location(2) @interpolate(flat) colour: vec4<f32>,
 };
 
-fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
-    let low = c / 12.92;
-    let high = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
-    return select(high, low, c <= vec3<f32>(0.04045));
-}
-
 @vertex
 fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> VertexOut {
     let particle = instances[index];
     // x(t) = x_prev + t (x - x_prev): interpolation for t in [0, 1),
     // extrapolation for t in [1, 2).
-    let position = mix(particle.previous, particle.current, globals.t);
+    let position = interpolated(particle);
     let clip = globals.view_proj * vec4<f32>(position, 1.0);
     let w = max(clip.w, 1e-6);
     let radius_px = particle.radius * globals.pixels_per_unit / w;

@@ -11,40 +11,8 @@
 // later row, as "over" drawing would show). A full-screen pass then
 // composites each pixel's owner at its coverage. Deterministic whatever the
 // order of invocations.
-
-struct Globals {
-    view_proj: mat4x4<f32>,
-    // Image size in pixels.
-    viewport: vec2<f32>,
-    // Pixels per world unit at clip w = 1 (see Camera::matrices).
-    pixels_per_unit: f32,
-    // Interpolation parameter: alpha (interpolate) or 1 + alpha (extrapolate).
-    t: f32,
-    // Discs smaller than this radius in pixels are drawn at this radius with
-    // their coverage scaled by the area ratio, so they neither vanish nor
-    // shimmer.
-    min_radius_px: f32,
-    // Particles drawn.
-    count: u32,
-    // Words per row of the splat's output buffer (rows padded to 256 bytes).
-    stride: u32,
-    // 1 when the target is BGRA (the splat packs pixels itself).
-    swap_rb: u32,
-    // Clear colour, linear RGBA.
-    background: vec4<f32>,
-    // Clear colour as the target's packed 8-bit word.
-    background_word: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-};
-
-struct Instance {
-    previous: vec3<f32>,
-    radius: f32,
-    current: vec3<f32>,
-    colour: u32,
-};
+//
+// (common.wgsl is prepended: Globals, Instance, sRGB conversions.)
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
@@ -66,12 +34,6 @@ fn vs_fullscreen(@builtin(vertex_index) vertex: u32) -> VertexOut {
     var out: VertexOut;
     out.clip = vec4<f32>(uv * 2.0 - 1.0, 1.0, 1.0);
     return out;
-}
-
-fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
-    let low = c / 12.92;
-    let high = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
-    return select(high, low, c <= vec3<f32>(0.04045));
 }
 
 @fragment
@@ -109,12 +71,6 @@ fn fs_composite_additive(in: VertexOut) -> @location(0) vec4<f32> {
 // accepts copies (off-screen targets; window surfaces that allow it).
 
 @group(0) @binding(3) var<storage, read_write> pixels: array<vec4<u32>>;
-
-fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
-    let low = c * 12.92;
-    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
-    return select(high, low, c <= vec3<f32>(0.0031308));
-}
 
 fn encode(colour: vec4<f32>) -> u32 {
     let srgb = vec4<f32>(linear_to_srgb(clamp(colour.rgb, vec3<f32>(0.0), vec3<f32>(1.0))), clamp(colour.a, 0.0, 1.0));

@@ -20,6 +20,19 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+/// A shader's WGSL source: `assets/shaders/common.wgsl` (uniforms, the
+/// particle record, colour conversions), then the named file. WGSL has no
+/// includes; this keeps the shared definitions in one place.
+macro_rules! shader {
+    ($file:literal) => {
+        concat!(
+            include_str!("../../../assets/shaders/common.wgsl"),
+            "\n",
+            include_str!(concat!("../../../assets/shaders/", $file))
+        )
+    };
+}
+
 mod camera;
 mod golden;
 mod gpu;

@@ -316,7 +316,7 @@ impl Renderer {
         };
         let particle_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("particles.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/particles.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(shader!("particles.wgsl").into()),
         });
         let particle_pipeline = pipeline(
             device,
@@ -331,7 +331,7 @@ impl Renderer {
         );
         let line_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lines.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/lines.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(shader!("lines.wgsl").into()),
         });
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
         let line_pipeline_for = |multisample| {

@@ -71,11 +71,11 @@ impl Splat {
         });
         let compute_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("splat.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/splat.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(shader!("splat.wgsl").into()),
         });
         let composite_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("splat_composite.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/splat_composite.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(shader!("splat_composite.wgsl").into()),
         });
         let compute_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,
