@@ -355,14 +355,7 @@ impl Renderer {
         let line_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default());
         let instances = storage_buffer(device, 1024);
         let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
-        let line_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tickwork lines"),
-            layout: &line_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: globals.as_entire_binding(),
-            }],
-        });
+        let line_bind_group = bind_buffers(device, &line_layout, &[&globals]);
         let line_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
         let splat = Splat::new(device, format, config.blend);
@@ -743,19 +736,27 @@ fn particle_bind_group(
     globals: &wgpu::Buffer,
     instances: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
+    bind_buffers(device, layout, &[globals, instances])
+}
+
+/// A bind group of whole buffers at bindings 0, 1, 2, ...
+pub(crate) fn bind_buffers(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .zip(0..)
+        .map(|(buffer, binding)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("tickwork particles"),
+        label: Some("tickwork"),
         layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: globals.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: instances.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     })
 }
 

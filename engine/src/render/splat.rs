@@ -2,7 +2,7 @@
 //! compute invocation each instead of one quad each (see
 //! `assets/shaders/splat.wgsl` for the method and why).
 
-use super::renderer::{Blend, depth_state};
+use super::renderer::{Blend, bind_buffers, depth_state};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;
@@ -190,37 +190,14 @@ impl Splat {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let group = |layout: &wgpu::BindGroupLayout, with_pixels: bool| {
-            let mut entries = vec![
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: globals.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: instances.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: owners.as_entire_binding(),
-                },
-            ];
-            if with_pixels {
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: pixels.as_entire_binding(),
-                });
-            }
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("tickwork splat"),
-                layout,
-                entries: &entries,
-            })
-        };
         self.state = Some(SplatState {
             size: (width, height),
-            compute_group: group(&self.compute_layout, false),
-            composite_group: group(&self.composite_layout, true),
+            compute_group: bind_buffers(&gpu.device, &self.compute_layout, &[globals, instances, &owners]),
+            composite_group: bind_buffers(
+                &gpu.device,
+                &self.composite_layout,
+                &[globals, instances, &owners, &pixels],
+            ),
             owners,
             pixels,
             row_bytes,
