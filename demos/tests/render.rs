@@ -190,6 +190,23 @@ fn no_adapter_is_an_error_naming_the_backends_and_the_package() {
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
+#[test]
+fn view_without_a_display_says_so_and_what_to_do() {
+    let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args(["view", &scene("tops.ron")])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        text(&output.stderr).trim_end(),
+        "tickwork: cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a \
+         desktop session or under `xvfb-run`, or draw frames without a window with `tickwork render`"
+    );
+}
+
 /// An X server on a free display, killed when dropped.
 struct Xvfb {
     child: Child,

@@ -96,6 +96,17 @@ pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSu
             options.hold_seconds
         )));
     }
+    if cfg!(all(unix, not(target_os = "macos")))
+        && ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+            .iter()
+            .all(|v| std::env::var_os(v).is_none_or(|s| s.is_empty()))
+    {
+        return Err(RunError::Window(
+            "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a desktop session or under \
+             `xvfb-run`, or draw frames without a window with `tickwork render`"
+                .into(),
+        ));
+    }
     let event_loop = EventLoop::new().map_err(|e| RunError::Window(e.to_string()))?;
     let time: Box<dyn TimeSource> = match options.display_hz {
         Some(hz) => Box::new(crate::clock::FixedCadence::hz(hz)),
