@@ -258,31 +258,39 @@ fn screenshot(display: &str, path: &Path) {
 
 #[test]
 fn a_window_on_vulkan_shows_what_the_offscreen_renderer_draws() {
-    window_matches_offscreen("vulkan");
+    window_matches_offscreen("vulkan", "tops.ron", 40);
 }
 
 #[test]
 fn a_window_on_gl_shows_what_the_offscreen_renderer_draws() {
-    window_matches_offscreen("gl");
+    window_matches_offscreen("gl", "tops.ron", 40);
 }
 
-/// Runs `tops.ron` in a window on `backend` under Xvfb for 40 frames of a
-/// simulated 60 Hz display, photographs the screen, compares it with the
-/// off-screen frame 40, then resizes the window (down to 1x1 and back)
+#[test]
+fn a_window_drawing_by_splat_shows_what_the_offscreen_renderer_draws() {
+    // The fountain passes 2 000 particles within its first second: the
+    // splat resolves straight into the (BGRA) surface.
+    window_matches_offscreen("vulkan", "fountain.ron", 90);
+}
+
+/// Runs `scene_file` in a window on `backend` under Xvfb for `frames` frames
+/// of a simulated 60 Hz display, photographs the screen, compares it with
+/// the same off-screen frame, then resizes the window (down to 1x1 and back)
 /// and checks it is still running.
-fn window_matches_offscreen(backend: &str) {
+fn window_matches_offscreen(backend: &str, scene_file: &str, frames: u32) {
+    let frames_arg = frames.to_string();
     let (width, height) = (480, 270);
-    let dir = scratch(&format!("window-{backend}"));
+    let dir = scratch(&format!("window-{backend}-{scene_file}"));
     let xvfb = Xvfb::start(width, height);
     let size = format!("{width}x{height}");
     let mut view = Command::new(env!("CARGO_BIN_EXE_tickwork"))
         .args([
             "view",
-            &scene("tops.ron"),
+            &scene(scene_file),
             "--size",
             &size,
             "--frames",
-            "40",
+            &frames_arg,
             "--hold",
             "30",
         ])
@@ -298,13 +306,13 @@ fn window_matches_offscreen(backend: &str) {
     let mut stdout = BufReader::new(view.stdout.take().expect("stdout"));
     let deadline = Instant::now() + Duration::from_secs(120);
     let mut line = String::new();
-    while !line.contains("frame 40 shown") {
+    while !line.contains(&format!("frame {frames} shown")) {
         line.clear();
         if stdout.read_line(&mut line).expect("read") == 0 || Instant::now() > deadline {
             let _ = view.kill();
             let mut stderr = String::new();
             let _ = view.stderr.take().expect("stderr").read_to_string(&mut stderr);
-            panic!("the window never showed frame 40: {stderr}");
+            panic!("the window never showed frame {frames}: {stderr}");
         }
     }
     // Let the held frame reach the screen, then photograph the screen.
@@ -352,16 +360,16 @@ fn window_matches_offscreen(backend: &str) {
     }
     let _ = view.kill();
     let _ = view.wait();
-    // The same 40 frames off-screen.
+    // The same frames off-screen.
     let out = dir.join("offscreen");
     let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
         .args([
             "render",
-            &scene("tops.ron"),
+            &scene(scene_file),
             "--size",
             &size,
             "--frames",
-            "40",
+            &frames_arg,
             "--display-hz",
             "60",
             "--out",
@@ -371,7 +379,9 @@ fn window_matches_offscreen(backend: &str) {
         .output()
         .expect("runs");
     assert!(output.status.success(), "{}", text(&output.stderr));
-    let offscreen = image::open(out.join("frame_00039.png")).expect("frame").to_rgba8();
+    let offscreen = image::open(out.join(format!("frame_{:05}.png", frames - 1)))
+        .expect("frame")
+        .to_rgba8();
     let tolerance = Tolerance {
         channel: 32,
         max_fraction: 0.01,
