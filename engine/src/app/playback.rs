@@ -164,6 +164,12 @@ impl Playback {
         Ok(playback)
     }
 
+    /// The title shown in the HUD and the window's title bar (the scene's name).
+    #[must_use]
+    pub fn title(&self) -> &str {
+        &self.title
+    }
+
     /// The world (read only: change it through fixed steps or controls).
     #[must_use]
     pub fn world(&self) -> &World {

@@ -172,7 +172,7 @@ impl App {
 
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
         let attributes = Window::default_attributes()
-            .with_title(format!("Tickwork - {}", self.playback_title()))
+            .with_title(format!("Tickwork - {}", self.playback.title()))
             .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
         let window = Arc::new(
             event_loop
@@ -236,10 +236,6 @@ impl App {
         };
         state.resize(size.width, size.height)?;
         Ok(state)
-    }
-
-    fn playback_title(&self) -> String {
-        self.hud.lines().next().unwrap_or("").to_string()
     }
 
     fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
@@ -396,7 +392,6 @@ impl ApplicationHandler for App {
         if self.state.is_some() {
             return;
         }
-        self.playback.hud_text(&mut self.hud);
         match self.open(event_loop) {
             Ok(state) => {
                 state.window.request_redraw();

@@ -607,7 +607,7 @@ impl Renderer {
         };
         let world = view.world;
         let particles = world.particles();
-        let at = |row: usize| -> Vec3 { Vec3::from(particles.previous_position[row].lerp(particles.position[row], t)) };
+        let at = |row: usize| particles.interpolated(row, t);
         if self.config.springs {
             for force in world.forces() {
                 let Some(springs) = force.as_any().downcast_ref::<Springs>() else {

@@ -106,7 +106,7 @@ impl Trails {
                 push(point(k), point(k + 1), fade(k + 1));
             }
             if let Ok(row) = world.row(trail.entity) {
-                let head = Vec3::from(particles.previous_position[row].lerp(particles.position[row], t));
+                let head = particles.interpolated(row, t);
                 let from = if n >= 2 { point(n - 2) } else { point(0) };
                 push(from, head, fade(n));
             }

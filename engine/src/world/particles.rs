@@ -170,6 +170,14 @@ pub struct Particles {
 }
 
 impl Particles {
+    /// Where row `row` is drawn at `t` steps past the previous one:
+    /// `x_prev + t (x - x_prev)` (the vertex shader's formula, for the few
+    /// things interpolated on the CPU: springs, trails, rigid bodies).
+    #[must_use]
+    pub fn interpolated(&self, row: usize, t: f32) -> Vec3 {
+        self.previous_position[row].lerp(self.position[row], t).into()
+    }
+
     /// Number of rows.
     #[must_use]
     pub fn len(&self) -> usize {
