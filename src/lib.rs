@@ -7,8 +7,25 @@
 
 pub use tickwork_engine as engine;
 pub use tickwork_integrators as integrators;
+/// The math crate games use for vectors and rotations.
+pub use tickwork_engine::glam;
 
 /// The README's examples, compiled and run as doctests so they never rot.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+pub use tickwork_engine::app::run;
+
+/// What a game needs, in one import: `use tickwork::prelude::*;`.
+pub mod prelude {
+        pub use tickwork_engine::app::{
+        Draw, Game, GameError, Key, RunOptions, RunSummary, Settings, Stage, TickInput, run,
+    };
+        pub use tickwork_engine::render::{Camera, Line};
+    pub use tickwork_engine::{
+        BoxCollider, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, QuadraticDrag,
+        RigidBody, Spring, SpringEnd, Springs, Wind, World, WorldConfig,
+    };
+    pub use crate::glam::{Quat, Vec2, Vec3};
+}

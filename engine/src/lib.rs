@@ -54,4 +54,7 @@ pub use input::{InputLog, InputQueue};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
+/// The math crate of every public type (`Vec3`, `Quat`), re-exported so
+/// games use the same version.
+pub use glam;
 pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use tickwork_engine::Scene;
-use tickwork_engine::app::{FrameOutput, OffscreenRun, Playback, WindowOptions, run_window};
+use tickwork_engine::app::{FrameOutput, OffscreenRun, Playback, WindowOptions, parse_size, run_window};
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::render::{Blend, Gpu, Interpolation, RendererConfig};
 
@@ -135,20 +135,6 @@ pub struct WindowArgs {
     pub screenshots: PathBuf,
 }
 
-fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WIDTHxHEIGHT, e.g. 1280x720, got {text:?}"))?;
-    let side = |s: &str| {
-        s.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|&v| v > 0)
-            .ok_or_else(|| format!("{s:?} in {text:?} is not a positive whole number of pixels"))
-    };
-    Ok((side(w)?, side(h)?))
-}
-
 fn check_hz(hz: f64) -> Result<(), String> {
     if hz.is_finite() && hz > 0.0 {
         Ok(())
@@ -222,7 +208,7 @@ pub fn view(args: &WindowArgs) -> Result<(), String> {
     if let Some(hz) = args.display_hz {
         check_hz(hz)?;
     }
-    let playback = args.view.playback()?;
+    let mut playback = args.view.playback()?;
     let (width, height) = args.view.size.unwrap_or((1280, 720));
     let options = WindowOptions {
         width,
@@ -234,8 +220,9 @@ pub fn view(args: &WindowArgs) -> Result<(), String> {
         screenshot_dir: args.screenshots.clone(),
         hud: !args.view.no_hud,
         renderer: args.view.renderer(),
+        panel: false,
     };
-    let summary = run_window(playback, options).map_err(|e| e.to_string())?;
+    let summary = run_window(&mut playback, options).map_err(|e| e.to_string())?;
     println!(
         "showed {} frames on {} ({})",
         summary.frames, summary.adapter, summary.surface

@@ -1,20 +1,81 @@
-//! Running a world for a viewer: [`Playback`] (clock, controls, HUD) and
-//! the two runners that show it, off-screen ([`OffscreenRun`]) and in a
-//! window ([`run_window`]), which share the per-frame path.
+//! Running worlds for a viewer: a [`Game`] in a [`GameSession`], or a
+//! scene in a [`Playback`], both [`FrameSource`]s; and the two runners that
+//! show them, off-screen ([`OffscreenRun`]) and in a window ([`run_window`]),
+//! which share the per-frame path. [`run`] picks one for a game.
 
+mod game;
 mod offscreen;
+mod options;
+mod panel;
 mod playback;
+mod session;
 mod window;
 
+pub use game::{Draw, EnergyTrace, Game, GameError, Key, KeySet, Settings, Stage, StageWorld, TickInput};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
+pub use options::{RunOptions, RunSummary, parse_size, run};
 pub use playback::{Control, Playback, PlaybackError};
-// RunError is defined below.
+pub use session::{GameSession, Recording, SessionOptions};
+// RunError and FrameSource are defined below.
 pub use window::{WindowOptions, WindowSummary, run_window};
 
 use std::fmt;
 use std::path::PathBuf;
 
-use crate::render::RenderError;
+use crate::render::{Camera, FrameView, RenderError};
+
+/// Something the runners can show frame by frame: advanced by each frame's
+/// duration, steered by controls and keys, drawn through a [`FrameView`].
+pub trait FrameSource {
+    /// The window title.
+    fn title(&self) -> String;
+
+    /// Advances by one displayed frame of `seconds`, running the fixed
+    /// steps it is due.
+    ///
+    /// # Errors
+    /// [`RunError`] for a bad duration or a failed step.
+    fn advance(&mut self, seconds: f64) -> Result<(), RunError>;
+
+    /// Applies a viewer control.
+    ///
+    /// # Errors
+    /// [`RunError`] if the control fails (an integrator number beyond the registry).
+    fn control(&mut self, control: Control) -> Result<(), RunError>;
+
+    /// A game key went down or up; returns whether the source takes game
+    /// keys (if not, the window maps them to controls). Default: not taken.
+    fn key(&mut self, key: Key, down: bool) -> bool {
+        let _ = (key, down);
+        false
+    }
+
+    /// Fixed steps run since the start (or the last reset).
+    fn ticks(&self) -> u64;
+
+    /// The camera, for the window's mouse.
+    fn camera_mut(&mut self) -> &mut Camera;
+
+    /// Calls `render` with the view of the current frame (`hud`: with its
+    /// HUD text).
+    ///
+    /// # Errors
+    /// What `render` returns.
+    fn with_view(
+        &mut self,
+        hud: bool,
+        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
+    ) -> Result<(), RunError>;
+
+    /// Fills the window's control panel (default: clock controls only).
+    ///
+    /// # Errors
+    /// [`RunError`] if a control chosen in the panel fails.
+    fn panel(&mut self, ctx: &egui::Context) -> Result<(), RunError> {
+        let _ = ctx;
+        Ok(())
+    }
+}
 
 /// Why a run (off-screen or in a window) stopped early.
 #[derive(Debug)]
@@ -27,6 +88,8 @@ pub enum RunError {
     Window(String),
     /// An output file exists and overwriting was not asked for.
     Exists(PathBuf),
+    /// The game failed (its set-up, a step, its own error).
+    Game(GameError),
     /// A file could not be written.
     Io {
         /// The file.
@@ -41,6 +104,7 @@ impl fmt::Display for RunError {
         match self {
             Self::Playback(e) => e.fmt(f),
             Self::Render(e) => e.fmt(f),
+            Self::Game(e) => e.fmt(f),
             Self::Window(message) => write!(f, "cannot open a window: {message}"),
             Self::Exists(path) => write!(f, "{}: exists; pass --force to overwrite it", path.display()),
             Self::Io { path, message } => write!(f, "{}: {message}", path.display()),
@@ -59,5 +123,11 @@ impl From<PlaybackError> for RunError {
 impl From<RenderError> for RunError {
     fn from(e: RenderError) -> Self {
         Self::Render(e)
+    }
+}
+
+impl From<crate::clock::ClockError> for RunError {
+    fn from(e: crate::clock::ClockError) -> Self {
+        Self::Playback(PlaybackError::Clock(e))
     }
 }

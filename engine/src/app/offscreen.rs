@@ -1,4 +1,4 @@
-//! The off-screen runner: a [`Playback`] advanced by a simulated display's
+//! The off-screen runner: a [`FrameSource`] (a game or a scene's playback) advanced by a simulated display's
 //! frame durations and drawn into an [`OffscreenTarget`], frame by frame,
 //! written as PNG files and optionally an animated GIF.
 
@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
-use super::{Playback, RunError};
+use super::{FrameSource, RunError};
 use crate::clock::TimeSource;
 use crate::render::{Gpu, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
 
@@ -47,7 +47,6 @@ pub struct OffscreenRun<'g> {
     gpu: &'g Gpu,
     renderer: Renderer,
     target: OffscreenTarget,
-    hud: String,
 }
 
 impl<'g> OffscreenRun<'g> {
@@ -62,33 +61,31 @@ impl<'g> OffscreenRun<'g> {
             gpu,
             renderer,
             target,
-            hud: String::new(),
         })
     }
 
-    /// Advances `playback` by one frame of `seconds` and draws it.
+    /// Advances `source` by one frame of `seconds` and draws it.
     ///
     /// # Errors
     /// [`RunError::Playback`] for a bad duration or failed step,
     /// [`RunError::Render`] if drawing fails.
-    pub fn frame(&mut self, playback: &mut Playback, seconds: f64, hud: bool) -> Result<RgbaImage, RunError> {
-        playback.advance(seconds)?;
-        self.draw(playback, hud)
+    pub fn frame(&mut self, source: &mut dyn FrameSource, seconds: f64, hud: bool) -> Result<RgbaImage, RunError> {
+        source.advance(seconds)?;
+        self.draw(source, hud)
     }
 
-    /// Draws `playback` as it is, without advancing it.
+    /// Draws `source` as it is, without advancing it.
     ///
     /// # Errors
     /// [`RunError::Render`] if drawing fails.
-    pub fn draw(&mut self, playback: &mut Playback, hud: bool) -> Result<RgbaImage, RunError> {
-        if hud {
-            playback.hud_text(&mut self.hud);
-        } else {
-            self.hud.clear();
-        }
-        Ok(self
-            .target
-            .render(self.gpu, &mut self.renderer, &playback.view(&self.hud))?)
+    pub fn draw(&mut self, source: &mut dyn FrameSource, hud: bool) -> Result<RgbaImage, RunError> {
+        let mut image = None;
+        let (target, renderer, gpu) = (&self.target, &mut self.renderer, self.gpu);
+        source.with_view(hud, &mut |view| {
+            image = Some(target.render(gpu, renderer, view)?);
+            Ok(())
+        })?;
+        image.ok_or_else(|| crate::render::RenderError::Device("the frame was not drawn".into()).into())
     }
 
     /// Runs `frames` frames with durations from `display`, writing them to
@@ -100,7 +97,7 @@ impl<'g> OffscreenRun<'g> {
     /// that cannot be written, and as [`OffscreenRun::frame`].
     pub fn run(
         &mut self,
-        playback: &mut Playback,
+        source: &mut dyn FrameSource,
         display: &mut dyn TimeSource,
         frames: u64,
         output: &FrameOutput,
@@ -132,7 +129,7 @@ impl<'g> OffscreenRun<'g> {
             }
             None => None,
         };
-        let steps_before = playback.world().tick();
+        let steps_before = source.ticks();
         let mut summary = OffscreenSummary {
             frames: 0,
             steps: 0,
@@ -142,7 +139,7 @@ impl<'g> OffscreenRun<'g> {
         };
         for k in 0..frames {
             let seconds = display.next_frame();
-            let image = self.frame(playback, seconds, output.hud)?;
+            let image = self.frame(source, seconds, output.hud)?;
             if let Some(path) = png(k) {
                 image.save(&path).map_err(|e| RunError::io(&path, &e))?;
                 summary.pngs.push(path);
@@ -157,7 +154,7 @@ impl<'g> OffscreenRun<'g> {
             summary.frames += 1;
             progress(k + 1);
         }
-        summary.steps = playback.world().tick() - steps_before;
+        summary.steps = source.ticks() - steps_before;
         Ok(summary)
     }
 }

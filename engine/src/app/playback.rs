@@ -19,6 +19,17 @@ use tickwork_integrators::{METHODS, UnknownMethod};
 /// Slowest and fastest time scales the `-`/`+` keys reach.
 const TIME_SCALES: [f64; 9] = [0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
 
+/// The next time scale up (`faster`) or down from `scale` in [`TIME_SCALES`],
+/// or `scale` itself at either end.
+pub(crate) fn next_time_scale(scale: f64, faster: bool) -> f64 {
+    let next = if faster {
+        TIME_SCALES.iter().find(|&&s| s > scale * 1.0001)
+    } else {
+        TIME_SCALES.iter().rev().find(|&&s| s < scale * 0.9999)
+    };
+    next.copied().unwrap_or(scale)
+}
+
 /// A control a viewer can apply between frames (keys in the window).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Control {
@@ -95,6 +106,8 @@ pub struct Playback {
     energy: Option<(u64, f64)>,
     initial_energy: f64,
     initial_len: usize,
+    /// The HUD text, reused between frames.
+    hud: String,
 }
 
 impl fmt::Debug for Playback {
@@ -136,6 +149,7 @@ impl Playback {
             energy: None,
             initial_energy,
             initial_len: world_len,
+            hud: String::new(),
         })
     }
 
@@ -240,15 +254,8 @@ impl Playback {
                 self.clock.single_step();
             }
             Control::Faster | Control::Slower => {
-                let scale = self.clock.config().time_scale;
-                let next = if control == Control::Faster {
-                    TIME_SCALES.iter().find(|&&s| s > scale * 1.0001)
-                } else {
-                    TIME_SCALES.iter().rev().find(|&&s| s < scale * 0.9999)
-                };
-                if let Some(&next) = next {
-                    self.clock.set_time_scale(next)?;
-                }
+                let scale = next_time_scale(self.clock.config().time_scale, control == Control::Faster);
+                self.clock.set_time_scale(scale)?;
             }
             Control::NextIntegrator => {
                 let methods = METHODS;
@@ -332,5 +339,44 @@ impl Playback {
         if let Some(drift) = drift {
             let _ = write!(out, " (drift {drift:+.2e})");
         }
+    }
+}
+
+impl super::FrameSource for Playback {
+    fn title(&self) -> String {
+        self.title.clone()
+    }
+
+    fn advance(&mut self, seconds: f64) -> Result<(), super::RunError> {
+        Playback::advance(self, seconds)?;
+        Ok(())
+    }
+
+    fn control(&mut self, control: Control) -> Result<(), super::RunError> {
+        Ok(Playback::control(self, control)?)
+    }
+
+    fn ticks(&self) -> u64 {
+        self.world.tick()
+    }
+
+    fn camera_mut(&mut self) -> &mut Camera {
+        &mut self.camera
+    }
+
+    fn with_view(
+        &mut self,
+        hud: bool,
+        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), crate::render::RenderError>,
+    ) -> Result<(), super::RunError> {
+        let mut text = std::mem::take(&mut self.hud);
+        if hud {
+            self.hud_text(&mut text);
+        } else {
+            text.clear();
+        }
+        let result = render(&self.view(&text));
+        self.hud = text;
+        Ok(result?)
     }
 }

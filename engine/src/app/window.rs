@@ -1,10 +1,12 @@
 //! The window runner: winit 0.30's `ApplicationHandler` around a
-//! [`Playback`], driven by the real clock (or a simulated cadence for
-//! tests), drawing through the same [`Renderer`] as the off-screen runner.
+//! [`FrameSource`] (a game or a scene's playback), driven by the real clock
+//! (or a simulated cadence for tests), drawing through the same
+//! [`Renderer`] as the off-screen runner, with the egui control panel on top.
 //!
-//! Keys: Space pause, Period single step, `+`/`-` time scale, Tab or 1-9
-//! integrator, R reset, F12 screenshot, Escape close. Mouse: drag to orbit
-//! (3D) or pan (2D), wheel to zoom.
+//! Keys: P pause (and Space and R reset for sources without game keys),
+//! Period single step, `+`/`-` time scale, Tab or 1-9 integrator, F5 reset,
+//! F1 panel, F12 screenshot, Escape close; game keys go to the game first.
+//! Mouse: drag to orbit (3D) or pan (2D), wheel to zoom.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -16,7 +18,7 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use super::{Control, Playback, RunError};
+use super::{Control, FrameSource, Key as GameKey, RunError};
 use crate::clock::{RealTime, TimeSource};
 use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer, RendererConfig};
 
@@ -45,6 +47,8 @@ pub struct WindowOptions {
     pub hud: bool,
     /// Renderer settings (default: [`RendererConfig::default`]).
     pub renderer: RendererConfig,
+    /// Show the control panel at the start (default false; F1 toggles it).
+    pub panel: bool,
 }
 
 impl Default for WindowOptions {
@@ -59,6 +63,7 @@ impl Default for WindowOptions {
             screenshot_dir: PathBuf::from("."),
             hud: true,
             renderer: RendererConfig::default(),
+            panel: false,
         }
     }
 }
@@ -76,14 +81,14 @@ pub struct WindowSummary {
     pub screenshots: Vec<PathBuf>,
 }
 
-/// Opens a window and plays `playback` in it until it is closed (or
+/// Opens a window and plays `source` in it until it is closed (or
 /// `options.frames` have been shown).
 ///
 /// # Errors
 /// [`RunError::Window`] if no window can be opened (no display),
 /// [`RunError::Render`] for no adapter or a surface that cannot be
 /// configured, [`RunError::Playback`] if a step fails.
-pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSummary, RunError> {
+pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Result<WindowSummary, RunError> {
     if options.width == 0 || options.height == 0 {
         return Err(RunError::Window(format!(
             "the window size must be at least 1x1, got {}x{}",
@@ -112,9 +117,12 @@ pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSu
         Some(hz) => Box::new(crate::clock::FixedCadence::hz(hz)),
         None => Box::new(RealTime::default()),
     };
+    let panel_visible = options.panel;
     let mut app = App {
-        playback,
+        source,
         options,
+        panel: None,
+        panel_visible,
         time,
         state: None,
         error: None,
@@ -124,7 +132,6 @@ pub fn run_window(playback: Playback, options: WindowOptions) -> Result<WindowSu
             surface: String::new(),
             screenshots: Vec::new(),
         },
-        hud: String::new(),
         drag: None,
         cursor: (0.0, 0.0),
         hold_started: None,
@@ -150,21 +157,29 @@ struct WindowState {
     window: Arc<Window>,
 }
 
-struct App {
-    playback: Playback,
+/// The egui side of the window: context, winit input state, wgpu renderer.
+struct Panel {
+    context: egui::Context,
+    input: egui_winit::State,
+    renderer: egui_wgpu::Renderer,
+}
+
+struct App<'a> {
+    source: &'a mut dyn FrameSource,
     options: WindowOptions,
+    panel: Option<Panel>,
+    panel_visible: bool,
     time: Box<dyn TimeSource>,
     state: Option<WindowState>,
     error: Option<RunError>,
     summary: WindowSummary,
-    hud: String,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
     hold_started: Option<std::time::Instant>,
     screenshot: bool,
 }
 
-impl App {
+impl App<'_> {
     fn fail(&mut self, event_loop: &ActiveEventLoop, error: RunError) {
         self.error.get_or_insert(error);
         event_loop.exit();
@@ -172,7 +187,7 @@ impl App {
 
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
         let attributes = Window::default_attributes()
-            .with_title(format!("Tickwork - {}", self.playback.title()))
+            .with_title(format!("Tickwork - {}", self.source.title()))
             .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
         let window = Arc::new(
             event_loop
@@ -224,6 +239,19 @@ impl App {
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
         let renderer = Renderer::new(&gpu, format, self.options.renderer.clone())?;
+        let context = egui::Context::default();
+        self.panel = Some(Panel {
+            input: egui_winit::State::new(
+                context.clone(),
+                egui::ViewportId::ROOT,
+                &window,
+                Some(window.scale_factor() as f32),
+                None,
+                Some(gpu.device.limits().max_texture_dimension_2d as usize),
+            ),
+            context,
+            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
+        });
         self.summary.adapter = gpu.describe();
         self.summary.surface = format!("{format:?}, {present_mode:?}");
         let mut state = WindowState {
@@ -239,7 +267,14 @@ impl App {
     }
 
     fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
-        if event.state != ElementState::Pressed {
+        let down = event.state == ElementState::Pressed;
+        if let Some(key) = game_key(event.physical_key)
+            && !event.repeat
+            && self.source.key(key, down)
+        {
+            return;
+        }
+        if !down {
             return;
         }
         let control = match (&event.logical_key, event.physical_key) {
@@ -251,12 +286,16 @@ impl App {
                 self.screenshot = true;
                 None
             }
-            (Key::Named(NamedKey::Space), _) => Some(Control::TogglePause),
+            (Key::Named(NamedKey::F1), _) => {
+                self.panel_visible = !self.panel_visible;
+                None
+            }
+            (Key::Named(NamedKey::Space), _) | (_, PhysicalKey::Code(KeyCode::KeyP)) => Some(Control::TogglePause),
             (Key::Named(NamedKey::Tab), _) => Some(Control::NextIntegrator),
             (_, PhysicalKey::Code(KeyCode::Period)) => Some(Control::SingleStep),
             (_, PhysicalKey::Code(KeyCode::NumpadAdd)) => Some(Control::Faster),
             (_, PhysicalKey::Code(KeyCode::NumpadSubtract)) => Some(Control::Slower),
-            (_, PhysicalKey::Code(KeyCode::KeyR)) => Some(Control::Reset),
+            (_, PhysicalKey::Code(KeyCode::KeyR | KeyCode::F5)) => Some(Control::Reset),
             (Key::Character(c), _) => match c.as_str() {
                 "+" | "=" => Some(Control::Faster),
                 "-" | "_" => Some(Control::Slower),
@@ -268,9 +307,9 @@ impl App {
             _ => None,
         };
         if let Some(control) = control
-            && let Err(error) = self.playback.control(control)
+            && let Err(error) = self.source.control(control)
         {
-            self.fail(event_loop, error.into());
+            self.fail(event_loop, error);
         }
     }
 
@@ -278,12 +317,7 @@ impl App {
         let holding = self.hold_started.is_some();
         if !holding {
             let seconds = self.time.next_frame();
-            self.playback.advance(seconds)?;
-        }
-        if self.options.hud {
-            self.playback.hud_text(&mut self.hud);
-        } else {
-            self.hud.clear();
+            self.source.advance(seconds)?;
         }
         let Some(state) = self.state.as_mut() else {
             return Ok(());
@@ -292,8 +326,9 @@ impl App {
         let Some(buffers) = state.buffers.as_ref() else {
             return Ok(());
         };
-        let view = self.playback.view(&self.hud);
-        state.renderer.prepare(&state.gpu, buffers, &view)?;
+        let (renderer, gpu) = (&mut state.renderer, &state.gpu);
+        self.source
+            .with_view(self.options.hud, &mut |view| renderer.prepare(gpu, buffers, view))?;
         let frame = match state.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(frame) | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
@@ -313,11 +348,18 @@ impl App {
                 label: Some("tickwork window"),
             });
         state.renderer.encode(&mut encoder, buffers, &output);
-        state.gpu.queue.submit(Some(encoder.finish()));
+        let mut commands = Vec::new();
+        if self.panel_visible
+            && let Some(panel) = self.panel.as_mut()
+        {
+            commands = draw_panel(panel, &mut *self.source, state, &mut encoder, &output)?;
+        }
+        commands.push(encoder.finish());
+        state.gpu.queue.submit(commands);
         state.window.pre_present_notify();
         state.gpu.queue.present(frame);
         if std::mem::take(&mut self.screenshot) {
-            let path = screenshot(state, &self.playback, &self.hud, &self.options)?;
+            let path = screenshot(state, &mut *self.source, &self.options)?;
             println!("tickwork: screenshot {}", path.display());
             self.summary.screenshots.push(path);
         }
@@ -370,14 +412,20 @@ impl WindowState {
 /// saves it as `screenshot_NNNN.png`, never overwriting an existing file.
 fn screenshot(
     state: &WindowState,
-    playback: &Playback,
-    hud: &str,
+    source: &mut dyn FrameSource,
     options: &WindowOptions,
 ) -> Result<PathBuf, RunError> {
     let (width, height) = (state.config.width, state.config.height);
     let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
     let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
-    let image = target.render(&state.gpu, &mut renderer, &playback.view(hud))?;
+    let mut image = None;
+    source.with_view(options.hud, &mut |view| {
+        image = Some(target.render(&state.gpu, &mut renderer, view)?);
+        Ok(())
+    })?;
+    let Some(image) = image else {
+        return Err(RenderError::Device("the frame was not drawn".into()).into());
+    };
     std::fs::create_dir_all(&options.screenshot_dir).map_err(|e| RunError::io(&options.screenshot_dir, &e))?;
     let path = (0..)
         .map(|k| options.screenshot_dir.join(format!("screenshot_{k:04}.png")))
@@ -387,7 +435,95 @@ fn screenshot(
     Ok(path)
 }
 
-impl ApplicationHandler for App {
+/// Lays out the panel, uploads its meshes and records its pass over
+/// `output` (loaded, not cleared); returns the upload command buffers.
+fn draw_panel(
+    panel: &mut Panel,
+    source: &mut dyn FrameSource,
+    state: &WindowState,
+    encoder: &mut wgpu::CommandEncoder,
+    output: &wgpu::TextureView,
+) -> Result<Vec<wgpu::CommandBuffer>, RunError> {
+    let raw = panel.input.take_egui_input(&state.window);
+    let mut failed = None;
+    let full = panel.context.run_pass(raw, |ctx| {
+        if let Err(error) = source.panel(ctx) {
+            failed.get_or_insert(error);
+        }
+    });
+    if let Some(error) = failed {
+        return Err(error);
+    }
+    panel.input.handle_platform_output(&state.window, full.platform_output);
+    let pixels_per_point = full.pixels_per_point;
+    let jobs = panel.context.tessellate(full.shapes, pixels_per_point);
+    let (device, queue) = (&state.gpu.device, &state.gpu.queue);
+    for (id, deltas) in &full.textures_delta.set {
+        for delta in deltas {
+            panel.renderer.update_texture(device, queue, *id, delta);
+        }
+    }
+    let screen = egui_wgpu::ScreenDescriptor {
+        size_in_pixels: [state.config.width, state.config.height],
+        pixels_per_point,
+    };
+    let commands = panel.renderer.update_buffers(device, queue, encoder, &jobs, &screen);
+    {
+        let mut pass = encoder
+            .begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("tickwork panel"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: output,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            })
+            .forget_lifetime();
+        panel.renderer.render(&mut pass, &jobs, &screen);
+    }
+    for id in &full.textures_delta.free {
+        panel.renderer.free_texture(id);
+    }
+    Ok(commands)
+}
+
+/// The game key of a physical key, if it is one.
+fn game_key(key: PhysicalKey) -> Option<GameKey> {
+    let PhysicalKey::Code(code) = key else {
+        return None;
+    };
+    Some(match code {
+        KeyCode::ArrowLeft => GameKey::Left,
+        KeyCode::ArrowRight => GameKey::Right,
+        KeyCode::ArrowUp => GameKey::Up,
+        KeyCode::ArrowDown => GameKey::Down,
+        KeyCode::Space => GameKey::Space,
+        KeyCode::Enter | KeyCode::NumpadEnter => GameKey::Enter,
+        KeyCode::ShiftLeft | KeyCode::ShiftRight => GameKey::Shift,
+        KeyCode::KeyW => GameKey::W,
+        KeyCode::KeyA => GameKey::A,
+        KeyCode::KeyS => GameKey::S,
+        KeyCode::KeyD => GameKey::D,
+        KeyCode::KeyQ => GameKey::Q,
+        KeyCode::KeyE => GameKey::E,
+        KeyCode::KeyR => GameKey::R,
+        KeyCode::KeyF => GameKey::F,
+        KeyCode::KeyZ => GameKey::Z,
+        KeyCode::KeyX => GameKey::X,
+        KeyCode::KeyC => GameKey::C,
+        _ => return None,
+    })
+}
+
+impl ApplicationHandler for App<'_> {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.state.is_some() {
             return;
@@ -402,6 +538,12 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        if self.panel_visible
+            && let (Some(panel), Some(state)) = (self.panel.as_mut(), self.state.as_ref())
+            && panel.input.on_window_event(&state.window, &event).consumed
+        {
+            return;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
@@ -424,7 +566,7 @@ impl ApplicationHandler for App {
                 if let Some((x, y)) = self.drag {
                     // Half a degree per pixel dragged.
                     let (dx, dy) = (position.x - x, position.y - y);
-                    self.playback.camera.orbit(-0.5 * dx as f32, 0.5 * dy as f32);
+                    self.source.camera_mut().orbit(-0.5 * dx as f32, 0.5 * dy as f32);
                     self.drag = Some(self.cursor);
                 }
             }
@@ -433,7 +575,7 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
                 };
-                self.playback.camera.zoom(1.1_f32.powf(lines));
+                self.source.camera_mut().zoom(1.1_f32.powf(lines));
             }
             WindowEvent::RedrawRequested => {
                 if let Err(error) = self.redraw(event_loop) {

@@ -83,6 +83,8 @@ pub trait ForceState {
     fn clone_boxed(&self) -> Box<dyn Force>;
     /// The force as `Any`, to copy into a force of the same type.
     fn as_any(&self) -> &dyn Any;
+    /// The force as mutable `Any`, for [`World::force_mut`](crate::World::force_mut).
+    fn as_any_mut(&mut self) -> &mut dyn Any;
     /// Overwrites `self` with `source` if they are the same type, reusing
     /// buffers; returns false otherwise.
     fn copy_state_from(&mut self, source: &dyn Force) -> bool;
@@ -93,6 +95,9 @@ impl<T: Force + Clone + 'static> ForceState for T {
         Box::new(self.clone())
     }
     fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
         self
     }
     fn copy_state_from(&mut self, source: &dyn Force) -> bool {

@@ -130,6 +130,9 @@ pub struct FrameView<'a> {
     pub camera: Camera,
     /// Trails to draw, if any.
     pub trails: Option<&'a Trails>,
+    /// More worlds drawn in the same frame, after `world` (an integrator
+    /// race: one world per method, side by side or overlaid).
+    pub others: &'a [WorldView<'a>],
     /// Extra lines (a game's own drawing).
     pub lines: &'a [Line],
     /// HUD text, drawn top-left; empty for none.
@@ -146,10 +149,29 @@ impl<'a> FrameView<'a> {
             alpha,
             camera,
             trails: None,
+            others: &[],
             lines: &[],
             hud: "",
         }
     }
+
+    /// Every world of the frame with its trails: `world` first, then `others`.
+    pub fn worlds(&self) -> impl Iterator<Item = WorldView<'a>> + '_ {
+        std::iter::once(WorldView {
+            world: self.world,
+            trails: self.trails,
+        })
+        .chain(self.others.iter().copied())
+    }
+}
+
+/// One more world in a frame, with its trails.
+#[derive(Clone, Copy, Debug)]
+pub struct WorldView<'a> {
+    /// The world, read only.
+    pub world: &'a World,
+    /// Its trails, if any.
+    pub trails: Option<&'a Trails>,
 }
 
 /// Uniforms shared by both pipelines (96 bytes, as in the WGSL `Globals`).
@@ -214,8 +236,10 @@ pub struct Renderer {
     line_count: u32,
     line_scratch: Vec<LineVertex>,
     instance_scratch: Vec<Instance>,
-    /// The world state last uploaded: (world id, revision).
-    uploaded: Option<(u64, u64)>,
+    /// The world states last uploaded: (world id, revision) of each world.
+    uploaded: Vec<(u64, u64)>,
+    /// This frame's (world id, revision) pairs, compared with `uploaded`.
+    upload_key: Vec<(u64, u64)>,
     /// Largest particle radius in the last upload (world units).
     max_radius: f32,
     splat: Splat,
@@ -383,7 +407,8 @@ impl Renderer {
             line_count: 0,
             line_scratch: Vec::new(),
             instance_scratch: Vec::new(),
-            uploaded: None,
+            uploaded: Vec::new(),
+            upload_key: Vec::new(),
             max_radius: 0.0,
             splat,
             splat_threshold,
@@ -425,7 +450,7 @@ impl Renderer {
             pixels_per_unit,
         } = view.camera.matrices(buffers.width, buffers.height);
         let t = self.config.interpolation.parameter(view.alpha);
-        self.upload_particles(gpu, view.world);
+        self.upload_particles(gpu, view);
         self.splat_active = self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
             && matches!(view.camera, Camera::TwoD { .. })
@@ -543,19 +568,23 @@ impl Renderer {
     /// (needed only if the world was edited through a path that does not
     /// count as a change, which none of [`World`]'s methods is).
     pub fn invalidate(&mut self) {
-        self.uploaded = None;
+        self.uploaded.clear();
     }
 
-    fn upload_particles(&mut self, gpu: &Gpu, world: &World) {
-        let key = (world.id(), world.revision());
-        if self.uploaded == Some(key) {
+    fn upload_particles(&mut self, gpu: &Gpu, view: &FrameView<'_>) {
+        self.upload_key.clear();
+        self.upload_key
+            .extend(view.worlds().map(|w| (w.world.id(), w.world.revision())));
+        if self.uploaded == self.upload_key {
             return;
         }
-        self.uploaded = Some(key);
-        let particles = world.particles();
-        let n = particles.len();
+        std::mem::swap(&mut self.uploaded, &mut self.upload_key);
+        let n: usize = view.worlds().map(|w| w.world.len()).sum();
         self.instance_count = n as u32;
-        self.max_radius = particles.radius.iter().fold(0.0, |m: f32, &r| m.max(r));
+        self.max_radius = view
+            .worlds()
+            .flat_map(|w| w.world.particles().radius.iter())
+            .fold(0.0, |m: f32, &r| m.max(r));
         if n == 0 {
             return;
         }
@@ -569,24 +598,12 @@ impl Renderer {
         // Fill a reused scratch copy (in parallel for large worlds), then
         // hand it to the queue.
         self.instance_scratch.resize(n, Instance::default());
-        let fill = |first: usize, out: &mut [Instance]| {
-            for (k, record) in out.iter_mut().enumerate() {
-                let i = first + k;
-                *record = Instance {
-                    previous: particles.previous_position[i].to_array(),
-                    radius: particles.radius[i],
-                    current: particles.position[i].to_array(),
-                    colour: u32::from_le_bytes(particles.colour[i]),
-                };
-            }
-        };
-        if n >= 2 * UPLOAD_CHUNK {
-            self.instance_scratch
-                .par_chunks_mut(UPLOAD_CHUNK)
-                .enumerate()
-                .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
-        } else {
-            fill(0, &mut self.instance_scratch);
+        let mut offset = 0;
+        for shown in view.worlds() {
+            let particles = shown.world.particles();
+            let len = particles.len();
+            fill_instances(particles, &mut self.instance_scratch[offset..offset + len]);
+            offset += len;
         }
         gpu.queue
             .write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.instance_scratch));
@@ -605,51 +622,53 @@ impl Renderer {
                 colour,
             });
         };
-        let world = view.world;
-        let particles = world.particles();
-        let at = |row: usize| particles.interpolated(row, t);
-        if self.config.springs {
-            for force in world.forces() {
-                let Some(springs) = force.as_any().downcast_ref::<Springs>() else {
-                    continue;
-                };
-                for spring in springs.springs() {
-                    let end = |end: SpringEnd| match end {
-                        SpringEnd::Anchor(p) => Some(p),
-                        SpringEnd::Entity(e) => world.row(e).ok().map(at),
+        for shown in view.worlds() {
+            let world = shown.world;
+            let particles = world.particles();
+            let at = |row: usize| particles.interpolated(row, t);
+            if self.config.springs {
+                for force in world.forces() {
+                    let Some(springs) = force.as_any().downcast_ref::<Springs>() else {
+                        continue;
                     };
-                    if let (Some(a), Some(b)) = (end(spring.a), end(spring.b)) {
-                        push(a, b, self.config.spring_colour);
+                    for spring in springs.springs() {
+                        let end = |end: SpringEnd| match end {
+                            SpringEnd::Anchor(p) => Some(p),
+                            SpringEnd::Entity(e) => world.row(e).ok().map(at),
+                        };
+                        if let (Some(a), Some(b)) = (end(spring.a), end(spring.b)) {
+                            push(a, b, self.config.spring_colour);
+                        }
                     }
                 }
             }
-        }
-        if self.config.rigid_bodies {
-            let rigid = world.rigid_bodies();
-            for body in 0..rigid.len() {
-                let row = rigid.owner[body] as usize;
-                let centre = at(row);
-                let q = slerp_param(rigid.previous_orientation[body], rigid.orientation[body], t);
-                let transform = Mat4::from_rotation_translation(q, centre);
-                let h = rigid.half_extents[body];
-                let corner =
-                    |i: usize| transform.transform_point3(h * Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)));
-                let colour = particles.colour[row];
-                for (i, j) in BOX_EDGES {
-                    push(corner(i), corner(j), colour);
-                }
-                for (axis, colour) in [
-                    (Vec3::X, [230, 80, 70, 255]),
-                    (Vec3::Y, [90, 210, 90, 255]),
-                    (Vec3::Z, [80, 140, 240, 255]),
-                ] {
-                    let tip = transform.transform_point3(axis * (1.6 * h.max_element()));
-                    push(centre, tip, colour);
+            if self.config.rigid_bodies {
+                let rigid = world.rigid_bodies();
+                for body in 0..rigid.len() {
+                    let row = rigid.owner[body] as usize;
+                    let centre = at(row);
+                    let q = slerp_param(rigid.previous_orientation[body], rigid.orientation[body], t);
+                    let transform = Mat4::from_rotation_translation(q, centre);
+                    let h = rigid.half_extents[body];
+                    let corner =
+                        |i: usize| transform.transform_point3(h * Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)));
+                    let colour = particles.colour[row];
+                    for (i, j) in BOX_EDGES {
+                        push(corner(i), corner(j), colour);
+                    }
+                    for (axis, colour) in [
+                        (Vec3::X, [230, 80, 70, 255]),
+                        (Vec3::Y, [90, 210, 90, 255]),
+                        (Vec3::Z, [80, 140, 240, 255]),
+                    ] {
+                        let tip = transform.transform_point3(axis * (1.6 * h.max_element()));
+                        push(centre, tip, colour);
+                    }
                 }
             }
-        }
-        if let Some(trails) = view.trails {
-            trails.lines(world, t, &mut push);
+            if let Some(trails) = shown.trails {
+                trails.lines(world, t, &mut push);
+            }
         }
         for line in view.lines {
             push(line.a, line.b, line.colour);
@@ -666,6 +685,28 @@ impl Renderer {
             self.line_buffer = vertex_buffer(&gpu.device, self.line_scratch.len().next_power_of_two());
         }
         gpu.queue.write_buffer(&self.line_buffer, 0, bytes);
+    }
+}
+
+/// Writes one shader record per particle (in parallel for large worlds).
+fn fill_instances(particles: &crate::world::Particles, out: &mut [Instance]) {
+    let fill = |first: usize, out: &mut [Instance]| {
+        for (k, record) in out.iter_mut().enumerate() {
+            let i = first + k;
+            *record = Instance {
+                previous: particles.previous_position[i].to_array(),
+                radius: particles.radius[i],
+                current: particles.position[i].to_array(),
+                colour: u32::from_le_bytes(particles.colour[i]),
+            };
+        }
+    };
+    if out.len() >= 2 * UPLOAD_CHUNK {
+        out.par_chunks_mut(UPLOAD_CHUNK)
+            .enumerate()
+            .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
+    } else {
+        fill(0, out);
     }
 }
 

@@ -629,6 +629,12 @@ impl World {
         &self.forces
     }
 
+    /// The first force of type `T`, to change between steps without
+    /// replacing it (a game's thrust, a wind gust).
+    pub fn force_mut<T: Force + 'static>(&mut self) -> Option<&mut T> {
+        self.forces.iter_mut().find_map(|f| f.as_any_mut().downcast_mut::<T>())
+    }
+
     /// Adds a collider.
     pub fn add_collider(&mut self, collider: impl Collider + 'static) {
         self.colliders.push(Box::new(collider));

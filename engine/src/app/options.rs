@@ -1,0 +1,263 @@
+//! [`run`]: a game in a window when a display is available, off-screen
+//! otherwise, with the command-line options every demo shares
+//! ([`RunOptions`], a clap `Args` to flatten into a game's own parser).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::game::{Game, Settings};
+use super::session::{GameSession, Recording, SessionOptions};
+use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
+use crate::clock::FixedCadence;
+use crate::render::{Gpu, RendererConfig};
+
+/// The options every game shares on the command line.
+#[derive(Args, Clone, Debug, PartialEq)]
+pub struct RunOptions {
+    /// Integrator by registry name (see `tickwork integrators`); a game that
+    /// races integrators takes a comma-separated list.
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Fixed steps per second (default: the game's, usually 60).
+    #[arg(long, value_parser = positive_f64)]
+    pub hz: Option<f64>,
+    /// Simulated seconds per real second.
+    #[arg(long, default_value_t = 1.0, value_parser = positive_f64)]
+    pub time_scale: f64,
+    /// Draw off-screen even when a display is available.
+    #[arg(long)]
+    pub headless: bool,
+    /// Frames to run (default: until the window is closed; 300 off-screen,
+    /// or as many as a replayed recording needs).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Off-screen: directory for the PNG frames (default: a new
+    /// `tickwork-out/<game>` directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Off-screen: the animated GIF (default: `<game>.gif` in the frames'
+    /// directory).
+    #[arg(long)]
+    pub gif: Option<PathBuf>,
+    /// Window or frame size, WIDTHxHEIGHT (default: 1280x720 in a window,
+    /// 640x360 off-screen).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Seed of the worlds' random generators.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Record the keys of every tick to this file (RON) when the run ends.
+    #[arg(long, conflicts_with = "replay")]
+    pub record: Option<PathBuf>,
+    /// Replay a recording instead of the keyboard, with its rate and seed.
+    #[arg(long)]
+    pub replay: Option<PathBuf>,
+    /// Frame durations from a simulated display at this rate (default: the
+    /// real clock in a window, 60 Hz off-screen).
+    #[arg(long, value_parser = positive_f64)]
+    pub display_hz: Option<f64>,
+    /// Overwrite existing frames, GIF or recording.
+    #[arg(long)]
+    pub force: bool,
+    /// Start with the control panel hidden (F1 toggles it).
+    #[arg(long)]
+    pub no_panel: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self {
+            integrator: None,
+            hz: None,
+            time_scale: 1.0,
+            headless: false,
+            frames: None,
+            out: None,
+            gif: None,
+            size: None,
+            seed: 0,
+            record: None,
+            replay: None,
+            display_hz: None,
+            force: false,
+            no_panel: false,
+        }
+    }
+}
+
+/// Parses `WIDTHxHEIGHT` (`1280x720`) into positive pixel counts.
+///
+/// # Errors
+/// A message quoting the text for anything else.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, e.g. 1280x720, got {text:?}"))?;
+    let side = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|&v| v > 0)
+            .ok_or_else(|| format!("{s:?} in {text:?} is not a positive whole number of pixels"))
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+fn positive_f64(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{text:?} is not a positive, finite number")),
+    }
+}
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    /// Whether it ran in a window (else off-screen).
+    pub windowed: bool,
+    /// Frames shown or drawn.
+    pub frames: u64,
+    /// Fixed steps run.
+    pub ticks: u64,
+    /// Off-screen: the frames' directory.
+    pub out: Option<PathBuf>,
+    /// Off-screen: the GIF.
+    pub gif: Option<PathBuf>,
+    /// The recording written, if any.
+    pub recording: Option<PathBuf>,
+    /// The game's outcome line, if it has one.
+    pub outcome: Option<String>,
+}
+
+/// Whether a window can be opened (a display server is named).
+fn display_available() -> bool {
+    if cfg!(all(unix, not(target_os = "macos"))) {
+        ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+            .iter()
+            .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+    } else {
+        true
+    }
+}
+
+/// `tickwork-out/<slug>`, or `-2`, `-3`, ... if that holds earlier frames.
+fn fresh_output_dir(title: &str) -> PathBuf {
+    let slug: String = title
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .collect();
+    let base = Path::new("tickwork-out");
+    (1..)
+        .map(|k| {
+            if k == 1 {
+                base.join(&slug)
+            } else {
+                base.join(format!("{slug}-{k}"))
+            }
+        })
+        .find(|dir| !dir.exists())
+        .unwrap_or_else(|| base.join(slug))
+}
+
+/// Runs `game` with `options`: in a window when a display is available
+/// (and `--headless` is not given), else off-screen into PNG frames and a
+/// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
+/// Prints where files went and the game's outcome.
+///
+/// # Errors
+/// [`RunError`] with what went wrong: a bad option or recording, no GPU
+/// adapter, a failed step, a file that exists (without `--force`).
+pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    let replay = options.replay.as_deref().map(Recording::load).transpose()?;
+    let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
+    let mut session = GameSession::new(
+        game,
+        SessionOptions {
+            settings: Settings {
+                integrator: options.integrator.clone(),
+                seed: options.seed,
+            },
+            hz: options.hz,
+            time_scale: options.time_scale,
+            record: options.record.clone(),
+            replay,
+            overwrite: options.force,
+        },
+    )?;
+    let title = session.game().title().to_owned();
+    let mut summary = RunSummary {
+        windowed: !options.headless && display_available(),
+        frames: 0,
+        ticks: 0,
+        out: None,
+        gif: None,
+        recording: None,
+        outcome: None,
+    };
+    if summary.windowed {
+        let (width, height) = options.size.unwrap_or((1280, 720));
+        let window = run_window(
+            &mut session,
+            WindowOptions {
+                width,
+                height,
+                frames: options.frames,
+                display_hz: options.display_hz,
+                screenshot_dir: PathBuf::from("."),
+                panel: !options.no_panel,
+                ..WindowOptions::default()
+            },
+        )?;
+        summary.frames = window.frames;
+    } else {
+        let (width, height) = options.size.unwrap_or((640, 360));
+        let display_hz = options.display_hz.unwrap_or(60.0);
+        let frames = options.frames.unwrap_or_else(|| match replay_ticks {
+            // Enough frames for every recorded tick: steps per frame are
+            // hz * time scale / display rate.
+            Some((ticks, hz)) => (ticks as f64 * display_hz / (hz * options.time_scale)).ceil() as u64 + 1,
+            None => 300,
+        });
+        let out = options.out.clone().unwrap_or_else(|| fresh_output_dir(&title));
+        let gif = options.gif.clone().or_else(|| Some(out.join(format!("{title}.gif"))));
+        let gpu = Gpu::headless()?;
+        let mut runner = OffscreenRun::new(&gpu, width, height, RendererConfig::default())?;
+        println!(
+            "tickwork: {title}: no display{}; drawing {frames} frames of {width}x{height} off-screen on {}",
+            if options.headless { " wanted (--headless)" } else { "" },
+            gpu.describe()
+        );
+        let done = runner.run(
+            &mut session,
+            &mut FixedCadence::hz(display_hz),
+            frames,
+            &FrameOutput {
+                dir: Some(out.clone()),
+                gif: gif.clone(),
+                overwrite: options.force,
+                hud: true,
+            },
+            &mut |_| {},
+        )?;
+        summary.frames = done.frames;
+        println!(
+            "tickwork: wrote {} frames to {}/ and the GIF {}",
+            done.frames,
+            out.display(),
+            gif.as_deref().map_or_else(String::new, |g| g.display().to_string())
+        );
+        summary.out = Some(out);
+        summary.gif = gif;
+    }
+    summary.ticks = crate::app::FrameSource::ticks(&session);
+    summary.recording = session.save_recording()?;
+    if let Some(path) = &summary.recording {
+        println!("tickwork: recorded {} ticks of input to {}", summary.ticks, path.display());
+    }
+    summary.outcome = session.outcome();
+    if let Some(outcome) = &summary.outcome {
+        println!("{title}: {outcome}");
+    }
+    Ok(summary)
+}

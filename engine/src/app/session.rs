@@ -1,0 +1,525 @@
+//! A game in play: its stage, the clock, the keyboard state turned into
+//! per-tick input, and the recording or replay of that input.
+//!
+//! Per frame: the clock turns the frame's duration into fixed steps; each
+//! step takes the tick's input (live keys, or the replayed recording), calls
+//! [`Game::fixed_update`], then steps every world of the stage and samples
+//! its energy. [`Game::update`] then runs once for the frame.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::game::{Draw, Game, GameError, Key, KeySet, Settings, Stage, TickInput};
+use super::{Control, FrameSource, RunError};
+use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
+use crate::render::{Camera, FrameView, RenderError, WorldView};
+use tickwork_integrators::{METHODS, UnknownMethod, build};
+
+/// Worlds up to this many particles sample their energy every step; larger
+/// ones every 30 steps (an energy sum costs as much as a step).
+const ENERGY_EVERY_STEP: usize = 4_000;
+
+/// The inputs of a run, by tick, with what a replay needs to repeat it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Recording {
+    /// The game's title.
+    pub game: String,
+    /// Fixed steps per second of the recorded run.
+    pub hz: f64,
+    /// The seed of the recorded run.
+    pub seed: u64,
+    /// `--integrator` of the recorded run.
+    pub integrator: Option<String>,
+    /// Ticks the recording covers.
+    pub ticks: u64,
+    /// `(tick, input)` for every tick whose input differs from the previous
+    /// tick's carried over (keys held unchanged, none newly pressed).
+    pub inputs: Vec<(u64, TickInput)>,
+}
+
+impl Recording {
+    /// Reads a recording written by a run with `--record`.
+    ///
+    /// # Errors
+    /// [`RunError::Io`] naming the file, with the line and column of a
+    /// malformed one.
+    pub fn load(path: &Path) -> Result<Self, RunError> {
+        let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, &e))?;
+        ron::from_str(&text).map_err(|e| RunError::Io {
+            path: path.to_path_buf(),
+            message: format!(
+                "line {}, column {}: {} (not a Tickwork input recording?)",
+                e.span.start.line, e.span.start.col, e.code
+            ),
+        })
+    }
+
+    /// Writes the recording as RON.
+    ///
+    /// # Errors
+    /// [`RunError::Exists`] if the file exists and `overwrite` is off,
+    /// [`RunError::Io`] if it cannot be written.
+    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), RunError> {
+        if path.exists() && !overwrite {
+            return Err(RunError::Exists(path.to_path_buf()));
+        }
+        let text = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default().struct_names(true))
+            .map_err(|e| RunError::io(path, &e))?;
+        std::fs::write(path, text).map_err(|e| RunError::io(path, &e))
+    }
+}
+
+/// Where the session's per-tick input comes from.
+#[derive(Debug)]
+enum InputMode {
+    /// The keyboard; recorded if `record` is set.
+    Live { record: Option<(Recording, PathBuf)> },
+    /// A recording, replayed from `cursor`.
+    Replay { recording: Recording, cursor: usize },
+}
+
+/// What a [`GameSession`] is started with.
+#[derive(Clone, Debug)]
+pub struct SessionOptions {
+    /// Passed to [`Game::setup`].
+    pub settings: Settings,
+    /// Fixed steps per second, overriding the stage's rate (default: none).
+    pub hz: Option<f64>,
+    /// Simulated seconds per real second (default 1).
+    pub time_scale: f64,
+    /// Record inputs to this file at the end of the run (default: none).
+    pub record: Option<PathBuf>,
+    /// Replay this recording instead of the keyboard (default: none).
+    pub replay: Option<Recording>,
+    /// Overwrite the recording file if it exists (default false).
+    pub overwrite: bool,
+}
+
+impl Default for SessionOptions {
+    fn default() -> Self {
+        Self {
+            settings: Settings {
+                integrator: None,
+                seed: 0,
+            },
+            hz: None,
+            time_scale: 1.0,
+            record: None,
+            replay: None,
+            overwrite: false,
+        }
+    }
+}
+
+/// A game, its stage and its clock: the per-frame path both runners share.
+#[derive(Debug)]
+pub struct GameSession<G: Game> {
+    game: G,
+    stage: Stage,
+    options: SessionOptions,
+    clock: FixedClock,
+    last: Frame,
+    /// Keys down now, and keys pressed since the last step began.
+    held: KeySet,
+    pressed: KeySet,
+    /// The last step's input, carried into the next.
+    input: TickInput,
+    mode: InputMode,
+    draw: Draw,
+    frame_seconds: f64,
+    /// Whether the replay has run out (reported once).
+    replay_done: bool,
+    /// Drawn when the stage has no world (a game of lines only).
+    empty: crate::world::World,
+}
+
+impl<G: Game> GameSession<G> {
+    /// Sets `game` up on a fresh stage.
+    ///
+    /// # Errors
+    /// [`RunError::Game`] for a set-up that fails or an unknown integrator,
+    /// [`RunError::Playback`] for a rate or time scale the clock refuses,
+    /// [`RunError::Exists`] if the recording file exists (and overwriting
+    /// was not asked for: checked now, not after the run).
+    pub fn new(game: G, mut options: SessionOptions) -> Result<Self, RunError> {
+        if let Some(recording) = &options.replay {
+            if recording.game != game.title() {
+                return Err(RunError::Game(GameError::Game(format!(
+                    "the recording is of \"{}\", not \"{}\"",
+                    recording.game,
+                    game.title()
+                ))));
+            }
+            // A replay repeats the recorded run's rate, seed and integrator.
+            let conflicts = [
+                ("--hz", options.hz.is_some_and(|hz| hz != recording.hz)),
+                ("--seed", options.settings.seed != 0 && options.settings.seed != recording.seed),
+                (
+                    "--integrator",
+                    options.settings.integrator.is_some() && options.settings.integrator != recording.integrator,
+                ),
+            ];
+            if let Some((flag, _)) = conflicts.iter().find(|c| c.1) {
+                return Err(RunError::Game(GameError::Game(format!(
+                    "{flag} differs from the recording's (hz {}, seed {}, integrator {}); a replay runs with the \
+                     recorded settings",
+                    recording.hz,
+                    recording.seed,
+                    recording.integrator.as_deref().unwrap_or("default")
+                ))));
+            }
+            options.hz = Some(recording.hz);
+            options.settings.seed = recording.seed;
+            options.settings.integrator.clone_from(&recording.integrator);
+        }
+        if let Some(path) = &options.record
+            && path.exists()
+            && !options.overwrite
+        {
+            return Err(RunError::Exists(path.clone()));
+        }
+        if let Some(names) = &options.settings.integrator {
+            for name in names.split(',') {
+                build::<glam::Vec3A>(name.trim()).map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+            }
+        }
+        let mode = match options.replay.take() {
+            Some(recording) => InputMode::Replay { recording, cursor: 0 },
+            None => InputMode::Live { record: None },
+        };
+        let mut clock = FixedClock::new(ClockConfig::default())?;
+        let last = clock.advance(0.0)?;
+        let mut session = Self {
+            game,
+            stage: Stage::default(),
+            options,
+            clock,
+            last,
+            held: KeySet::EMPTY,
+            pressed: KeySet::EMPTY,
+            input: TickInput::default(),
+            mode,
+            draw: Draw::default(),
+            frame_seconds: 0.0,
+            replay_done: false,
+            empty: crate::world::World::default(),
+        };
+        session.restart()?;
+        Ok(session)
+    }
+
+    /// Builds the stage afresh and restarts the clock (and the recording).
+    fn restart(&mut self) -> Result<(), RunError> {
+        let mut stage = Stage::default();
+        self.game
+            .setup(&mut stage, &self.options.settings)
+            .map_err(RunError::Game)?;
+        let rate = match self.options.hz {
+            Some(hz) => Rate::hz_f64(hz)?,
+            None => stage.rate,
+        };
+        stage.rate = rate;
+        if let Some(name) = &self.options.settings.integrator {
+            for shown in stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
+                shown
+                    .world
+                    .set_integrator(name)
+                    .map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+            }
+        }
+        for shown in &mut stage.worlds {
+            shown.energy.sample(&mut shown.world);
+        }
+        let time_scale = self.clock.config().time_scale.max(f64::MIN_POSITIVE);
+        self.clock = FixedClock::new(ClockConfig {
+            rate,
+            time_scale: if self.clock.tick() == 0 {
+                self.options.time_scale
+            } else {
+                time_scale
+            },
+            ..ClockConfig::default()
+        })?;
+        self.last = self.clock.advance(0.0)?;
+        self.stage = stage;
+        self.input = TickInput::default();
+        match &mut self.mode {
+            InputMode::Live { record } => {
+                *record = self.options.record.clone().map(|path| {
+                    (
+                        Recording {
+                            game: self.game.title().to_owned(),
+                            hz: rate.hz_value(),
+                            seed: self.options.settings.seed,
+                            integrator: self.options.settings.integrator.clone(),
+                            ticks: 0,
+                            inputs: Vec::new(),
+                        },
+                        path,
+                    )
+                });
+            }
+            InputMode::Replay { cursor, .. } => *cursor = 0,
+        }
+        self.replay_done = false;
+        Ok(())
+    }
+
+    /// The game.
+    pub fn game(&self) -> &G {
+        &self.game
+    }
+
+    /// The stage.
+    pub fn stage(&self) -> &Stage {
+        &self.stage
+    }
+
+    /// The stage, to change between frames.
+    pub fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    /// The clock.
+    pub fn clock(&self) -> &FixedClock {
+        &self.clock
+    }
+
+    /// The clock, for the panel's rate and time scale.
+    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
+        &mut self.clock
+    }
+
+    /// The last frame's report.
+    pub fn last_frame(&self) -> &Frame {
+        &self.last
+    }
+
+    /// The recording being replayed, if any, and whether it has run out.
+    pub fn replay(&self) -> Option<(&Recording, bool)> {
+        match &self.mode {
+            InputMode::Replay { recording, .. } => Some((recording, self.replay_done)),
+            InputMode::Live { .. } => None,
+        }
+    }
+
+    /// A key went down (`down`) or up, from the window; ignored while a
+    /// recording is replayed.
+    pub fn key(&mut self, key: Key, down: bool) {
+        if matches!(self.mode, InputMode::Replay { .. }) {
+            return;
+        }
+        if down {
+            if !self.held.contains(key) {
+                self.pressed.insert(key);
+            }
+            self.held.insert(key);
+        } else {
+            self.held.remove(key);
+        }
+    }
+
+    /// The input of `tick`: replayed, or taken from the keyboard (and recorded).
+    fn tick_input(&mut self, tick: u64) -> TickInput {
+        let carried = self.input.carried();
+        let input = match &mut self.mode {
+            InputMode::Replay { recording, cursor } => {
+                let mut input = carried;
+                while let Some((at, recorded)) = recording.inputs.get(*cursor) {
+                    if *at > tick {
+                        break;
+                    }
+                    if *at == tick {
+                        input = *recorded;
+                    }
+                    *cursor += 1;
+                }
+                if tick >= recording.ticks && !self.replay_done {
+                    self.replay_done = true;
+                    println!("tickwork: the replay ended at tick {tick}; the keyboard is ignored");
+                }
+                input
+            }
+            InputMode::Live { record } => {
+                let input = TickInput {
+                    held: self.held,
+                    pressed: self.pressed,
+                };
+                self.pressed = KeySet::EMPTY;
+                if let Some((recording, _)) = record {
+                    if input != carried {
+                        recording.inputs.push((tick, input));
+                    }
+                    recording.ticks = tick + 1;
+                }
+                input
+            }
+        };
+        self.input = input;
+        input
+    }
+
+    /// Writes the recording, if one was asked for; returns its path.
+    ///
+    /// # Errors
+    /// [`RunError::Exists`] or [`RunError::Io`] for the file.
+    pub fn save_recording(&self) -> Result<Option<PathBuf>, RunError> {
+        match &self.mode {
+            InputMode::Live {
+                record: Some((recording, path)),
+            } => {
+                recording.save(path, self.options.overwrite)?;
+                Ok(Some(path.clone()))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// The game's outcome line, if it has one.
+    pub fn outcome(&self) -> Option<String> {
+        self.game.outcome(&self.stage)
+    }
+
+    /// Applies a control to every world whose integrator is not the game's.
+    fn set_integrators(&mut self, choose: impl Fn(&str) -> Option<&'static str>) -> Result<(), RunError> {
+        for shown in self.stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
+            if let Some(name) = choose(shown.world.integrator().info().name) {
+                shown
+                    .world
+                    .set_integrator(name)
+                    .map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Smoothed frames per second.
+    pub fn fps(&self) -> f64 {
+        if self.frame_seconds > 0.0 {
+            1.0 / self.frame_seconds
+        } else {
+            0.0
+        }
+    }
+}
+
+impl<G: Game> FrameSource for GameSession<G> {
+    fn title(&self) -> String {
+        self.game.title().to_owned()
+    }
+
+    fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
+        let frame = self.clock.advance(seconds)?;
+        // Smoothed frame time for the fps: e <- e + (s - e) / 8.
+        self.frame_seconds = if self.frame_seconds == 0.0 {
+            seconds
+        } else {
+            self.frame_seconds + (seconds - self.frame_seconds) / 8.0
+        };
+        for step in frame.fixed_steps() {
+            let input = self.tick_input(step.tick);
+            self.game
+                .fixed_update(&mut self.stage, &step, &input)
+                .map_err(RunError::Game)?;
+            for shown in &mut self.stage.worlds {
+                shown.world.step(step).map_err(|error| {
+                    RunError::Game(GameError::Simulation {
+                        world: shown.label.clone(),
+                        error,
+                    })
+                })?;
+                shown.trails.record(&shown.world);
+                if shown.world.len() <= ENERGY_EVERY_STEP || step.tick % 30 == 0 {
+                    shown.energy.sample(&mut shown.world);
+                }
+            }
+        }
+        self.last = frame;
+        self.game.update(&mut self.stage, &self.last);
+        Ok(())
+    }
+
+    fn control(&mut self, control: Control) -> Result<(), RunError> {
+        match control {
+            Control::TogglePause => {
+                if self.clock.is_paused() {
+                    self.clock.resume();
+                } else {
+                    self.clock.pause();
+                }
+            }
+            Control::SingleStep => {
+                self.clock.single_step();
+            }
+            Control::Faster | Control::Slower => {
+                let scale = super::playback::next_time_scale(self.clock.config().time_scale, control == Control::Faster);
+                self.clock.set_time_scale(scale)?;
+            }
+            Control::NextIntegrator => self.set_integrators(|current| {
+                let index = METHODS.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
+                Some(METHODS[index % METHODS.len()].name)
+            })?,
+            Control::Integrator(n) => {
+                let Some(info) = METHODS.get(n) else {
+                    return Err(RunError::Game(GameError::Game(
+                        UnknownMethod::new(&format!("#{}", n + 1)).to_string(),
+                    )));
+                };
+                self.set_integrators(|_| Some(info.name))?;
+            }
+            Control::Reset => self.restart()?,
+        }
+        Ok(())
+    }
+
+    fn key(&mut self, key: Key, down: bool) -> bool {
+        GameSession::key(self, key, down);
+        true
+    }
+
+    fn ticks(&self) -> u64 {
+        self.clock.tick()
+    }
+
+    fn camera_mut(&mut self) -> &mut Camera {
+        &mut self.stage.camera
+    }
+
+    fn with_view(
+        &mut self,
+        hud: bool,
+        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
+    ) -> Result<(), RunError> {
+        let alpha = self.last.alpha as f32;
+        self.draw.clear();
+        self.game.draw(&self.stage, alpha, &mut self.draw);
+        if !hud {
+            self.draw.hud.clear();
+        }
+        let (first, rest) = match self.stage.worlds.split_first() {
+            Some((first, rest)) => (Some(first), rest),
+            None => (None, &[][..]),
+        };
+        let others: Vec<WorldView<'_>> = rest
+            .iter()
+            .map(|w| WorldView {
+                world: &w.world,
+                trails: Some(&w.trails),
+            })
+            .collect();
+        let view = FrameView {
+            trails: first.map(|w| &w.trails),
+            others: &others,
+            lines: &self.draw.lines,
+            hud: &self.draw.hud,
+            ..FrameView::new(first.map_or(&self.empty, |w| &w.world), alpha, self.stage.camera)
+        };
+        render(&view)?;
+        Ok(())
+    }
+
+    fn panel(&mut self, ctx: &egui::Context) -> Result<(), RunError> {
+        super::panel::show(self, ctx)
+    }
+}
