@@ -15,16 +15,16 @@ pub use tickwork_engine::glam;
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
 
-pub use tickwork_engine::app::run;
+pub use tickwork_engine::app::{exit_code, run};
 
 /// What a game needs, in one import: `use tickwork::prelude::*;`.
 pub mod prelude {
         pub use tickwork_engine::app::{
-        Draw, Game, GameError, Key, RunOptions, RunSummary, Settings, Stage, TickInput, run,
+        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, exit_code, run,
     };
         pub use tickwork_engine::render::{Camera, Line};
     pub use tickwork_engine::{
-        BoxCollider, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, QuadraticDrag,
+        Attractor, BoxCollider, Emitter, Entity, FixedStep, Rate, Gravity, LinearDrag, Material, Particle, Plane, QuadraticDrag,
         RigidBody, Spring, SpringEnd, Springs, Wind, World, WorldConfig,
     };
     pub use crate::glam::{Quat, Vec2, Vec3};

@@ -192,6 +192,26 @@ pub struct StageWorld {
     pub fixed_integrator: bool,
     /// Relative energy error since set-up, sampled by the runner.
     pub energy: EnergyTrace,
+    /// What a failed step does (default [`OnFailure::Stop`]).
+    pub on_failure: OnFailure,
+    /// Why the world stopped, under [`OnFailure::Freeze`] (`None` while it runs).
+    pub failure: Option<String>,
+    /// The state before the current step, kept under [`OnFailure::Freeze`].
+    pub(crate) last_good: Option<crate::world::Snapshot>,
+}
+
+/// What happens when a world's step fails (an explicit method blowing up
+/// on stiff springs, an implicit solve that does not converge).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OnFailure {
+    /// The run stops with the error (default): a game's world must not fail.
+    #[default]
+    Stop,
+    /// The world goes back to its state before the failed step and stops
+    /// there, with [`StageWorld::failure`] saying why; the others go on
+    /// (an integrator race, a stability demonstration). Switching its
+    /// integrator resumes it. Costs a snapshot per step.
+    Freeze,
 }
 
 /// The relative energy error `(E - E0) / |E0|` of a world over recent
@@ -281,6 +301,9 @@ impl Stage {
             colour,
             fixed_integrator: false,
             energy: EnergyTrace::default(),
+            on_failure: OnFailure::Stop,
+            failure: None,
+            last_good: None,
         });
         self.worlds.len() - 1
     }
@@ -318,6 +341,8 @@ pub struct Draw {
     pub lines: Vec<Line>,
     /// HUD text, top-left (`write!` into it).
     pub hud: String,
+    /// Colour changes in `hud`: (byte offset, colour); see [`Draw::colour`].
+    pub hud_colours: Vec<(usize, Colour)>,
 }
 
 impl Draw {
@@ -336,9 +361,15 @@ impl Draw {
         }
     }
 
+    /// HUD text written from now on is drawn in `colour` (a legend's entries).
+    pub fn colour(&mut self, colour: Colour) {
+        self.hud_colours.push((self.hud.len(), colour));
+    }
+
     pub(crate) fn clear(&mut self) {
         self.lines.clear();
         self.hud.clear();
+        self.hud_colours.clear();
     }
 }
 

@@ -11,9 +11,9 @@ mod playback;
 mod session;
 mod window;
 
-pub use game::{Draw, EnergyTrace, Game, GameError, Key, KeySet, Settings, Stage, StageWorld, TickInput};
+pub use game::{Draw, EnergyTrace, Game, GameError, Key, KeySet, OnFailure, Settings, Stage, StageWorld, TickInput};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
-pub use options::{RunOptions, RunSummary, parse_size, run};
+pub use options::{RunOptions, RunSummary, exit_code, parse_size, run};
 pub use playback::{Control, Playback, PlaybackError};
 pub use session::{GameSession, Recording, SessionOptions};
 // RunError and FrameSource are defined below.

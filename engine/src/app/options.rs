@@ -86,6 +86,23 @@ impl Default for RunOptions {
     }
 }
 
+/// A command line of only the shared options.
+#[derive(clap::Parser)]
+struct SharedCommandLine {
+    #[command(flatten)]
+    options: RunOptions,
+}
+
+impl RunOptions {
+    /// Parses the program's command line (exits with clap's message and
+    /// usage for bad options, `--help` lists them). Games with options of
+    /// their own flatten [`RunOptions`] into their parser instead.
+    #[must_use]
+    pub fn from_args() -> Self {
+        <SharedCommandLine as clap::Parser>::parse().options
+    }
+}
+
 /// Parses `WIDTHxHEIGHT` (`1280x720`) into positive pixel counts.
 ///
 /// # Errors
@@ -260,4 +277,16 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
         println!("{title}: {outcome}");
     }
     Ok(summary)
+}
+
+/// The exit code of a run for a game's `main`: success, or the error
+/// printed to standard error (`error: ...`) and failure.
+pub fn exit_code(result: Result<RunSummary, RunError>) -> std::process::ExitCode {
+    match result {
+        Ok(_) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            std::process::ExitCode::FAILURE
+        }
+    }
 }

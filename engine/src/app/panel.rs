@@ -144,6 +144,7 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                         .world
                         .set_integrator(name)
                         .map_err(|e| RunError::Game(super::GameError::Game(e.to_string())))?;
+                    shown.failure = None;
                 }
             }
         }

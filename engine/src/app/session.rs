@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::game::{Draw, Game, GameError, Key, KeySet, Settings, Stage, TickInput};
+use super::game::{Draw, Game, GameError, Key, KeySet, OnFailure, Settings, Stage, TickInput};
 use super::{Control, FrameSource, RunError};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::render::{Camera, FrameView, RenderError, WorldView};
@@ -389,6 +389,7 @@ impl<G: Game> GameSession<G> {
                     .world
                     .set_integrator(name)
                     .map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+                shown.failure = None;
             }
         }
         Ok(())
@@ -423,12 +424,30 @@ impl<G: Game> FrameSource for GameSession<G> {
                 .fixed_update(&mut self.stage, &step, &input)
                 .map_err(RunError::Game)?;
             for shown in &mut self.stage.worlds {
-                shown.world.step(step).map_err(|error| {
-                    RunError::Game(GameError::Simulation {
-                        world: shown.label.clone(),
-                        error,
-                    })
-                })?;
+                if shown.failure.is_some() {
+                    continue;
+                }
+                if shown.on_failure == OnFailure::Freeze {
+                    match &mut shown.last_good {
+                        Some(snapshot) => shown.world.snapshot_into(snapshot),
+                        None => shown.last_good = Some(shown.world.snapshot()),
+                    }
+                }
+                if let Err(error) = shown.world.step(step) {
+                    match (shown.on_failure, &shown.last_good) {
+                        (OnFailure::Freeze, Some(snapshot)) => {
+                            shown.world.restore(snapshot);
+                            shown.failure = Some(format!("failed at t = {:.2} s: {error}", step.time));
+                            continue;
+                        }
+                        _ => {
+                            return Err(RunError::Game(GameError::Simulation {
+                                world: shown.label.clone(),
+                                error,
+                            }));
+                        }
+                    }
+                }
                 shown.trails.record(&shown.world);
                 if shown.world.len() <= ENERGY_EVERY_STEP || step.tick % 30 == 0 {
                     shown.energy.sample(&mut shown.world);
@@ -496,6 +515,7 @@ impl<G: Game> FrameSource for GameSession<G> {
         self.game.draw(&self.stage, alpha, &mut self.draw);
         if !hud {
             self.draw.hud.clear();
+            self.draw.hud_colours.clear();
         }
         let (first, rest) = match self.stage.worlds.split_first() {
             Some((first, rest)) => (Some(first), rest),
@@ -513,6 +533,7 @@ impl<G: Game> FrameSource for GameSession<G> {
             others: &others,
             lines: &self.draw.lines,
             hud: &self.draw.hud,
+            hud_colours: &self.draw.hud_colours,
             ..FrameView::new(first.map_or(&self.empty, |w| &w.world), alpha, self.stage.camera)
         };
         render(&view)?;

@@ -26,6 +26,8 @@ pub(crate) struct Hud {
     single: bool,
     buffer: Buffer,
     text: String,
+    /// Colour changes of the laid-out text: (byte offset, sRGB RGBA).
+    colours: Vec<(usize, [u8; 4])>,
     laid_out: (u32, u32),
     size: f32,
 }
@@ -62,6 +64,7 @@ impl Hud {
             single: false,
             buffer,
             text: String::new(),
+            colours: Vec::new(),
             laid_out: (0, 0),
             size,
         }
@@ -74,17 +77,40 @@ impl Hud {
         width: u32,
         height: u32,
         text: &str,
+        colours: &[(usize, [u8; 4])],
         single: bool,
     ) -> Result<(), PrepareError> {
         self.single = single;
         self.viewport.update(&gpu.queue, Resolution { width, height });
-        if text != self.text || (width, height) != self.laid_out {
+        if text != self.text || colours != self.colours || (width, height) != self.laid_out {
             self.laid_out = (width, height);
             self.text.clear();
             self.text.push_str(text);
+            self.colours.clear();
+            self.colours.extend_from_slice(colours);
             self.buffer.set_size(Some(width as f32), Some(height as f32));
-            self.buffer
-                .set_text(text, &Attrs::new().family(Family::SansSerif), Shaping::Basic, None);
+            let base = Attrs::new().family(Family::SansSerif);
+            if colours.is_empty() {
+                self.buffer.set_text(text, &base, Shaping::Basic, None);
+            } else {
+                // Span k runs from its offset to the next one's, in its colour.
+                let mut cuts: Vec<(usize, Option<[u8; 4]>)> = vec![(0, None)];
+                cuts.extend(
+                    colours
+                        .iter()
+                        .filter(|(at, _)| *at <= text.len() && text.is_char_boundary(*at))
+                        .map(|&(at, c)| (at, Some(c))),
+                );
+                let spans = cuts.iter().enumerate().map(|(k, &(start, colour))| {
+                    let end = cuts.get(k + 1).map_or(text.len(), |c| c.0).max(start);
+                    let attrs = match colour {
+                        Some([r, g, b, a]) => base.clone().color(Color::rgba(r, g, b, a)),
+                        None => base.clone(),
+                    };
+                    (&text[start..end], attrs)
+                });
+                self.buffer.set_rich_text(spans, &base, Shaping::Basic, None);
+            }
             self.buffer.shape_until_scroll(&mut self.fonts, false);
         }
         let margin = (self.size * 0.5) as i32;

@@ -137,6 +137,9 @@ pub struct FrameView<'a> {
     pub lines: &'a [Line],
     /// HUD text, drawn top-left; empty for none.
     pub hud: &'a str,
+    /// Colour changes in the HUD text: from each byte offset on, the text
+    /// is drawn in that sRGB colour (default: none, all light grey).
+    pub hud_colours: &'a [(usize, [u8; 4])],
 }
 
 impl<'a> FrameView<'a> {
@@ -152,6 +155,7 @@ impl<'a> FrameView<'a> {
             others: &[],
             lines: &[],
             hud: "",
+            hud_colours: &[],
         }
     }
 
@@ -479,7 +483,7 @@ impl Renderer {
         self.build_lines(view, t);
         self.upload_lines(gpu);
         self.hud
-            .prepare(gpu, buffers.width, buffers.height, view.hud, self.splat_active)
+            .prepare(gpu, buffers.width, buffers.height, view.hud, view.hud_colours, self.splat_active)
             .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
         Ok(())
     }
