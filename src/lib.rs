@@ -6,9 +6,9 @@
 #![warn(missing_docs)]
 
 pub use tickwork_engine as engine;
-pub use tickwork_integrators as integrators;
 /// The math crate games use for vectors and rotations.
 pub use tickwork_engine::glam;
+pub use tickwork_integrators as integrators;
 
 /// The README's examples, compiled and run as doctests so they never rot.
 #[doc = include_str!("../README.md")]
@@ -19,13 +19,13 @@ pub use tickwork_engine::app::{exit_code, run};
 
 /// What a game needs, in one import: `use tickwork::prelude::*;`.
 pub mod prelude {
-        pub use tickwork_engine::app::{
+    pub use crate::glam::{Quat, Vec2, Vec3};
+    pub use tickwork_engine::app::{
         Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, exit_code, run,
     };
-        pub use tickwork_engine::render::{Camera, Line};
+    pub use tickwork_engine::render::{Camera, Line};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, Emitter, Entity, FixedStep, Rate, Gravity, LinearDrag, Material, Particle, Plane, QuadraticDrag,
-        RigidBody, Spring, SpringEnd, Springs, Wind, World, WorldConfig,
+        Attractor, BoxCollider, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material, Particle, Plane,
+        QuadraticDrag, Rate, RigidBody, Spring, SpringEnd, Springs, Wind, World, WorldConfig,
     };
-    pub use crate::glam::{Quat, Vec2, Vec3};
 }

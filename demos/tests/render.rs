@@ -396,3 +396,185 @@ fn window_matches_offscreen(backend: &str, scene_file: &str, frames: u32) {
     let drawn = window.pixels().filter(|p| p.0[0] > 100 || p.0[1] > 100).count();
     assert!(drawn > 200, "only {drawn} drawn pixels in the window");
 }
+
+fn lander_recording() -> String {
+    root()
+        .join("assets/recordings/lander_land_then_crash.ron")
+        .display()
+        .to_string()
+}
+
+/// Starts the lander in a window on `display` with `args`.
+fn lander_window(display: &str, args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_lander"))
+        .args(args)
+        .env("DISPLAY", display)
+        .env("WGPU_BACKEND", "vulkan")
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the lander starts")
+}
+
+/// Reads `child`'s output until a line contains `wanted`; fails with its
+/// standard error after two minutes or if it exits.
+fn wait_for_line(child: &mut Child, stdout: &mut impl BufRead, wanted: &str) -> String {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let mut line = String::new();
+    while !line.contains(wanted) {
+        line.clear();
+        if stdout.read_line(&mut line).expect("read") == 0 || Instant::now() > deadline {
+            let _ = child.kill();
+            let mut stderr = String::new();
+            let _ = child.stderr.take().expect("stderr").read_to_string(&mut stderr);
+            panic!("no line with {wanted:?}: {stderr}");
+        }
+    }
+    line
+}
+
+fn xdotool(display: &str, args: &[&str]) {
+    let status = Command::new("xdotool")
+        .args(args)
+        .env("DISPLAY", display)
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): scripts/test installs `xdotool`"));
+    assert!(status.success(), "xdotool {args:?}");
+}
+
+#[test]
+fn a_game_window_draws_the_control_panel_over_the_frame_and_f1_hides_it() {
+    let (width, height) = (640, 360);
+    let size = format!("{width}x{height}");
+    let dir = scratch("game-window");
+    let xvfb = Xvfb::start(width, height);
+    // A replay makes the window's frames reproducible off-screen.
+    let recording = lander_recording();
+    let args = [
+        "--replay",
+        &recording,
+        "--frames",
+        "240",
+        "--display-hz",
+        "60",
+        "--hold",
+        "30",
+        "--size",
+        &size,
+    ];
+    let mut game = lander_window(&xvfb.display, &args);
+    let mut stdout = BufReader::new(game.stdout.take().expect("stdout"));
+    wait_for_line(&mut game, &mut stdout, "frame 240 shown");
+    std::thread::sleep(Duration::from_millis(500));
+    let with_panel = dir.join("with_panel.png");
+    screenshot(&xvfb.display, &with_panel);
+    xdotool(
+        &xvfb.display,
+        &["search", "--name", "^Tickwork", "windowfocus", "--sync", "key", "F1"],
+    );
+    std::thread::sleep(Duration::from_millis(800));
+    let without_panel = dir.join("without_panel.png");
+    screenshot(&xvfb.display, &without_panel);
+    let _ = game.kill();
+    let _ = game.wait();
+    let out = dir.join("offscreen");
+    let output = Command::new(env!("CARGO_BIN_EXE_lander"))
+        .args([
+            "--headless",
+            "--replay",
+            &recording,
+            "--frames",
+            "240",
+            "--size",
+            &size,
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let offscreen = image::open(out.join("frame_00239.png")).expect("frame").to_rgba8();
+    let tolerance = Tolerance {
+        channel: 32,
+        max_fraction: 0.01,
+    };
+    let hidden = image::open(&without_panel).expect("screenshot").to_rgba8();
+    let comparison = compare(&hidden, &offscreen, tolerance).expect("same size");
+    assert!(
+        comparison.fraction() <= tolerance.max_fraction,
+        "with the panel hidden, the window {} shows the off-screen frame: {comparison:?}",
+        without_panel.display()
+    );
+    let shown = image::open(&with_panel).expect("screenshot").to_rgba8();
+    let comparison = compare(&shown, &offscreen, tolerance).expect("same size");
+    assert!(
+        comparison.fraction() > 0.03,
+        "the panel covers part of the window {}: {comparison:?}",
+        with_panel.display()
+    );
+}
+
+#[test]
+fn keys_pressed_in_a_game_window_reach_its_fixed_steps_and_the_recording() {
+    let dir = scratch("game-keys");
+    let xvfb = Xvfb::start(480, 270);
+    let record = dir.join("keys.ron");
+    let record_arg = record.display().to_string();
+    let args = [
+        "--record",
+        &record_arg,
+        "--frames",
+        "300",
+        "--display-hz",
+        "60",
+        "--size",
+        "480x270",
+    ];
+    let mut game = lander_window(&xvfb.display, &args);
+    let mut stdout = BufReader::new(game.stdout.take().expect("stdout"));
+    // Waits for the window, then holds Up for half a second, and taps Left.
+    xdotool(
+        &xvfb.display,
+        &[
+            "search",
+            "--sync",
+            "--name",
+            "^Tickwork",
+            "windowfocus",
+            "--sync",
+            "keydown",
+            "Up",
+            "sleep",
+            "0.5",
+            "keyup",
+            "Up",
+            "key",
+            "Left",
+        ],
+    );
+    let line = wait_for_line(&mut game, &mut stdout, "recorded");
+    assert!(line.contains(&record_arg), "{line}");
+    let status = game.wait().expect("exits");
+    assert!(status.success(), "the window closes after its frames");
+    let recording = tickwork_engine::app::Recording::load(&record).expect("the recording loads");
+    assert!(
+        recording.ticks >= 300,
+        "300 frames of 1/60 s: {} ticks",
+        recording.ticks
+    );
+    let held: Vec<u64> = recording
+        .inputs
+        .iter()
+        .filter(|(_, input)| input.held(tickwork_engine::app::Key::Up))
+        .map(|(tick, _)| *tick)
+        .collect();
+    assert!(!held.is_empty(), "Up was held: {recording:?}");
+    assert!(
+        recording
+            .inputs
+            .iter()
+            .any(|(_, input)| input.pressed(tickwork_engine::app::Key::Left)),
+        "Left was pressed: {recording:?}"
+    );
+}

@@ -49,12 +49,12 @@ pub use colliders::{BoxCollider, Collider, Material, Plane, SphereCollisions};
 pub use emitter::Emitter;
 pub use energy::Energy;
 pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};
+/// The math crate of every public type (`Vec3`, `Quat`), re-exported so
+/// games use the same version.
+pub use glam;
 pub use headless::{HeadlessError, RunSummary, TraceWriter, run_headless};
 pub use input::{InputLog, InputQueue};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
-/// The math crate of every public type (`Vec3`, `Quat`), re-exported so
-/// games use the same version.
-pub use glam;
 pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};

@@ -58,7 +58,11 @@ impl Cloth {
                     mass: MASS,
                     immovable: pinned,
                     radius: if pinned { 0.06 } else { 0.035 },
-                    colour: if pinned { [255, 220, 120, 255] } else { [shade, shade, 255, 255] },
+                    colour: if pinned {
+                        [255, 220, 120, 255]
+                    } else {
+                        [shade, shade, 255, 255]
+                    },
                     ..Particle::default()
                 };
                 grid.push(world.spawn(particle).map_err(|e| e.to_string())?);
@@ -147,22 +151,36 @@ impl Game for Cloth {
         let omega_dt = (k / MASS).sqrt() * stage.rate.step_seconds() as f32;
         let _ = writeln!(
             draw.hud,
-            "Cloth, {} springs: k = {k} N/m, omega dt = {omega_dt:.2} (explicit Euler needs damping and omega dt < 2)  |  S: stiff/soft",
-            if self.stiff { "stiff" } else { "soft" },
+            "{} cloth: k = {k} N/m, omega dt = {omega_dt:.2}  (S: stiff/soft)",
+            if self.stiff { "Stiff" } else { "Soft" },
         );
         for shown in &stage.worlds {
             if shown.failure.is_some() {
                 // A red cross where the blown-up cloth hung.
                 let x0 = CLOTHS.iter().find(|c| c.0 == shown.label).map_or(0.0, |c| c.1);
-                let (w, top, bottom) = (SPACING * (COLUMNS - 1) as f32 / 2.0, 3.0, 3.0 - SPACING * (ROWS - 1) as f32);
+                let (w, top, bottom) = (
+                    SPACING * (COLUMNS - 1) as f32 / 2.0,
+                    3.0,
+                    3.0 - SPACING * (ROWS - 1) as f32,
+                );
                 let red = [255, 70, 60, 255];
                 draw.line(Vec3::new(x0 - w, top, 0.0), Vec3::new(x0 + w, bottom, 0.0), red);
                 draw.line(Vec3::new(x0 + w, top, 0.0), Vec3::new(x0 - w, bottom, 0.0), red);
             }
             draw.colour(shown.colour);
             let _ = match &shown.failure {
-                Some(why) => writeln!(draw.hud, "{}: BLEW UP, {}", shown.label, why.split(':').next().unwrap_or(why)),
-                None => writeln!(draw.hud, "{}: stable, energy {:+.1e}", shown.world.integrator().info().name, shown.energy.latest()),
+                Some(why) => writeln!(
+                    draw.hud,
+                    "{}: BLEW UP, {}",
+                    shown.label,
+                    why.split(':').next().unwrap_or(why)
+                ),
+                None => writeln!(
+                    draw.hud,
+                    "{}: stable, energy {:+.1e}",
+                    shown.world.integrator().info().name,
+                    shown.energy.latest()
+                ),
             };
         }
     }

@@ -118,7 +118,11 @@ impl Game for Fountain {
     }
 
     fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
-        draw.line(Vec3::new(-8.0, 0.0, 0.0), Vec3::new(8.0, 0.0, 0.0), [110, 110, 130, 255]);
+        draw.line(
+            Vec3::new(-8.0, 0.0, 0.0),
+            Vec3::new(8.0, 0.0, 0.0),
+            [110, 110, 130, 255],
+        );
         let _ = writeln!(
             draw.hud,
             "{} droplets  |  pressure {:.0}%  |  wind {}  (Left/Right sway, Up/Down pressure, W wind)",

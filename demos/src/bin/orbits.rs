@@ -101,12 +101,21 @@ impl Game for Orbits {
 
     fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
         let t = stage.worlds.first().map_or(0.0, |w| w.world.time());
-        let _ = writeln!(draw.hud, "Integrator race: one orbit, t = {t:.1} s ({:.1} periods)", t / f64::from(PERIOD));
+        let _ = writeln!(
+            draw.hud,
+            "Integrator race: one orbit, t = {t:.1} s ({:.1} periods)",
+            t / f64::from(PERIOD)
+        );
         let _ = writeln!(draw.hud, "relative energy error (E - E0) / |E0|");
         for shown in &stage.worlds {
             draw.colour(shown.colour);
             let _ = match &shown.failure {
-                Some(why) => writeln!(draw.hud, "{}  stopped: {}", shown.label, why.split(':').next().unwrap_or(why)),
+                Some(why) => writeln!(
+                    draw.hud,
+                    "{}  stopped: {}",
+                    shown.label,
+                    why.split(':').next().unwrap_or(why)
+                ),
                 None => writeln!(draw.hud, "{}  {:+.1e}", shown.label, shown.energy.latest()),
             };
         }

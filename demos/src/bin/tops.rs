@@ -62,13 +62,13 @@ impl Game for Tops {
         let t = stage.worlds.first().map_or(0.0, |w| w.world.time());
         let _ = writeln!(
             draw.hud,
-            "Intermediate-axis flip (top) and a steady spin (bottom), t = {t:.1} s"
+            "Top: intermediate-axis flip; bottom: steady spin; t = {t:.1} s"
         );
         for shown in &stage.worlds {
             draw.colour(shown.colour);
             let _ = writeln!(
                 draw.hud,
-                "{}: rotational energy error {:+.2e}",
+                "{}: energy error {:+.2e}",
                 shown.world.angular_integrator().info().title,
                 shown.energy.latest()
             );

@@ -57,11 +57,7 @@ impl<'g> OffscreenRun<'g> {
     pub fn new(gpu: &'g Gpu, width: u32, height: u32, config: RendererConfig) -> Result<Self, RunError> {
         let target = OffscreenTarget::new(gpu, width, height, config.samples)?;
         let renderer = Renderer::new(gpu, OFFSCREEN_FORMAT, config)?;
-        Ok(Self {
-            gpu,
-            renderer,
-            target,
-        })
+        Ok(Self { gpu, renderer, target })
     }
 
     /// Advances `source` by one frame of `seconds` and draws it.

@@ -57,6 +57,10 @@ pub struct RunOptions {
     /// real clock in a window, 60 Hz off-screen).
     #[arg(long, value_parser = positive_f64)]
     pub display_hz: Option<f64>,
+    /// Window: after `--frames`, keep showing the last frame this many
+    /// seconds before closing (for a screenshot from outside).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative_f64)]
+    pub hold: f64,
     /// Overwrite existing frames, GIF or recording.
     #[arg(long)]
     pub force: bool,
@@ -80,6 +84,7 @@ impl Default for RunOptions {
             record: None,
             replay: None,
             display_hz: None,
+            hold: 0.0,
             force: false,
             no_panel: false,
         }
@@ -119,6 +124,13 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .ok_or_else(|| format!("{s:?} in {text:?} is not a positive whole number of pixels"))
     };
     Ok((side(w)?, side(h)?))
+}
+
+fn non_negative_f64(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("{text:?} is not a finite number of seconds, 0 or more")),
+    }
 }
 
 fn positive_f64(text: &str) -> Result<f64, String> {
@@ -162,7 +174,13 @@ fn display_available() -> bool {
 fn fresh_output_dir(title: &str) -> PathBuf {
     let slug: String = title
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
         .collect();
     let base = Path::new("tickwork-out");
     (1..)
@@ -220,6 +238,7 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
                 width,
                 height,
                 frames: options.frames,
+                hold_seconds: options.hold,
                 display_hz: options.display_hz,
                 screenshot_dir: PathBuf::from("."),
                 panel: !options.no_panel,
@@ -270,7 +289,11 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     summary.ticks = crate::app::FrameSource::ticks(&session);
     summary.recording = session.save_recording()?;
     if let Some(path) = &summary.recording {
-        println!("tickwork: recorded {} ticks of input to {}", summary.ticks, path.display());
+        println!(
+            "tickwork: recorded {} ticks of input to {}",
+            summary.ticks,
+            path.display()
+        );
     }
     summary.outcome = session.outcome();
     if let Some(outcome) = &summary.outcome {

@@ -78,7 +78,12 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
             });
             ui.horizontal(|ui| {
                 ui.label("rate");
-                let response = ui.add(egui::DragValue::new(&mut hz).range(1.0..=2000.0).speed(1.0).suffix(" Hz"));
+                let response = ui.add(
+                    egui::DragValue::new(&mut hz)
+                        .range(1.0..=2000.0)
+                        .speed(1.0)
+                        .suffix(" Hz"),
+                );
                 if response.drag_stopped() || (response.changed() && !response.dragged()) {
                     actions.push(Action::Rate(hz));
                 }

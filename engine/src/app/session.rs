@@ -64,8 +64,11 @@ impl Recording {
         if path.exists() && !overwrite {
             return Err(RunError::Exists(path.to_path_buf()));
         }
-        let text = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default().struct_names(true))
-            .map_err(|e| RunError::io(path, &e))?;
+        let text = ron::ser::to_string_pretty(
+            self,
+            ron::ser::PrettyConfig::default().struct_names(true).depth_limit(2),
+        )
+        .map_err(|e| RunError::io(path, &e))?;
         std::fs::write(path, text).map_err(|e| RunError::io(path, &e))
     }
 }
@@ -154,7 +157,10 @@ impl<G: Game> GameSession<G> {
             // A replay repeats the recorded run's rate, seed and integrator.
             let conflicts = [
                 ("--hz", options.hz.is_some_and(|hz| hz != recording.hz)),
-                ("--seed", options.settings.seed != 0 && options.settings.seed != recording.seed),
+                (
+                    "--seed",
+                    options.settings.seed != 0 && options.settings.seed != recording.seed,
+                ),
                 (
                     "--integrator",
                     options.settings.integrator.is_some() && options.settings.integrator != recording.integrator,
@@ -472,7 +478,8 @@ impl<G: Game> FrameSource for GameSession<G> {
                 self.clock.single_step();
             }
             Control::Faster | Control::Slower => {
-                let scale = super::playback::next_time_scale(self.clock.config().time_scale, control == Control::Faster);
+                let scale =
+                    super::playback::next_time_scale(self.clock.config().time_scale, control == Control::Faster);
                 self.clock.set_time_scale(scale)?;
             }
             Control::NextIntegrator => self.set_integrators(|current| {

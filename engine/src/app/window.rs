@@ -410,11 +410,7 @@ impl WindowState {
 
 /// Draws the window's current view off-screen at the window's size and
 /// saves it as `screenshot_NNNN.png`, never overwriting an existing file.
-fn screenshot(
-    state: &WindowState,
-    source: &mut dyn FrameSource,
-    options: &WindowOptions,
-) -> Result<PathBuf, RunError> {
+fn screenshot(state: &WindowState, source: &mut dyn FrameSource, options: &WindowOptions) -> Result<PathBuf, RunError> {
     let (width, height) = (state.config.width, state.config.height);
     let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
     let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
@@ -446,17 +442,22 @@ fn draw_panel(
 ) -> Result<Vec<wgpu::CommandBuffer>, RunError> {
     let raw = panel.input.take_egui_input(&state.window);
     let mut failed = None;
-    let full = panel.context.run_pass(raw, |ctx| {
+    let mut full = panel.context.run_pass(raw, |ctx| {
         if let Err(error) = source.panel(ctx) {
             failed.get_or_insert(error);
         }
     });
     if let Some(error) = failed {
+        full.textures_delta.clear();
         return Err(error);
     }
-    panel.input.handle_platform_output(&state.window, full.platform_output);
+    panel
+        .input
+        .handle_platform_output(&state.window, std::mem::take(&mut full.platform_output));
     let pixels_per_point = full.pixels_per_point;
-    let jobs = panel.context.tessellate(full.shapes, pixels_per_point);
+    let jobs = panel
+        .context
+        .tessellate(std::mem::take(&mut full.shapes), pixels_per_point);
     let (device, queue) = (&state.gpu.device, &state.gpu.queue);
     for (id, deltas) in &full.textures_delta.set {
         for delta in deltas {
@@ -492,6 +493,8 @@ fn draw_panel(
     for id in &full.textures_delta.free {
         panel.renderer.free_texture(id);
     }
+    // Applied: egui checks that every delta was handled.
+    full.textures_delta.clear();
     Ok(commands)
 }
 

@@ -48,7 +48,7 @@ pub use camera::{Camera, CameraMatrices};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use gpu::Gpu;
 pub use image::RgbaImage;
-pub use renderer::{Blend, FrameView, WorldView, Interpolation, Line, Renderer, RendererConfig};
+pub use renderer::{Blend, FrameView, Interpolation, Line, Renderer, RendererConfig, WorldView};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use trails::Trails;
 

@@ -483,7 +483,14 @@ impl Renderer {
         self.build_lines(view, t);
         self.upload_lines(gpu);
         self.hud
-            .prepare(gpu, buffers.width, buffers.height, view.hud, view.hud_colours, self.splat_active)
+            .prepare(
+                gpu,
+                buffers.width,
+                buffers.height,
+                view.hud,
+                view.hud_colours,
+                self.splat_active,
+            )
             .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
         Ok(())
     }
