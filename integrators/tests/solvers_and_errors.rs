@@ -317,3 +317,45 @@ fn restarted_gmres_reaches_the_same_implicit_solution() {
         assert!((a - b).abs() < 1e-8, "{a} vs {b}");
     }
 }
+
+/// One step of 1/60 s by `$method` of a chain of 12 particles 0.26 m apart
+/// near x = 5 m, joined by springs of k/m = 40 000 s^-2 (a stiff cloth's),
+/// stretched by 1%, in scalar type `$real`.
+macro_rules! stiff_chain_step {
+    ($real:ty, $method:expr) => {{
+        let n = 12;
+        let k: $real = 40_000.0;
+        let mut chain = |_t: $real, x: &[$real], _v: &[$real], a: &mut [$real]| {
+            a.fill(-1.0);
+            for i in 0..n - 1 {
+                let f = k * (x[i + 1] - x[i] - 0.26);
+                a[i] += f;
+                a[i + 1] -= f;
+            }
+        };
+        let mut x: Vec<$real> = (0..n).map(|i| 5.0 + 0.2626 * i as $real).collect();
+        let mut v: Vec<$real> = vec![0.0; n];
+        $method.step(0.0, 1.0 / 60.0, &mut x, &mut v, &mut chain).map(|_| x)
+    }};
+}
+
+#[test]
+fn f32_implicit_solves_of_stiff_springs_stop_at_the_round_off_floor() {
+    for name in ["implicit_euler", "newmark_beta", "trapezoidal"] {
+        let mut method = build::<f32>(name).expect("registered");
+        let x32 = stiff_chain_step!(f32, method).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mut reference = build::<f64>(name).expect("registered");
+        let x64 = stiff_chain_step!(f64, reference).expect("f64 converges");
+        for (a, b) in x32.iter().zip(&x64) {
+            assert!((f64::from(*a) - b).abs() < 1e-4, "{name}: f32 {a} against f64 {b}");
+        }
+    }
+    // Without accepting stagnation, the f32 solve cannot reach 64 epsilons.
+    let strict = NewtonKrylovConfig {
+        stagnation_tolerance: 0.0,
+        ..NewtonKrylovConfig::for_real::<f32>()
+    };
+    let mut method = ImplicitEuler::<f32>::with_config(strict);
+    let error = stiff_chain_step!(f32, method).expect_err("round-off floor");
+    assert!(matches!(error, StepError::NotConverged { .. }), "{error}");
+}

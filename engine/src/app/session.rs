@@ -116,7 +116,6 @@ impl Default for SessionOptions {
 }
 
 /// A game, its stage and its clock: the per-frame path both runners share.
-#[derive(Debug)]
 pub struct GameSession<G: Game> {
     game: G,
     stage: Stage,
@@ -135,6 +134,16 @@ pub struct GameSession<G: Game> {
     replay_done: bool,
     /// Drawn when the stage has no world (a game of lines only).
     empty: crate::world::World,
+}
+
+impl<G: Game> std::fmt::Debug for GameSession<G> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GameSession")
+            .field("game", &self.game.title())
+            .field("tick", &self.clock.tick())
+            .field("worlds", &self.stage.worlds.len())
+            .finish_non_exhaustive()
+    }
 }
 
 impl<G: Game> GameSession<G> {

@@ -1,0 +1,223 @@
+//! The game API without a window or GPU: per-tick input, worlds that stop
+//! or freeze on failure, integrator controls, restart, recordings.
+
+use glam::Vec3;
+use tickwork_engine::app::{
+    Control, FrameSource, Game, GameError, GameSession, Key, OnFailure, Recording, RunError, SessionOptions, Settings,
+    Stage, TickInput,
+};
+use tickwork_engine::{FixedStep, Gravity, Particle, Spring, SpringEnd, Springs, World, WorldConfig};
+
+/// Logs the input of every tick; one falling ball per world.
+#[derive(Default)]
+struct Probe {
+    seen: Vec<(u64, TickInput)>,
+    worlds: Vec<(&'static str, bool, OnFailure)>,
+    setups: u32,
+}
+
+impl Game for Probe {
+    fn title(&self) -> &str {
+        "probe"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+        self.setups += 1;
+        for &(name, fixed, on_failure) in &self.worlds {
+            let mut world = World::new(WorldConfig {
+                integrator: name.into(),
+                seed: settings.seed,
+                ..WorldConfig::default()
+            })
+            .map_err(|e| e.to_string())?;
+            world.add_force(Gravity::EARTH);
+            world.spawn(Particle::default()).map_err(|e| e.to_string())?;
+            let index = stage.add_world(name, world);
+            stage.worlds[index].fixed_integrator = fixed;
+            stage.worlds[index].on_failure = on_failure;
+        }
+        Ok(())
+    }
+
+    fn fixed_update(&mut self, _stage: &mut Stage, step: &FixedStep, input: &TickInput) -> Result<(), GameError> {
+        self.seen.push((step.tick, *input));
+        Ok(())
+    }
+}
+
+fn session(worlds: Vec<(&'static str, bool, OnFailure)>) -> GameSession<Probe> {
+    GameSession::new(
+        Probe {
+            worlds,
+            ..Probe::default()
+        },
+        SessionOptions::default(),
+    )
+    .expect("a session")
+}
+
+const STEP: f64 = 1.0 / 60.0;
+
+#[test]
+fn a_tap_between_steps_is_seen_by_exactly_one_step_and_held_keys_by_each() {
+    let mut game = session(vec![("semi_implicit_euler", false, OnFailure::Stop)]);
+    // Tapped during a frame too short for a step: it waits for the next one.
+    game.key(Key::Space, true);
+    game.key(Key::Space, false);
+    game.advance(STEP / 4.0).expect("no step");
+    game.key(Key::Up, true);
+    game.advance(STEP * 0.75 + 2.0 * STEP).expect("three steps");
+    game.key(Key::Up, false);
+    game.advance(STEP).expect("one step");
+    let seen = &game.game().seen;
+    assert_eq!(seen.len(), 4);
+    assert!(seen[0].1.pressed(Key::Space) && !seen[0].1.held(Key::Space), "{seen:?}");
+    assert!(seen[0].1.pressed(Key::Up) && seen[0].1.held(Key::Up));
+    for (_, input) in &seen[1..3] {
+        assert!(
+            input.held(Key::Up) && !input.pressed(Key::Up) && !input.pressed(Key::Space),
+            "{seen:?}"
+        );
+    }
+    assert_eq!(seen[3].1, TickInput::default());
+    assert_eq!(seen.iter().map(|s| s.0).collect::<Vec<_>>(), [0, 1, 2, 3]);
+}
+
+#[test]
+fn integrator_controls_change_only_the_worlds_the_game_does_not_fix() {
+    let mut game = session(vec![
+        ("rk4", true, OnFailure::Stop),
+        ("semi_implicit_euler", false, OnFailure::Stop),
+    ]);
+    game.control(Control::NextIntegrator).expect("switches");
+    let names: Vec<&str> = game
+        .stage()
+        .worlds
+        .iter()
+        .map(|w| w.world.integrator().info().name)
+        .collect();
+    assert_eq!(names, ["rk4", "implicit_euler"]);
+    let error = game.control(Control::Integrator(40)).expect_err("no method 41");
+    assert!(error.to_string().contains("#41"), "{error}");
+}
+
+#[test]
+fn restart_sets_the_game_up_again_at_tick_zero() {
+    let mut game = session(vec![("leapfrog", false, OnFailure::Stop)]);
+    for _ in 0..30 {
+        game.advance(STEP).expect("steps");
+    }
+    assert_eq!(game.ticks(), 30);
+    game.control(Control::Reset).expect("restarts");
+    assert_eq!(game.ticks(), 0);
+    assert_eq!(game.game().setups, 2);
+    let world = game.stage().world(0);
+    assert_eq!(world.tick(), 0);
+    assert_eq!(world.position(world.entities().rows()[0]).ok(), Some(Vec3::ZERO));
+}
+
+/// A spring of 1e6 N/m on a 1 g particle: explicit Euler blows up at once.
+fn explosive(stage: &mut Stage, on_failure: OnFailure) {
+    let mut world = World::new(WorldConfig {
+        integrator: "explicit_euler".into(),
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    let ball = world
+        .spawn(Particle {
+            position: Vec3::X,
+            mass: 0.001,
+            ..Particle::default()
+        })
+        .expect("spawns");
+    world.add_force(Springs::new(vec![Spring {
+        a: SpringEnd::Anchor(Vec3::ZERO),
+        b: SpringEnd::Entity(ball),
+        stiffness: 1e6,
+        rest_length: 0.5,
+        damping: 0.0,
+    }]));
+    let index = stage.add_world("explosive", world);
+    stage.worlds[index].on_failure = on_failure;
+}
+
+struct Explosive(OnFailure);
+
+impl Game for Explosive {
+    fn title(&self) -> &str {
+        "explosive"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        explosive(stage, self.0);
+        let mut calm = World::default();
+        calm.spawn(Particle::default()).map_err(|e| e.to_string())?;
+        stage.add_world("calm", calm);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_failing_world_stops_the_run_naming_it_or_freezes_while_the_others_go_on() {
+    let mut stop = GameSession::new(Explosive(OnFailure::Stop), SessionOptions::default()).expect("a session");
+    let error = (0..600)
+        .find_map(|_| stop.advance(STEP).err())
+        .expect("explicit Euler blows up");
+    let message = error.to_string();
+    assert!(matches!(error, RunError::Game(GameError::Simulation { .. })));
+    assert!(message.starts_with("world \"explosive\": step "), "{message}");
+    assert!(message.contains("non-finite"), "{message}");
+
+    let mut freeze = GameSession::new(Explosive(OnFailure::Freeze), SessionOptions::default()).expect("a session");
+    for _ in 0..600 {
+        freeze.advance(STEP).expect("a frozen world does not stop the run");
+    }
+    let frozen = &freeze.stage().worlds[0];
+    let why = frozen.failure.as_deref().expect("it failed");
+    assert!(why.starts_with("failed at t = "), "{why}");
+    // Back to the last finite state, stopped there; the calm world ran on.
+    let particles = frozen.world.particles();
+    assert!(particles.position.iter().all(|p| p.is_finite()));
+    assert!(frozen.world.tick() < 600);
+    assert_eq!(freeze.stage().world(1).tick(), 600);
+    // Switching its method resumes it.
+    freeze.control(Control::Integrator(2)).expect("implicit Euler");
+    assert!(freeze.stage().worlds[0].failure.is_none());
+}
+
+#[test]
+fn a_replay_refuses_settings_that_differ_from_the_recording() {
+    let recording = Recording {
+        game: "probe".into(),
+        hz: 60.0,
+        seed: 4,
+        integrator: None,
+        ticks: 10,
+        inputs: vec![],
+    };
+    let options = |seed| SessionOptions {
+        settings: Settings { integrator: None, seed },
+        replay: Some(recording.clone()),
+        ..SessionOptions::default()
+    };
+    let error = GameSession::new(Probe::default(), options(5)).expect_err("seed 5 is not 4");
+    assert!(
+        error
+            .to_string()
+            .starts_with("--seed differs from the recording's (hz 60, seed 4"),
+        "{error}"
+    );
+    GameSession::new(Probe::default(), options(4)).expect("the recorded seed is fine");
+    let unknown = GameSession::new(
+        Probe::default(),
+        SessionOptions {
+            settings: Settings {
+                integrator: Some("rk5".into()),
+                seed: 0,
+            },
+            ..SessionOptions::default()
+        },
+    )
+    .expect_err("no rk5");
+    assert!(unknown.to_string().contains("rk5"), "{unknown}");
+}
