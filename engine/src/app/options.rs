@@ -170,18 +170,17 @@ fn display_available() -> bool {
     }
 }
 
+/// A title as a file name: lower-case ASCII letters, digits and dashes.
+fn slug(title: &str) -> String {
+    title
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .collect()
+}
+
 /// `tickwork-out/<slug>`, or `-2`, `-3`, ... if that holds earlier frames.
 fn fresh_output_dir(title: &str) -> PathBuf {
-    let slug: String = title
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '-'
-            }
-        })
-        .collect();
+    let slug = slug(title);
     let base = Path::new("tickwork-out");
     (1..)
         .map(|k| {
@@ -192,7 +191,7 @@ fn fresh_output_dir(title: &str) -> PathBuf {
             }
         })
         .find(|dir| !dir.exists())
-        .unwrap_or_else(|| base.join(slug))
+        .unwrap_or_else(|| base.join(&slug))
 }
 
 /// Runs `game` with `options`: in a window when a display is available
@@ -230,10 +229,34 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
         recording: None,
         outcome: None,
     };
+    let shown = show(&mut session, &options, replay_ticks, &mut summary);
+    // The input so far is kept even when the run failed (a recording of the
+    // failure is what a bug report needs).
+    summary.ticks = crate::app::FrameSource::ticks(&session);
+    summary.recording = session.save_recording()?;
+    if let Some(path) = &summary.recording {
+        println!("tickwork: recorded {} ticks of input to {}", summary.ticks, path.display());
+    }
+    shown?;
+    summary.outcome = session.outcome();
+    if let Some(outcome) = &summary.outcome {
+        println!("{title}: {outcome}");
+    }
+    Ok(summary)
+}
+
+/// The window or off-screen part of [`run`].
+fn show<G: Game>(
+    session: &mut GameSession<G>,
+    options: &RunOptions,
+    replay_ticks: Option<(u64, f64)>,
+    summary: &mut RunSummary,
+) -> Result<(), RunError> {
+    let title = session.game().title().to_owned();
     if summary.windowed {
         let (width, height) = options.size.unwrap_or((1280, 720));
         let window = run_window(
-            &mut session,
+            session,
             WindowOptions {
                 width,
                 height,
@@ -256,7 +279,10 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
             None => 300,
         });
         let out = options.out.clone().unwrap_or_else(|| fresh_output_dir(&title));
-        let gif = options.gif.clone().or_else(|| Some(out.join(format!("{title}.gif"))));
+        let gif = options
+            .gif
+            .clone()
+            .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
         let gpu = Gpu::headless()?;
         let mut runner = OffscreenRun::new(&gpu, width, height, RendererConfig::default())?;
         println!(
@@ -265,7 +291,7 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
             gpu.describe()
         );
         let done = runner.run(
-            &mut session,
+            session,
             &mut FixedCadence::hz(display_hz),
             frames,
             &FrameOutput {
@@ -286,20 +312,7 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
         summary.out = Some(out);
         summary.gif = gif;
     }
-    summary.ticks = crate::app::FrameSource::ticks(&session);
-    summary.recording = session.save_recording()?;
-    if let Some(path) = &summary.recording {
-        println!(
-            "tickwork: recorded {} ticks of input to {}",
-            summary.ticks,
-            path.display()
-        );
-    }
-    summary.outcome = session.outcome();
-    if let Some(outcome) = &summary.outcome {
-        println!("{title}: {outcome}");
-    }
-    Ok(summary)
+    Ok(())
 }
 
 /// The exit code of a run for a game's `main`: success, or the error
