@@ -93,7 +93,7 @@ impl Game for Orbits {
         // show their character within a few periods.
         stage.rate = tickwork::engine::Rate::hz(120).map_err(|e| e.to_string())?;
         stage.camera = Camera::TwoD {
-            center: Vec2::new(-A * E - 0.9, 0.0),
+            center: Vec2::new(-A * E - 1.4, 0.0),
             height: 2.0 * A * (1.0 - E * E).sqrt() * 1.9,
         };
         Ok(())

@@ -170,11 +170,27 @@ fn display_available() -> bool {
     }
 }
 
+/// Renderer settings for frames `height` pixels tall: the HUD's text is
+/// 16 px from 540 px up and shrinks with smaller frames, down to 10 px, so a
+/// legend that fits a window fits a small GIF.
+fn renderer_for(height: u32) -> RendererConfig {
+    RendererConfig {
+        hud_size: (16.0 * height as f32 / 540.0).clamp(10.0, 16.0),
+        ..RendererConfig::default()
+    }
+}
+
 /// A title as a file name: lower-case ASCII letters, digits and dashes.
 fn slug(title: &str) -> String {
     title
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
         .collect()
 }
 
@@ -235,7 +251,11 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     summary.ticks = crate::app::FrameSource::ticks(&session);
     summary.recording = session.save_recording()?;
     if let Some(path) = &summary.recording {
-        println!("tickwork: recorded {} ticks of input to {}", summary.ticks, path.display());
+        println!(
+            "tickwork: recorded {} ticks of input to {}",
+            summary.ticks,
+            path.display()
+        );
     }
     shown?;
     summary.outcome = session.outcome();
@@ -265,6 +285,7 @@ fn show<G: Game>(
                 display_hz: options.display_hz,
                 screenshot_dir: PathBuf::from("."),
                 panel: !options.no_panel,
+                renderer: renderer_for(height),
                 ..WindowOptions::default()
             },
         )?;
@@ -284,7 +305,7 @@ fn show<G: Game>(
             .clone()
             .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
         let gpu = Gpu::headless()?;
-        let mut runner = OffscreenRun::new(&gpu, width, height, RendererConfig::default())?;
+        let mut runner = OffscreenRun::new(&gpu, width, height, renderer_for(height))?;
         println!(
             "tickwork: {title}: no display{}; drawing {frames} frames of {width}x{height} off-screen on {}",
             if options.headless { " wanted (--headless)" } else { "" },
