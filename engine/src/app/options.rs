@@ -93,6 +93,12 @@ impl Default for RunOptions {
 
 /// A command line of only the shared options.
 #[derive(clap::Parser)]
+#[command(
+    about = "Runs a Tickwork game: in a window when a display is available, else off-screen into PNG frames and \
+             a GIF.",
+    after_help = "Window keys: F1 control panel, P pause, . single step, +/- time scale, Tab or 1-9 integrator, \
+                  F5 restart, F12 screenshot, Escape quit; the arrows, Space, Enter and letters go to the game."
+)]
 struct SharedCommandLine {
     #[command(flatten)]
     options: RunOptions,
