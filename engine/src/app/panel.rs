@@ -39,6 +39,7 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
     let mut hz = clock.config().rate.hz_value();
     let steps = session.last_frame().steps;
     let dropped = clock.dropped_total();
+    let recording = session.is_recording();
     egui::Window::new("Tickwork")
         .default_pos([12.0, 80.0])
         .default_width(340.0)
@@ -78,7 +79,9 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
             });
             ui.horizontal(|ui| {
                 ui.label("rate");
-                let response = ui.add(
+                // A recording stores one rate: it is fixed while recording.
+                let response = ui.add_enabled(
+                    !recording,
                     egui::DragValue::new(&mut hz)
                         .range(1.0..=2000.0)
                         .speed(1.0)

@@ -311,6 +311,12 @@ impl<G: Game> GameSession<G> {
         &self.last
     }
 
+    /// Whether the keys are being recorded (the panel then keeps the rate,
+    /// which a recording stores once).
+    pub fn is_recording(&self) -> bool {
+        matches!(self.mode, InputMode::Live { record: Some(_) })
+    }
+
     /// The recording being replayed, if any, and whether it has run out.
     pub fn replay(&self) -> Option<(&Recording, bool)> {
         match &self.mode {
