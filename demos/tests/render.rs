@@ -473,11 +473,7 @@ fn a_game_window_draws_the_control_panel_over_the_frame_and_f1_hides_it() {
         &xvfb.display,
         &["search", "--name", "^Tickwork", "windowfocus", "--sync", "key", "F1"],
     );
-    std::thread::sleep(Duration::from_millis(800));
     let without_panel = dir.join("without_panel.png");
-    screenshot(&xvfb.display, &without_panel);
-    let _ = game.kill();
-    let _ = game.wait();
     let out = dir.join("offscreen");
     let output = Command::new(env!("CARGO_BIN_EXE_lander"))
         .args([
@@ -499,8 +495,20 @@ fn a_game_window_draws_the_control_panel_over_the_frame_and_f1_hides_it() {
         channel: 32,
         max_fraction: 0.01,
     };
-    let hidden = image::open(&without_panel).expect("screenshot").to_rgba8();
-    let comparison = compare(&hidden, &offscreen, tolerance).expect("same size");
+    // The window redraws its held frame without the panel within moments;
+    // on a busy machine that may take a few: photograph until it matches.
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let comparison = loop {
+        std::thread::sleep(Duration::from_millis(500));
+        screenshot(&xvfb.display, &without_panel);
+        let hidden = image::open(&without_panel).expect("screenshot").to_rgba8();
+        let comparison = compare(&hidden, &offscreen, tolerance).expect("same size");
+        if comparison.fraction() <= tolerance.max_fraction || Instant::now() > deadline {
+            break comparison;
+        }
+    };
+    let _ = game.kill();
+    let _ = game.wait();
     assert!(
         comparison.fraction() <= tolerance.max_fraction,
         "with the panel hidden, the window {} shows the off-screen frame: {comparison:?}",
@@ -576,5 +584,32 @@ fn keys_pressed_in_a_game_window_reach_its_fixed_steps_and_the_recording() {
             .iter()
             .any(|(_, input)| input.pressed(tickwork_engine::app::Key::Left)),
         "Left was pressed: {recording:?}"
+    );
+}
+
+#[test]
+fn a_scene_window_with_the_control_panel_runs_and_closes_after_its_frames() {
+    let xvfb = Xvfb::start(480, 270);
+    let output = Command::new(env!("CARGO_BIN_EXE_tickwork"))
+        .args([
+            "view",
+            &scene("kepler.ron"),
+            "--panel",
+            "--size",
+            "480x270",
+            "--frames",
+            "30",
+        ])
+        .args(["--display-hz", "60"])
+        .env("DISPLAY", &xvfb.display)
+        .env("WGPU_BACKEND", "vulkan")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("runs");
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(
+        text(&output.stdout).contains("showed 30 frames"),
+        "{}",
+        text(&output.stdout)
     );
 }

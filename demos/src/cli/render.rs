@@ -120,6 +120,9 @@ pub struct WindowArgs {
     /// Present without waiting for the display's refresh.
     #[arg(long)]
     pub no_vsync: bool,
+    /// Show the control panel at the start (F1 toggles it).
+    #[arg(long)]
+    pub panel: bool,
     /// Close after this many frames.
     #[arg(long)]
     pub frames: Option<u64>,
@@ -220,7 +223,7 @@ pub fn view(args: &WindowArgs) -> Result<(), String> {
         screenshot_dir: args.screenshots.clone(),
         hud: !args.view.no_hud,
         renderer: args.view.renderer(),
-        panel: false,
+        panel: args.panel,
     };
     let summary = run_window(&mut playback, options).map_err(|e| e.to_string())?;
     println!(

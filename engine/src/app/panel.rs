@@ -7,9 +7,11 @@ use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use super::game::{EnergyTrace, Game};
 use super::playback::next_time_scale;
+use super::playback::{Playback, PlaybackError};
 use super::session::GameSession;
 use super::{Control, FrameSource, RunError};
-use crate::clock::Rate;
+use crate::clock::{FixedClock, Rate};
+use crate::world::Colour;
 use tickwork_integrators::METHODS;
 
 /// Something the panel asked for, applied after the panel is laid out.
@@ -29,30 +31,49 @@ fn plot_points(trace: &EnergyTrace) -> PlotPoints<'static> {
     trace.samples().map(|(t, e)| [t, log_error(e)]).collect()
 }
 
-/// Lays out the panel for `session` and applies what was chosen.
-pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -> Result<(), RunError> {
+/// What the panel shows of one world.
+struct WorldRow<'a> {
+    label: &'a str,
+    colour: Colour,
+    integrator: &'static str,
+    fixed: bool,
+    particles: usize,
+    energy: &'a EnergyTrace,
+}
+
+/// What the panel shows of the clock.
+struct ClockRow {
+    fps: f64,
+    steps: u32,
+    dropped: f64,
+    time: f64,
+    paused: bool,
+    scale: f64,
+    hz: f64,
+    /// Whether the rate is fixed (a recording is being made).
+    rate_fixed: bool,
+}
+
+/// Lays the panel out and returns what was chosen.
+fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Vec<Action> {
     let mut actions = Vec::new();
-    let fps = session.fps();
-    let clock = session.clock();
-    let paused = clock.is_paused();
-    let mut scale = clock.config().time_scale;
-    let mut hz = clock.config().rate.hz_value();
-    let steps = session.last_frame().steps;
-    let dropped = clock.dropped_total();
-    let recording = session.is_recording();
+    let (mut scale, mut hz) = (clock.scale, clock.hz);
     egui::Window::new("Tickwork")
         .default_pos([12.0, 80.0])
         .default_width(340.0)
         .show(ctx, |ui| {
             ui.label(format!(
-                "{fps:.0} fps  |  {steps} steps this frame  |  dropped {dropped:.3} s  |  t = {:.2} s",
-                session.clock().time()
+                "{:.0} fps  |  {} steps this frame  |  dropped {:.3} s  |  t = {:.2} s",
+                clock.fps, clock.steps, clock.dropped, clock.time
             ));
             ui.horizontal(|ui| {
-                if ui.button(if paused { "Resume (P)" } else { "Pause (P)" }).clicked() {
+                if ui
+                    .button(if clock.paused { "Resume (P)" } else { "Pause (P)" })
+                    .clicked()
+                {
                     actions.push(Action::Control(Control::TogglePause));
                 }
-                if ui.add_enabled(paused, egui::Button::new("Step (.)")).clicked() {
+                if ui.add_enabled(clock.paused, egui::Button::new("Step (.)")).clicked() {
                     actions.push(Action::Control(Control::SingleStep));
                 }
                 if ui.button("Restart (F5)").clicked() {
@@ -81,7 +102,7 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                 ui.label("rate");
                 // A recording stores one rate: it is fixed while recording.
                 let response = ui.add_enabled(
-                    !recording,
+                    !clock.rate_fixed,
                     egui::DragValue::new(&mut hz)
                         .range(1.0..=2000.0)
                         .speed(1.0)
@@ -98,17 +119,18 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                 ui.strong("particles");
                 ui.strong("energy error");
                 ui.end_row();
-                for (index, shown) in session.stage().worlds.iter().enumerate() {
-                    let [r, g, b, _] = shown.colour;
-                    ui.colored_label(egui::Color32::from_rgb(r, g, b), &shown.label);
-                    let current = shown.world.integrator().info().name;
-                    ui.add_enabled_ui(!shown.fixed_integrator, |ui| {
+                for (index, row) in worlds.iter().enumerate() {
+                    let [r, g, b, _] = row.colour;
+                    ui.colored_label(egui::Color32::from_rgb(r, g, b), row.label);
+                    ui.add_enabled_ui(!row.fixed, |ui| {
                         egui::ComboBox::from_id_salt(("integrator", index))
-                            .selected_text(current)
+                            .selected_text(row.integrator)
                             .show_ui(ui, |ui| {
                                 for method in METHODS {
-                                    if ui.selectable_label(method.name == current, method.name).clicked()
-                                        && method.name != current
+                                    if ui
+                                        .selectable_label(method.name == row.integrator, method.name)
+                                        .clicked()
+                                        && method.name != row.integrator
                                     {
                                         actions.push(Action::Integrator {
                                             world: index,
@@ -118,8 +140,8 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                                 }
                             });
                     });
-                    ui.label(shown.world.len().to_string());
-                    ui.label(format!("{:+.2e}", shown.energy.latest()));
+                    ui.label(row.particles.to_string());
+                    ui.label(format!("{:+.2e}", row.energy.latest()));
                     ui.end_row();
                 }
             });
@@ -128,15 +150,54 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                 .height(160.0)
                 .legend(Legend::default())
                 .show(ui, |plot| {
-                    for shown in &session.stage().worlds {
-                        let [r, g, b, _] = shown.colour;
+                    for row in worlds {
+                        let [r, g, b, _] = row.colour;
                         plot.line(
-                            Line::new(shown.label.clone(), plot_points(&shown.energy))
+                            Line::new(row.label.to_owned(), plot_points(row.energy))
                                 .color(egui::Color32::from_rgb(r, g, b)),
                         );
                     }
                 });
         });
+    actions
+}
+
+fn clock_row(clock: &FixedClock, fps: f64, steps: u32, rate_fixed: bool) -> ClockRow {
+    ClockRow {
+        fps,
+        steps,
+        dropped: clock.dropped_total(),
+        time: clock.time(),
+        paused: clock.is_paused(),
+        scale: clock.config().time_scale,
+        hz: clock.config().rate.hz_value(),
+        rate_fixed,
+    }
+}
+
+/// Lays out the panel for `session` and applies what was chosen.
+pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -> Result<(), RunError> {
+    let clock = clock_row(
+        session.clock(),
+        session.fps(),
+        session.last_frame().steps,
+        session.is_recording(),
+    );
+    let rows: Vec<WorldRow<'_>> = session
+        .stage()
+        .worlds
+        .iter()
+        .map(|w| WorldRow {
+            label: &w.label,
+            colour: w.colour,
+            integrator: w.world.integrator().info().name,
+            fixed: w.fixed_integrator,
+            particles: w.world.len(),
+            energy: &w.energy,
+        })
+        .collect();
+    let actions = lay_out(ctx, &clock, &rows);
+    drop(rows);
     for action in actions {
         match action {
             Action::Control(control) => session.control(control)?,
@@ -154,6 +215,39 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                         .map_err(|e| RunError::Game(super::GameError::Game(e.to_string())))?;
                     shown.failure = None;
                 }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Lays out the panel for a scene's `playback` (one world) and applies what was chosen.
+pub(super) fn show_playback(playback: &mut Playback, ctx: &egui::Context) -> Result<(), RunError> {
+    let clock = clock_row(playback.clock(), playback.fps(), playback.last_frame().steps, false);
+    let title = playback.title().to_owned();
+    let rows = [WorldRow {
+        label: &title,
+        colour: [235, 235, 235, 255],
+        integrator: playback.world().integrator().info().name,
+        fixed: false,
+        particles: playback.world().len(),
+        energy: playback.energy_trace(),
+    }];
+    let actions = lay_out(ctx, &clock, &rows);
+    for action in actions {
+        match action {
+            Action::Control(control) => playback.control(control)?,
+            Action::TimeScale(scale) => playback
+                .clock_mut()
+                .set_time_scale(scale)
+                .map_err(PlaybackError::from)?,
+            Action::Rate(hz) => {
+                let rate = Rate::hz_f64(hz).map_err(PlaybackError::from)?;
+                playback.clock_mut().set_rate(rate);
+            }
+            Action::Integrator { name, .. } => {
+                let index = METHODS.iter().position(|m| m.name == name).unwrap_or(0);
+                playback.control(Control::Integrator(index))?;
             }
         }
     }

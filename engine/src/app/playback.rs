@@ -108,6 +108,8 @@ pub struct Playback {
     initial_len: usize,
     /// The HUD text, reused between frames.
     hud: String,
+    /// Relative energy error, sampled once per frame that stepped (the panel's plot).
+    energy_trace: super::EnergyTrace,
 }
 
 impl fmt::Debug for Playback {
@@ -150,6 +152,7 @@ impl Playback {
             initial_energy,
             initial_len: world_len,
             hud: String::new(),
+            energy_trace: super::EnergyTrace::default(),
         })
     }
 
@@ -201,6 +204,27 @@ impl Playback {
         &self.clock
     }
 
+    /// The clock, for the panel's rate and time scale.
+    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
+        &mut self.clock
+    }
+
+    /// Smoothed frames per second.
+    #[must_use]
+    pub fn fps(&self) -> f64 {
+        if self.frame_seconds > 0.0 {
+            1.0 / self.frame_seconds
+        } else {
+            0.0
+        }
+    }
+
+    /// The relative energy error over recent frames (the panel's plot).
+    #[must_use]
+    pub fn energy_trace(&self) -> &super::EnergyTrace {
+        &self.energy_trace
+    }
+
     /// The trails drawn.
     pub fn trails_mut(&mut self) -> &mut Trails {
         &mut self.trails
@@ -230,6 +254,9 @@ impl Playback {
             self.world.step(step)?;
             self.trails.record(&self.world);
             self.steps_total += 1;
+        }
+        if frame.steps > 0 || self.energy_trace.samples().next().is_none() {
+            self.energy_trace.sample(&mut self.world);
         }
         self.last = frame;
         Ok(&self.last)
@@ -277,6 +304,7 @@ impl Playback {
                 self.world.set_integrator(integrator)?;
                 self.trails.clear_points();
                 self.energy = None;
+                self.energy_trace = super::EnergyTrace::default();
             }
         }
         Ok(())
@@ -310,11 +338,7 @@ impl Playback {
         // particles, non-zero initial energy.
         let drift = (self.world.len() == self.initial_len && self.initial_energy.abs() > 1e-9)
             .then(|| (energy - self.initial_energy) / self.initial_energy.abs());
-        let fps = if self.frame_seconds > 0.0 {
-            1.0 / self.frame_seconds
-        } else {
-            0.0
-        };
+        let fps = self.fps();
         out.clear();
         let _ = writeln!(
             out,
@@ -358,6 +382,10 @@ impl super::FrameSource for Playback {
 
     fn ticks(&self) -> u64 {
         self.world.tick()
+    }
+
+    fn panel(&mut self, ctx: &egui::Context) -> Result<(), super::RunError> {
+        super::panel::show_playback(self, ctx)
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

@@ -541,7 +541,14 @@ impl ApplicationHandler for App<'_> {
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        // The runner's own keys (F1, F12, Escape) never go to a text field.
+        let runner_key = matches!(
+            &event,
+            WindowEvent::KeyboardInput { event, .. }
+                if matches!(event.logical_key, Key::Named(NamedKey::F1 | NamedKey::F12 | NamedKey::Escape))
+        );
         if self.panel_visible
+            && !runner_key
             && let (Some(panel), Some(state)) = (self.panel.as_mut(), self.state.as_ref())
             && panel.input.on_window_event(&state.window, &event).consumed
         {
