@@ -30,6 +30,23 @@ pub(crate) fn next_time_scale(scale: f64, faster: bool) -> f64 {
     next.copied().unwrap_or(scale)
 }
 
+/// Applies the clock's controls (pause, single step, faster, slower) to
+/// `clock`; the others leave it alone.
+pub(crate) fn clock_control(clock: &mut FixedClock, control: Control) -> Result<(), ClockError> {
+    match control {
+        Control::TogglePause if clock.is_paused() => clock.resume(),
+        Control::TogglePause => clock.pause(),
+        Control::SingleStep => {
+            clock.single_step();
+        }
+        Control::Faster | Control::Slower => {
+            clock.set_time_scale(next_time_scale(clock.config().time_scale, control == Control::Faster))?;
+        }
+        Control::NextIntegrator | Control::Integrator(_) | Control::Reset => {}
+    }
+    Ok(())
+}
+
 /// A control a viewer can apply between frames (keys in the window).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Control {
@@ -270,19 +287,8 @@ impl Playback {
     /// are from a fixed list).
     pub fn control(&mut self, control: Control) -> Result<(), PlaybackError> {
         match control {
-            Control::TogglePause => {
-                if self.clock.is_paused() {
-                    self.clock.resume();
-                } else {
-                    self.clock.pause();
-                }
-            }
-            Control::SingleStep => {
-                self.clock.single_step();
-            }
-            Control::Faster | Control::Slower => {
-                let scale = next_time_scale(self.clock.config().time_scale, control == Control::Faster);
-                self.clock.set_time_scale(scale)?;
+            Control::TogglePause | Control::SingleStep | Control::Faster | Control::Slower => {
+                clock_control(&mut self.clock, control)?;
             }
             Control::NextIntegrator => {
                 let methods = METHODS;

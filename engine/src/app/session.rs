@@ -482,20 +482,8 @@ impl<G: Game> FrameSource for GameSession<G> {
 
     fn control(&mut self, control: Control) -> Result<(), RunError> {
         match control {
-            Control::TogglePause => {
-                if self.clock.is_paused() {
-                    self.clock.resume();
-                } else {
-                    self.clock.pause();
-                }
-            }
-            Control::SingleStep => {
-                self.clock.single_step();
-            }
-            Control::Faster | Control::Slower => {
-                let scale =
-                    super::playback::next_time_scale(self.clock.config().time_scale, control == Control::Faster);
-                self.clock.set_time_scale(scale)?;
+            Control::TogglePause | Control::SingleStep | Control::Faster | Control::Slower => {
+                super::playback::clock_control(&mut self.clock, control)?;
             }
             Control::NextIntegrator => self.set_integrators(|current| {
                 let index = METHODS.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
