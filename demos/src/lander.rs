@@ -294,13 +294,13 @@ impl Game for Lander {
 
     fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) {
         // The ground, and the pad in green.
-        let hills: Vec<Vec3> = (0..=96)
-            .map(|k| {
-                let x = -12.0 + 24.0 * k as f32 / 96.0;
-                Vec3::new(x, ground(x), 0.0)
-            })
-            .collect();
-        draw.polyline(&hills, [150, 150, 165, 255], false);
+        let hill = |k: u32| {
+            let x = -12.0 + 24.0 * k as f32 / 96.0;
+            Vec3::new(x, ground(x), 0.0)
+        };
+        for k in 0..96 {
+            draw.line(hill(k), hill(k + 1), [150, 150, 165, 255]);
+        }
         let (pad, half, height) = PAD;
         for dy in [0.0, 0.03] {
             draw.line(

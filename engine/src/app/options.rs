@@ -8,6 +8,7 @@ use clap::Args;
 
 use super::game::{Game, Settings};
 use super::session::{GameSession, Recording, SessionOptions};
+use super::window::display_available;
 use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
 use crate::clock::FixedCadence;
 use crate::render::{Gpu, RendererConfig};
@@ -163,17 +164,6 @@ pub struct RunSummary {
     pub recording: Option<PathBuf>,
     /// The game's outcome line, if it has one.
     pub outcome: Option<String>,
-}
-
-/// Whether a window can be opened (a display server is named).
-fn display_available() -> bool {
-    if cfg!(all(unix, not(target_os = "macos"))) {
-        ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
-            .iter()
-            .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
-    } else {
-        true
-    }
 }
 
 /// Renderer settings for frames `height` pixels tall: the HUD's text is

@@ -30,6 +30,29 @@ pub(crate) fn next_time_scale(scale: f64, faster: bool) -> f64 {
     next.copied().unwrap_or(scale)
 }
 
+/// Frames per second for the HUD and the panel, from a smoothed frame time
+/// `e <- e + (s - e) / 8` (the first frame sets it).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct FrameRate {
+    seconds: f64,
+}
+
+impl FrameRate {
+    /// Takes a frame of `seconds` into the average.
+    pub(crate) fn record(&mut self, seconds: f64) {
+        self.seconds = if self.seconds == 0.0 {
+            seconds
+        } else {
+            self.seconds + (seconds - self.seconds) / 8.0
+        };
+    }
+
+    /// Smoothed frames per second (0 before any frame).
+    pub(crate) fn fps(self) -> f64 {
+        if self.seconds > 0.0 { 1.0 / self.seconds } else { 0.0 }
+    }
+}
+
 /// Applies the clock's controls (pause, single step, faster, slower) to
 /// `clock`; the others leave it alone.
 pub(crate) fn clock_control(clock: &mut FixedClock, control: Control) -> Result<(), ClockError> {
@@ -118,7 +141,7 @@ pub struct Playback {
     trails: Trails,
     title: String,
     last: Frame,
-    frame_seconds: f64,
+    frame_rate: FrameRate,
     steps_total: u64,
     energy: Option<(u64, f64)>,
     initial_energy: f64,
@@ -163,7 +186,7 @@ impl Playback {
             trails: Trails::new(240),
             title: title.into(),
             last,
-            frame_seconds: 0.0,
+            frame_rate: FrameRate::default(),
             steps_total: 0,
             energy: None,
             initial_energy,
@@ -229,11 +252,7 @@ impl Playback {
     /// Smoothed frames per second.
     #[must_use]
     pub fn fps(&self) -> f64 {
-        if self.frame_seconds > 0.0 {
-            1.0 / self.frame_seconds
-        } else {
-            0.0
-        }
+        self.frame_rate.fps()
     }
 
     /// The relative energy error over recent frames (the panel's plot).
@@ -261,12 +280,7 @@ impl Playback {
     /// [`PlaybackError::Simulation`] if a step fails.
     pub fn advance(&mut self, seconds: f64) -> Result<&Frame, PlaybackError> {
         let frame = self.clock.advance(seconds)?;
-        // Smoothed frame time for the HUD's fps: e <- e + (s - e) / 8.
-        self.frame_seconds = if self.frame_seconds == 0.0 {
-            seconds
-        } else {
-            self.frame_seconds + (seconds - self.frame_seconds) / 8.0
-        };
+        self.frame_rate.record(seconds);
         for step in frame.fixed_steps() {
             self.world.step(step)?;
             self.trails.record(&self.world);

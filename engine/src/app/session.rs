@@ -129,7 +129,7 @@ pub struct GameSession<G: Game> {
     input: TickInput,
     mode: InputMode,
     draw: Draw,
-    frame_seconds: f64,
+    frame_rate: super::playback::FrameRate,
     /// Whether the replay has run out (reported once).
     replay_done: bool,
     /// Drawn when the stage has no world (a game of lines only).
@@ -203,7 +203,11 @@ impl<G: Game> GameSession<G> {
             Some(recording) => InputMode::Replay { recording, cursor: 0 },
             None => InputMode::Live { record: None },
         };
-        let mut clock = FixedClock::new(ClockConfig::default())?;
+        // Replaced by `restart` with the stage's rate; the time scale carries over.
+        let mut clock = FixedClock::new(ClockConfig {
+            time_scale: options.time_scale,
+            ..ClockConfig::default()
+        })?;
         let last = clock.advance(0.0)?;
         let mut session = Self {
             game,
@@ -216,7 +220,7 @@ impl<G: Game> GameSession<G> {
             input: TickInput::default(),
             mode,
             draw: Draw::default(),
-            frame_seconds: 0.0,
+            frame_rate: super::playback::FrameRate::default(),
             replay_done: false,
             empty: crate::world::World::default(),
         };
@@ -246,14 +250,9 @@ impl<G: Game> GameSession<G> {
         for shown in &mut stage.worlds {
             shown.energy.sample(&mut shown.world);
         }
-        let time_scale = self.clock.config().time_scale.max(f64::MIN_POSITIVE);
         self.clock = FixedClock::new(ClockConfig {
             rate,
-            time_scale: if self.clock.tick() == 0 {
-                self.options.time_scale
-            } else {
-                time_scale
-            },
+            time_scale: self.clock.config().time_scale,
             ..ClockConfig::default()
         })?;
         self.last = self.clock.advance(0.0)?;
@@ -418,11 +417,7 @@ impl<G: Game> GameSession<G> {
 
     /// Smoothed frames per second.
     pub fn fps(&self) -> f64 {
-        if self.frame_seconds > 0.0 {
-            1.0 / self.frame_seconds
-        } else {
-            0.0
-        }
+        self.frame_rate.fps()
     }
 }
 
@@ -433,12 +428,7 @@ impl<G: Game> FrameSource for GameSession<G> {
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
         let frame = self.clock.advance(seconds)?;
-        // Smoothed frame time for the fps: e <- e + (s - e) / 8.
-        self.frame_seconds = if self.frame_seconds == 0.0 {
-            seconds
-        } else {
-            self.frame_seconds + (seconds - self.frame_seconds) / 8.0
-        };
+        self.frame_rate.record(seconds);
         for step in frame.fixed_steps() {
             let input = self.tick_input(step.tick);
             self.game

@@ -81,6 +81,15 @@ pub struct WindowSummary {
     pub screenshots: Vec<PathBuf>,
 }
 
+/// Whether a window can be opened: on Linux and the BSDs, a display server
+/// is named (`DISPLAY`, `WAYLAND_DISPLAY` or `WAYLAND_SOCKET`).
+pub(super) fn display_available() -> bool {
+    !cfg!(all(unix, not(target_os = "macos")))
+        || ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+            .iter()
+            .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+}
+
 /// Opens a window and plays `source` in it until it is closed (or
 /// `options.frames` have been shown).
 ///
@@ -101,11 +110,7 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
             options.hold_seconds
         )));
     }
-    if cfg!(all(unix, not(target_os = "macos")))
-        && ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
-            .iter()
-            .all(|v| std::env::var_os(v).is_none_or(|s| s.is_empty()))
-    {
+    if !display_available() {
         return Err(RunError::Window(
             "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a desktop session or under \
              `xvfb-run`, or draw frames without a window with `tickwork render`"
