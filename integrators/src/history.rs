@@ -6,13 +6,23 @@
 //! `swap_remove`, starts empty for an appended particle, and is discarded for a
 //! particle whose position or velocity was changed outside the step (a bounce,
 //! a teleport), detected by comparing with what the last step wrote. A change
-//! of `dt` or of time discards everyone's history, since the multistep
-//! coefficients assume equal spacing. Particles with too little history are
-//! restarted by an RK4 step, so a particle's trajectory does not depend on the
-//! particles spawned or despawned around it.
+//! of `dt` discards everyone's history, since the multistep coefficients
+//! assume equal spacing. Particles with too little history are restarted by
+//! an RK4 step, so a particle's trajectory does not depend on the particles
+//! spawned or despawned around it.
+//!
+//! History is keyed on the sequence of steps and `h`, not on the time passed
+//! in: each step continues the last one when `h` is the same and the state is
+//! the one the last step wrote. The time only reaches the forces. A caller
+//! that passes `t = 0` on every step (natural for time-independent forces)
+//! therefore keeps the method it asked for at one evaluation per step, where
+//! a time-keyed history silently restarted every particle with RK4 on every
+//! step, at 4-5 times the cost. A caller that rewinds the state restores the
+//! method's state too (snapshots copy it), or the state comparison restarts
+//! the particles that changed.
 
 use crate::integrator::fit;
-use crate::vector::{Real, Vector};
+use crate::vector::Vector;
 
 /// Depth of history per particle, and the state each particle had when the
 /// last step ended.
@@ -22,9 +32,8 @@ pub(crate) struct History<V: Vector> {
     last_velocities: Vec<V>,
     /// Steps of history each particle has (saturating).
     depth: Vec<u8>,
-    /// `dt` and end time of the last step, to detect changes of spacing.
+    /// `dt` of the last step, to detect changes of spacing.
     last_dt: Option<V::Real>,
-    last_end: Option<V::Real>,
 }
 
 impl<V: Vector> Default for History<V> {
@@ -34,7 +43,6 @@ impl<V: Vector> Default for History<V> {
             last_velocities: Vec::new(),
             depth: Vec::new(),
             last_dt: None,
-            last_end: None,
         }
     }
 }
@@ -42,7 +50,7 @@ impl<V: Vector> Default for History<V> {
 impl<V: Vector> History<V> {
     /// Brings the history in line with the state about to be stepped and
     /// returns how many particles have less than `required` steps of history.
-    pub(crate) fn sync(&mut self, t: V::Real, dt: V::Real, x: &[V], v: &[V], required: u8) -> usize {
+    pub(crate) fn sync(&mut self, dt: V::Real, x: &[V], v: &[V], required: u8) -> usize {
         let n = x.len();
         if self.depth.len() != n {
             // Appended particles start with no history; a shorter slice without
@@ -51,16 +59,7 @@ impl<V: Vector> History<V> {
             fit(&mut self.last_positions, n);
             fit(&mut self.last_velocities, n);
         }
-        // The caller's `t` is usually `n dt` while ours is a running sum: allow
-        // a slack of a few rounding errors, far below any force's time scale.
-        let continues = match (self.last_dt, self.last_end) {
-            (Some(last_dt), Some(last_end)) => {
-                let slack =
-                    (dt * V::Real::from_f64(1e-6)).abs() + t.abs() * V::Real::epsilon() * V::Real::from_f64(8.0);
-                last_dt == dt && (t - last_end).abs() <= slack
-            }
-            _ => false,
-        };
+        let continues = self.last_dt == Some(dt);
         if !continues {
             self.depth.fill(0);
         }
@@ -91,21 +90,20 @@ impl<V: Vector> History<V> {
     }
 
     /// Closes a step in which every particle was [noted](History::note).
-    pub(crate) fn close(&mut self, t_end: V::Real, dt: V::Real) {
+    pub(crate) fn close(&mut self, dt: V::Real) {
         self.last_dt = Some(dt);
-        self.last_end = Some(t_end);
     }
 
     /// Notes every particle and closes the step, in a pass of its own: for
     /// methods whose last loop is too busy to take the notes (measured: Adams-
     /// Bashforth 4 ran 1.7x slower with the notes inside its lag loop).
-    pub(crate) fn record(&mut self, t_end: V::Real, dt: V::Real, x: &[V], v: &[V]) {
+    pub(crate) fn record(&mut self, dt: V::Real, x: &[V], v: &[V]) {
         self.last_positions.copy_from_slice(x);
         self.last_velocities.copy_from_slice(v);
         for depth in &mut self.depth {
             *depth = depth.saturating_add(1);
         }
-        self.close(t_end, dt);
+        self.close(dt);
     }
 
     /// Follows `Vec::swap_remove(index)` on the particle columns.
@@ -121,7 +119,6 @@ impl<V: Vector> History<V> {
     pub(crate) fn reset(&mut self) {
         self.depth.fill(0);
         self.last_dt = None;
-        self.last_end = None;
     }
 }
 

@@ -15,6 +15,9 @@ pub struct MethodInfo {
     pub aliases: &'static [&'static str],
     /// Human-readable title.
     pub title: &'static str,
+    /// What to know when choosing it, in one line (empty when nothing beyond
+    /// the other fields): the table `tickwork integrators` prints.
+    pub notes: &'static str,
     /// Global order of accuracy of positions on smooth, velocity-independent forces.
     pub order: u32,
     /// Global order of the velocities the method reports.

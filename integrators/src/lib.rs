@@ -59,6 +59,7 @@ pub use methods::explicit_euler::ExplicitEuler;
 pub use methods::exponential_euler::ExponentialEuler;
 pub use methods::forest_ruth::ForestRuth;
 pub use methods::heun::Heun;
+pub use methods::implicit_drag_euler::ImplicitDragEuler;
 pub use methods::implicit_euler::ImplicitEuler;
 pub use methods::leapfrog::Leapfrog;
 pub use methods::midpoint::Midpoint;

@@ -18,12 +18,27 @@
 //! force evaluations per iteration and memory of `restart + 1` vectors per
 //! particle.
 //!
-//! Convergence: `rms(F) <= tolerance * (1 + rms(u))`, or, once Newton
-//! stagnates (an iteration no longer halves the residual), `rms(F) <=
-//! stagnation_tolerance * (1 + rms(u))`: the residual has reached the
-//! round-off floor of the force evaluation, about `eps |da/dx| |x|`, which
-//! for stiff springs in `f32` lies far above 64 epsilons (k/m = 40 000 s^-2
-//! at |x| = 5 m gives a floor near 1e-3 of the acceleration). Each linear solve is
+//! Convergence is relative to the size of the residual's own terms,
+//! `S = rms(u) + rms(R) + |ca| rms(a(t1, x1, v1))`:
+//!
+//! ```text
+//! converged:  rms(F) <= tolerance * max(S, absolute_floor)
+//! stagnated:  rms(F) > rms(F_previous) / 2
+//!             and rms(F) <= stagnation_tolerance * max(S, stagnation_floor)
+//! ```
+//!
+//! A relative test keeps small states exact: with an absolute part
+//! (`rms(F) <= 1e-10 (1 + rms u)`, the rule before), stiff drag stopped
+//! decaying once `|h b v|` fell below `1e-10`, because the first guess was
+//! accepted there, and a small oscillation's one-step map was off by `1e-10`
+//! absolute, a large relative error. `absolute_floor` (default `1e-30`, in
+//! the unknown's units) only keeps the test defined at an exact zero.
+//! Once Newton stagnates (an iteration no longer halves the residual), the
+//! residual has reached the round-off floor of the force evaluation, about
+//! `eps |da/dx| |x|`: absolute, since it comes from the size of the positions,
+//! and for stiff springs in `f32` far above 64 epsilons (k/m = 40 000 s^-2 at
+//! |x| = 5 m gives a floor near 1e-3 of the acceleration), so that test keeps
+//! an absolute floor (`stagnation_floor`, default `1`). Each linear solve is
 //! inexact (relative residual `krylov_tolerance`), which keeps Newton's fast
 //! convergence near the solution. A solve that reaches neither within its caps
 //! is reported as [`StepError::NotConverged`]; there is no line search, so a
@@ -36,9 +51,15 @@ use crate::vector::{Real, Vector};
 /// Tolerances and caps of the implicit solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonKrylovConfig {
-    /// Relative RMS residual at which Newton stops
-    /// (default: `1e-10`, but at least 64 machine epsilons of the scalar type).
+    /// RMS residual, relative to the size of the residual's terms, at which
+    /// Newton stops (default: `1e-10`, but at least 64 machine epsilons of the
+    /// scalar type).
     pub tolerance: f64,
+    /// Smallest size of the residual's terms that `tolerance` is taken
+    /// relative to, in the unknown's units (m/s or m/s^2), so that the test is
+    /// defined at an exact zero (default: `1e-30`). Raise it to accept an
+    /// absolute error on states near zero.
+    pub absolute_floor: f64,
     /// Maximum Newton iterations per step (default: `20`).
     pub max_newton_iterations: u32,
     /// Relative residual each GMRES solve aims for (default: `1e-6`).
@@ -52,6 +73,11 @@ pub struct NewtonKrylovConfig {
     /// measured floors of 1e-4 to 6e-3; `6.1e-6`, the cube root of epsilon,
     /// for `f64`).
     pub stagnation_tolerance: f64,
+    /// Smallest size of the residual's terms that `stagnation_tolerance` is
+    /// taken relative to, in the unknown's units (default: `1`): the round-off
+    /// floor of stiff forces comes from the size of the positions, not of the
+    /// unknown, so it is not relative to a small unknown.
+    pub stagnation_floor: f64,
 }
 
 impl NewtonKrylovConfig {
@@ -60,6 +86,7 @@ impl NewtonKrylovConfig {
     pub fn for_real<R: Real>() -> Self {
         Self {
             tolerance: f64::max(1e-10, 64.0 * R::epsilon().to_f64()),
+            absolute_floor: 1e-30,
             max_newton_iterations: 20,
             krylov_tolerance: 1e-6,
             restart: 20,
@@ -69,6 +96,7 @@ impl NewtonKrylovConfig {
             } else {
                 R::epsilon().to_f64().cbrt()
             },
+            stagnation_floor: 1.0,
         }
     }
 }
@@ -161,8 +189,9 @@ impl<V: Vector> NewtonKrylov<V> {
         }
     }
 
-    /// Sets `x1, v1` from `u` and evaluates `a(t1, x1, v1)` and the residual.
-    fn evaluate_residual(&mut self, k: &Coefficients<V::Real>, system: &mut dyn System<V>) -> f64 {
+    /// Sets `x1, v1` from `u` and evaluates `a(t1, x1, v1)` and the residual;
+    /// returns `rms(F)` and the size of its terms, `rms(u) + rms(R) + |ca| rms(a)`.
+    fn evaluate_residual(&mut self, k: &Coefficients<V::Real>, system: &mut dyn System<V>) -> (f64, f64) {
         for i in 0..self.u.len() {
             self.x1[i] = self.base_x[i] + self.u[i] * k.cx;
             self.v1[i] = self.base_v[i] + self.u[i] * k.cv;
@@ -171,7 +200,8 @@ impl<V: Vector> NewtonKrylov<V> {
         for i in 0..self.u.len() {
             self.residual[i] = self.u[i] - self.rhs[i] - self.accel[i] * k.ca;
         }
-        rms(&self.residual)
+        let terms = rms(&self.u) + rms(&self.rhs) + k.ca.to_f64().abs() * rms(&self.accel);
+        (rms(&self.residual), terms)
     }
 
     /// `out = J w` at the current `(x1, v1)`; returns the evaluations it cost.
@@ -345,12 +375,12 @@ impl<V: Vector> NewtonKrylov<V> {
         };
         let mut previous = f64::INFINITY;
         loop {
-            let residual = self.evaluate_residual(&k, system);
+            let (residual, terms) = self.evaluate_residual(&k, system);
             stats.evaluations += 1;
-            let scale = 1.0 + rms(&self.u);
-            let relative = residual / scale;
-            let stagnated = relative > 0.5 * previous && relative <= config.stagnation_tolerance;
-            previous = relative;
+            let relative = residual / terms.max(config.absolute_floor);
+            let stagnated = residual > 0.5 * previous
+                && residual <= config.stagnation_tolerance * terms.max(config.stagnation_floor);
+            previous = residual;
             if relative <= config.tolerance || stagnated {
                 x.copy_from_slice(&self.x1);
                 v.copy_from_slice(&self.v1);

@@ -7,29 +7,50 @@ use crate::integrator::{Integrator, MethodInfo};
 use crate::methods::*;
 use crate::vector::Vector;
 
-/// Every method, in the order of the lecture (first-order, second-order,
-/// higher-order), then the methods beyond it.
-pub const METHODS: &[MethodInfo] = &[
-    explicit_euler::INFO,
-    semi_implicit_euler::INFO,
-    implicit_euler::INFO,
-    predictor_corrector_euler::INFO,
-    exponential_euler::INFO,
-    midpoint::INFO,
-    heun::INFO,
-    trapezoidal::INFO,
-    leapfrog::INFO,
-    position_verlet::INFO,
-    velocity_verlet::INFO,
-    beeman::INFO,
-    newmark_beta::INFO,
-    rk4::INFO,
-    adams_bashforth2::INFO,
-    adams_bashforth3::INFO,
-    adams_bashforth4::INFO,
-    forest_ruth::INFO,
-    dormand_prince::INFO,
-];
+/// The registry in one list: each method's entry and its default
+/// constructor, in the order of the lecture (first-order, second-order,
+/// higher-order), then the methods beyond it. Generates [`METHODS`] and the
+/// constructor behind [`build`], so a method is registered in one place.
+macro_rules! registry {
+    ($($info:expr => $constructor:expr,)*) => {
+        /// Every method, in the order of the lecture (first-order,
+        /// second-order, higher-order), then the methods beyond it.
+        pub const METHODS: &[MethodInfo] = &[$($info),*];
+
+        /// The method registered under the canonical `name`.
+        fn construct<V: Vector>(name: &str) -> Option<Box<dyn Integrator<V>>> {
+            $(if name == $info.name {
+                return Some(Box::new($constructor));
+            })*
+            None
+        }
+    };
+}
+
+registry! {
+    explicit_euler::INFO => explicit_euler::ExplicitEuler::new(),
+    semi_implicit_euler::INFO => semi_implicit_euler::SemiImplicitEuler::new(),
+    implicit_euler::INFO => implicit_euler::ImplicitEuler::new(),
+    implicit_drag_euler::INFO => implicit_drag_euler::ImplicitDragEuler::new(),
+    predictor_corrector_euler::INFO => predictor_corrector_euler::PredictorCorrectorEuler::new(),
+    exponential_euler::INFO => exponential_euler::ExponentialEuler::new(),
+    midpoint::INFO => midpoint::Midpoint::new(),
+    heun::INFO => heun::Heun::new(),
+    trapezoidal::INFO => trapezoidal::Trapezoidal::new(),
+    leapfrog::INFO => leapfrog::Leapfrog::new(),
+    position_verlet::INFO => position_verlet::PositionVerlet::new(),
+    velocity_verlet::INFO => velocity_verlet::VelocityVerlet::new(),
+    beeman::INFO => beeman::Beeman::new(),
+    newmark_beta::INFO => newmark_beta::NewmarkBeta::new(),
+    newmark_beta::LINEAR_ACCELERATION => newmark_beta::NewmarkBeta::linear_acceleration(),
+    newmark_beta::CENTRAL_DIFFERENCE => newmark_beta::NewmarkBeta::central_difference(),
+    rk4::INFO => rk4::Rk4::new(),
+    adams_bashforth2::INFO => adams_bashforth2::AdamsBashforth2::new(),
+    adams_bashforth3::INFO => adams_bashforth3::AdamsBashforth3::new(),
+    adams_bashforth4::INFO => adams_bashforth4::AdamsBashforth4::new(),
+    forest_ruth::INFO => forest_ruth::ForestRuth::new(),
+    dormand_prince::INFO => dormand_prince::DormandPrince::new(),
+}
 
 /// A name that matches no method.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -65,8 +86,10 @@ impl fmt::Display for UnknownMethod {
 
 impl std::error::Error for UnknownMethod {}
 
-/// Names compare case-insensitively, with `-`, `_` and spaces equivalent.
-fn same_name(given: &str, known: &str) -> bool {
+/// The one rule by which a given name matches a registered one, in both
+/// registries (this one and [`angular`](crate::angular)): case-insensitive,
+/// with `-`, `_` and spaces ignored (`"Velocity-Verlet"`, `"quaternionEuler"`).
+pub(crate) fn same_name(given: &str, known: &str) -> bool {
     let mut a = given
         .trim()
         .chars()
@@ -98,29 +121,7 @@ pub fn find(name: &str) -> Result<&'static MethodInfo, UnknownMethod> {
 /// # Errors
 /// [`UnknownMethod`], whose message lists the valid names.
 pub fn build<V: Vector>(name: &str) -> Result<Box<dyn Integrator<V>>, UnknownMethod> {
-    let info = find(name)?;
-    Ok(match info.name {
-        "explicit_euler" => Box::new(explicit_euler::ExplicitEuler::new()),
-        "semi_implicit_euler" => Box::new(semi_implicit_euler::SemiImplicitEuler::new()),
-        "implicit_euler" => Box::new(implicit_euler::ImplicitEuler::new()),
-        "predictor_corrector_euler" => Box::new(predictor_corrector_euler::PredictorCorrectorEuler::new()),
-        "exponential_euler" => Box::new(exponential_euler::ExponentialEuler::new()),
-        "midpoint" => Box::new(midpoint::Midpoint::new()),
-        "heun" => Box::new(heun::Heun::new()),
-        "trapezoidal" => Box::new(trapezoidal::Trapezoidal::new()),
-        "leapfrog" => Box::new(leapfrog::Leapfrog::new()),
-        "position_verlet" => Box::new(position_verlet::PositionVerlet::new()),
-        "velocity_verlet" => Box::new(velocity_verlet::VelocityVerlet::new()),
-        "beeman" => Box::new(beeman::Beeman::new()),
-        "newmark_beta" => Box::new(newmark_beta::NewmarkBeta::new()),
-        "rk4" => Box::new(rk4::Rk4::new()),
-        "adams_bashforth2" => Box::new(adams_bashforth2::AdamsBashforth2::new()),
-        "adams_bashforth3" => Box::new(adams_bashforth3::AdamsBashforth3::new()),
-        "adams_bashforth4" => Box::new(adams_bashforth4::AdamsBashforth4::new()),
-        "forest_ruth" => Box::new(forest_ruth::ForestRuth::new()),
-        "dormand_prince" => Box::new(dormand_prince::DormandPrince::new()),
-        other => unreachable!("registry entry {other} has no constructor"),
-    })
+    construct(find(name)?.name).ok_or_else(|| UnknownMethod::new(name))
 }
 
 #[cfg(test)]
@@ -139,15 +140,29 @@ mod tests {
     }
 
     #[test]
-    fn names_are_unique_across_names_and_aliases() {
-        let mut all: Vec<&str> = METHODS
-            .iter()
-            .flat_map(|m| core::iter::once(m.name).chain(m.aliases.iter().copied()))
-            .collect();
-        let count = all.len();
-        all.sort_unstable();
-        all.dedup();
-        assert_eq!(all.len(), count);
+    fn no_name_or_alias_means_two_methods_in_either_registry() {
+        // Every name and alias of both registries, compared by the one
+        // matching rule: `euler` or `rk4` may not mean a linear method here
+        // and an angular one there.
+        let angular = crate::angular::ANGULAR_METHODS.iter().flat_map(|m| {
+            core::iter::once(m.name)
+                .chain(m.aliases.iter().copied())
+                .map(move |n| (n, m.name))
+        });
+        let linear = METHODS.iter().flat_map(|m| {
+            core::iter::once(m.name)
+                .chain(m.aliases.iter().copied())
+                .map(move |n| (n, m.name))
+        });
+        let all: Vec<(&str, &str)> = linear.chain(angular).collect();
+        for (i, (a, owner_a)) in all.iter().enumerate() {
+            for (b, owner_b) in &all[i + 1..] {
+                assert!(
+                    !same_name(a, b),
+                    "'{a}' ({owner_a}) and '{b}' ({owner_b}) are the same name"
+                );
+            }
+        }
     }
 
     #[test]

@@ -21,6 +21,7 @@ struct MethodRecord<'a> {
     name: &'a str,
     aliases: &'a [&'a str],
     title: &'a str,
+    notes: &'a str,
     order: u32,
     order_velocity: u32,
     order_velocity_forces: u32,
@@ -38,6 +39,7 @@ impl<'a> From<&'a MethodInfo> for MethodRecord<'a> {
             name: m.name,
             aliases: m.aliases,
             title: m.title,
+            notes: m.notes,
             order: m.order,
             order_velocity: m.order_velocity,
             order_velocity_forces: m.order_velocity_forces,
@@ -74,8 +76,9 @@ pub fn run(args: &IntegratorsArgs, out: &mut dyn Write) -> io::Result<()> {
         "self-starting",
         "implicit",
         "aliases",
+        "notes",
     ];
-    let rows: Vec<[String; 8]> = METHODS
+    let rows: Vec<[String; 9]> = METHODS
         .iter()
         .map(|m| {
             [
@@ -87,6 +90,7 @@ pub fn run(args: &IntegratorsArgs, out: &mut dyn Write) -> io::Result<()> {
                 yes(m.self_starting).to_owned(),
                 yes(m.implicit).to_owned(),
                 m.aliases.join(", "),
+                m.notes.to_owned(),
             ]
         })
         .collect();

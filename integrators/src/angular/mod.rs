@@ -32,7 +32,7 @@ pub use quaternion_euler::QuaternionEuler;
 pub use rk4::AngularRk4;
 
 use crate::integrator::StepError;
-use crate::registry::UnknownMethod;
+use crate::registry::{UnknownMethod, same_name};
 use crate::vector::{Real, Vector};
 
 /// A three-dimensional vector with the products rigid-body dynamics needs.
@@ -199,15 +199,17 @@ pub trait AngularIntegrator<Q: Rotation>: Send + AngularState<Q> {
 /// Every angular method.
 pub const ANGULAR_METHODS: &[AngularMethodInfo] = &[quaternion_euler::INFO, exponential_map::INFO, rk4::INFO];
 
-/// Builds an angular method by name or alias.
+/// Builds an angular method by name or alias, matched by the same rule as
+/// [`find`](crate::find) (case-insensitive, `-`, `_` and spaces ignored). No
+/// name or alias here is also a linear method's, so `rk4` and `euler` each
+/// mean one method.
 ///
 /// # Errors
 /// [`UnknownMethod`] for a name that is not in [`ANGULAR_METHODS`].
 pub fn build_angular<Q: Rotation>(name: &str) -> Result<Box<dyn AngularIntegrator<Q>>, UnknownMethod> {
-    let key = name.trim().to_ascii_lowercase().replace(['-', ' '], "_");
     let info = ANGULAR_METHODS
         .iter()
-        .find(|m| m.name == key || m.aliases.contains(&key.as_str()))
+        .find(|m| same_name(name, m.name) || m.aliases.iter().any(|alias| same_name(name, alias)))
         .ok_or_else(|| UnknownMethod {
             name: name.to_owned(),
             valid: ANGULAR_METHODS.iter().map(|m| m.name).collect(),

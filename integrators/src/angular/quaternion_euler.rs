@@ -21,7 +21,7 @@ use crate::vector::Vector;
 /// Registry entry.
 pub const INFO: AngularMethodInfo = AngularMethodInfo {
     name: "quaternion_euler",
-    aliases: &["euler", "renormalized_euler"],
+    aliases: &["quat_euler", "renormalized_euler"],
     title: "Quaternion Euler, renormalised",
     order: 1,
     evaluations: 1,

@@ -91,7 +91,7 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
             fit(slot, n);
         }
         let required = (K - 1) as u8;
-        let starting = self.history.sync(t, dt, x, v, required);
+        let starting = self.history.sync(dt, x, v, required);
         system.acceleration(t, x, v, &mut self.accel);
         let mut evaluations = 1;
         if starting > 0 {
@@ -123,7 +123,7 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
             self.past_a[oldest][i] = a_now;
         }
         self.newest = oldest;
-        self.history.record(t + dt, dt, x, v);
+        self.history.record(dt, x, v);
         Ok(StepStats {
             bootstrapped: starting as u32,
             ..StepStats::single(evaluations)

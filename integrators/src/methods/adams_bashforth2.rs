@@ -21,6 +21,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "adams_bashforth2",
     aliases: &["ab2"],
     title: "Adams-Bashforth 2",
+    notes: "linear multistep; RK4 start",
     order: 2,
     order_velocity: 2,
     order_velocity_forces: 2,

@@ -19,6 +19,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "adams_bashforth3",
     aliases: &["ab3"],
     title: "Adams-Bashforth 3",
+    notes: "",
     order: 3,
     order_velocity: 3,
     order_velocity_forces: 3,

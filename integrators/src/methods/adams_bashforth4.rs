@@ -22,6 +22,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "adams_bashforth4",
     aliases: &["ab4"],
     title: "Adams-Bashforth 4",
+    notes: "a quarter of RK4's cost at the same order, small stability region",
     order: 4,
     order_velocity: 4,
     order_velocity_forces: 4,

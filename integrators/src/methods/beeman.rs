@@ -35,6 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "beeman",
     aliases: &["beeman_schofield"],
     title: "Beeman",
+    notes: "predictor-corrector form; RK4 start",
     order: 2,
     order_velocity: 2,
     order_velocity_forces: 2,
@@ -93,7 +94,7 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         ] {
             fit(buffer, n);
         }
-        let starting = self.history.sync(t, dt, x, v, 1);
+        let starting = self.history.sync(dt, x, v, 1);
         let mut evaluations = 1;
         if starting > 0 {
             // `accel_end` is free until the end evaluation: use it for a(t).
@@ -130,7 +131,7 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         // (previous, current, end) <- (current, end, free)
         core::mem::swap(&mut self.accel_previous, &mut self.accel);
         core::mem::swap(&mut self.accel, &mut self.accel_end);
-        self.history.close(t + dt, dt);
+        self.history.close(dt);
         Ok(StepStats {
             bootstrapped: starting as u32,
             ..StepStats::single(evaluations)

@@ -33,6 +33,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "dormand_prince",
     aliases: &["dopri5", "rk45", "dp45"],
     title: "Dormand-Prince 5(4), adaptive",
+    notes: "adaptive sub-steps inside the fixed step, to a tolerance",
     order: 5,
     order_velocity: 5,
     order_velocity_forces: 5,

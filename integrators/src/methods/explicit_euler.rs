@@ -22,6 +22,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "explicit_euler",
     aliases: &["euler", "forward_euler"],
     title: "Explicit Euler",
+    notes: "the lecture's baseline; unstable on any undamped oscillator",
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,

@@ -35,6 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "exponential_euler",
     aliases: &["exp_euler", "etd1"],
     title: "Exponential Euler",
+    notes: "exact for constant force plus linear drag",
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,

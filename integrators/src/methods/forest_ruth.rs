@@ -31,6 +31,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "forest_ruth",
     aliases: &["yoshida4", "fr4", "symplectic4"],
     title: "Forest-Ruth (4th-order symplectic)",
+    notes: "fourth-order symplectic (Yoshida's triple jump)",
     order: 4,
     order_velocity: 4,
     order_velocity_forces: 1,

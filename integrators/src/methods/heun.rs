@@ -27,6 +27,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "heun",
     aliases: &["improved_euler", "explicit_trapezoidal"],
     title: "Improved Euler (Heun)",
+    notes: "improved Euler, as the lecture writes it",
     order: 2,
     order_velocity: 2,
     order_velocity_forces: 2,

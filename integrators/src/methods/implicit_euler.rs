@@ -35,6 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "implicit_euler",
     aliases: &["backward_euler"],
     title: "Implicit (backward) Euler",
+    notes: "L-stable; Newton-Krylov for any force; `v/(1 + b h)` on drag",
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,

@@ -23,6 +23,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "midpoint",
     aliases: &["explicit_midpoint", "rk2"],
     title: "Midpoint",
+    notes: "",
     order: 2,
     order_velocity: 2,
     order_velocity_forces: 2,

@@ -11,6 +11,7 @@ pub mod explicit_euler;
 pub mod exponential_euler;
 pub mod forest_ruth;
 pub mod heun;
+pub mod implicit_drag_euler;
 pub mod implicit_euler;
 pub mod leapfrog;
 pub mod midpoint;

@@ -38,6 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "position_verlet",
     aliases: &["verlet", "stormer_verlet", "stoermer_verlet"],
     title: "Position (Stormer) Verlet",
+    notes: "Stormer; RK4 start; velocity by backward difference",
     order: 2,
     order_velocity: 1,
     order_velocity_forces: 1,
@@ -83,7 +84,7 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
         let n = x.len();
         fit(&mut self.accel, n);
         fit(&mut self.previous_x, n);
-        let starting = self.history.sync(t, dt, x, v, 1);
+        let starting = self.history.sync(dt, x, v, 1);
         system.acceleration(t, x, v, &mut self.accel);
         let mut evaluations = 1;
         if starting > 0 {
@@ -104,7 +105,7 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
             v[i] = new_v;
             self.history.note(i, new_x, new_v);
         }
-        self.history.close(t + dt, dt);
+        self.history.close(dt);
         Ok(StepStats {
             bootstrapped: starting as u32,
             ..StepStats::single(evaluations)

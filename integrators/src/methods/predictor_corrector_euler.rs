@@ -25,6 +25,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "predictor_corrector_euler",
     aliases: &["backward_euler_pc", "pc_euler"],
     title: "Predictor-corrector backward Euler",
+    notes: "the lecture's backward Euler without a solve",
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,

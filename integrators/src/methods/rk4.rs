@@ -30,6 +30,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "rk4",
     aliases: &["runge_kutta", "runge_kutta4", "classical_rk4"],
     title: "Runge-Kutta 4",
+    notes: "",
     order: 4,
     order_velocity: 4,
     order_velocity_forces: 4,

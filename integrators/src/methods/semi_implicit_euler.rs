@@ -23,6 +23,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "semi_implicit_euler",
     aliases: &["symplectic_euler", "euler_cromer", "semi_euler"],
     title: "Semi-implicit Euler",
+    notes: "the game-engine favourite: bounded energy at Euler's cost",
     order: 1,
     order_velocity: 1,
     order_velocity_forces: 1,

@@ -28,6 +28,7 @@ pub const INFO: MethodInfo = MethodInfo {
     name: "trapezoidal",
     aliases: &["trapezoidal_rule", "crank_nicolson"],
     title: "Trapezoidal rule",
+    notes: "A-stable, no numerical damping",
     order: 2,
     order_velocity: 2,
     order_velocity_forces: 2,
