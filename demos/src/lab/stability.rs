@@ -73,6 +73,14 @@ pub fn theory(method: &str, equation: TestEquation) -> Option<f64> {
         // Symplectic Euler: trace 2 - h^2 in [-2, 2]; v(1 - h b).
         ("semi_implicit_euler", Oscillator | Drag) => 2.0,
         ("implicit_euler" | "trapezoidal" | "newmark_beta", _) => inf,
+        // Semi-implicit Euler's trace on the oscillator; drag factor 1 / (1 + h b).
+        ("implicit_drag_euler", Oscillator) => 2.0,
+        ("implicit_drag_euler", Drag) => inf,
+        // Newmark with gamma = 1/2: h omega < 1 / sqrt(gamma/2 - beta); on
+        // drag the velocity update is the trapezoidal rule's, (1 - z/2) / (1 + z/2).
+        ("newmark_linear_acceleration", Oscillator) => 2.0 * 3f64.sqrt(),
+        ("newmark_central_difference", Oscillator) => 2.0,
+        ("newmark_linear_acceleration" | "newmark_central_difference", Drag) => inf,
         // Positions take the corrected velocity: on the oscillator the step
         // matrix has determinant 1 - h^2 and, past h = 1, a real eigenvalue
         // 1 - h^2 - h sqrt(h^2 - 1) that reaches -1 at h = 2/sqrt 3. On drag
