@@ -1,0 +1,466 @@
+//! The fixed step of a falling-particle world through each library's public
+//! API, interleaved in one run so that noise hits all alike:
+//!
+//! ```text
+//! prev = p;  v += dt (g - b v);  p += dt v;   floor at y = 0, restitution 0.8, no friction
+//! ```
+//!
+//! with f32, dt = 1/60, g = (0, -9.81, 0), b = 0.1. The variants:
+//! - `memcpy 48 B`: copying 48 bytes per particle (the memory floor of a step
+//!   that reads and writes two `Vec3A` columns);
+//! - `hand`: a hand-written loop over `Vec3A` columns, reflecting at the floor
+//!   (`if y < 0 { y = -y; vy = -e vy }`), as the peers;
+//! - `hand (projects)`: the same loop with Tickwork's contact (the particle is
+//!   put on the floor, `vy += -(1 + e) min(vy, 0)`), whose state Tickwork must
+//!   reproduce bit for bit;
+//! - `hecs`, `bevy_ecs Query`, `bevy_ecs par_iter` (two threads): components
+//!   `Position`, `Velocity`, `Previous` of `Vec3A`, the reflecting loop;
+//! - `tickwork`: a `World` with `Gravity`, `LinearDrag`, a floor `Plane`,
+//!   semi-implicit Euler, `World::step`, on one rayon thread and on two.
+//!
+//! Each case (N particles, fresh or resting) runs every variant for a batch
+//! of steps per round, round after round, in one process; the table gives the
+//! median nanoseconds per particle-step and the ratios Tickwork's goals are
+//! stated in. Tickwork is built in several allocation layouts (its columns at
+//! different offsets from each other) and the slowest layout is reported.
+//!
+//! Run: `cargo run --release --manifest-path bench/peers/Cargo.toml` (add
+//! `-- --quick` for fewer rounds, `-- --sizes 1000,100000`).
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use bevy_ecs::prelude::{Component, World as BevyWorld};
+use bevy_ecs::query::QueryState;
+use glam::{Vec3, Vec3A};
+use tickwork_engine::{FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
+
+const DT: f32 = (1.0f64 / 60.0) as f32;
+const G: Vec3A = Vec3A::new(0.0, -9.81, 0.0);
+const DRAG: f32 = 0.1;
+const RESTITUTION: f32 = 0.8;
+/// Steps run (untimed) before the resting case: bounces from 10 m under
+/// e = 0.8 have died out by then.
+const SETTLE_STEPS: usize = 3_000;
+
+#[derive(Component, Clone, Copy)]
+struct Position(Vec3A);
+#[derive(Component, Clone, Copy)]
+struct Velocity(Vec3A);
+#[derive(Component, Clone, Copy)]
+struct Previous(Vec3A);
+
+/// The starting state: particles in a 20 m box above the floor, moving.
+fn initial(n: usize) -> Vec<(Vec3A, Vec3A)> {
+    let mut seed = 0x9e37_79b9_u32;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        (seed >> 8) as f32 / (1u32 << 24) as f32
+    };
+    (0..n)
+        .map(|_| {
+            let p = Vec3A::new(random() * 20.0 - 10.0, random() * 10.0, random() * 20.0 - 10.0);
+            let v = Vec3A::new(random() * 4.0 - 2.0, random() * 4.0 - 2.0, random() * 4.0 - 2.0);
+            (p, v)
+        })
+        .collect()
+}
+
+/// The peers' step for one particle: integrate, then reflect at the floor.
+#[inline(always)]
+fn reflecting(p: &mut Vec3A, v: &mut Vec3A, prev: &mut Vec3A) {
+    *prev = *p;
+    let a = G - *v * DRAG;
+    *v += a * DT;
+    *p += *v * DT;
+    if p.y < 0.0 {
+        p.y = -p.y;
+        v.y = -RESTITUTION * v.y;
+    }
+}
+
+/// Tickwork's arithmetic, written out: `a = c - b v`, `v += a h`, `x += v h`,
+/// and its plane contact for a particle of radius 0 with friction 0.
+#[inline(always)]
+fn projecting(p: &mut Vec3A, v: &mut Vec3A, prev: &mut Vec3A) {
+    *prev = *p;
+    let a = G - *v * DRAG;
+    *v += a * DT;
+    *p += *v * DT;
+    if p.y < 0.0 {
+        v.y += -(1.0 + RESTITUTION) * v.y.min(0.0);
+        p.y -= p.y;
+    }
+}
+
+/// One library's world and how it steps.
+trait Variant {
+    fn name(&self) -> String;
+    fn step(&mut self);
+    /// Positions and velocities, in spawn order.
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)>;
+    /// Whether its contact is Tickwork's (projection) rather than a reflection.
+    fn projects(&self) -> bool {
+        false
+    }
+}
+
+struct Memcpy {
+    from: Vec<[f32; 12]>,
+    to: Vec<[f32; 12]>,
+}
+
+impl Variant for Memcpy {
+    fn name(&self) -> String {
+        "memcpy 48 B".into()
+    }
+    fn step(&mut self) {
+        self.to.copy_from_slice(&self.from);
+        black_box(&mut self.to);
+    }
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)> {
+        Vec::new()
+    }
+}
+
+struct Hand {
+    p: Vec<Vec3A>,
+    v: Vec<Vec3A>,
+    prev: Vec<Vec3A>,
+    project: bool,
+}
+
+impl Variant for Hand {
+    fn name(&self) -> String {
+        if self.project { "hand (projects)".into() } else { "hand".into() }
+    }
+    fn step(&mut self) {
+        let f = if self.project { projecting } else { reflecting };
+        for ((p, v), prev) in self.p.iter_mut().zip(&mut self.v).zip(&mut self.prev) {
+            f(p, v, prev);
+        }
+    }
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)> {
+        self.p.iter().copied().zip(self.v.iter().copied()).collect()
+    }
+    fn projects(&self) -> bool {
+        self.project
+    }
+}
+
+struct Hecs {
+    world: hecs::World,
+    order: Vec<hecs::Entity>,
+}
+
+impl Variant for Hecs {
+    fn name(&self) -> String {
+        "hecs".into()
+    }
+    fn step(&mut self) {
+        for (p, v, prev) in self.world.query_mut::<(&mut Position, &mut Velocity, &mut Previous)>() {
+            reflecting(&mut p.0, &mut v.0, &mut prev.0);
+        }
+    }
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)> {
+        self.order
+            .iter()
+            .map(|&e| {
+                let p = self.world.get::<&Position>(e).expect("alive").0;
+                let v = self.world.get::<&Velocity>(e).expect("alive").0;
+                (p, v)
+            })
+            .collect()
+    }
+}
+
+struct Bevy {
+    world: BevyWorld,
+    query: QueryState<(&'static mut Position, &'static mut Velocity, &'static mut Previous)>,
+    order: Vec<bevy_ecs::entity::Entity>,
+    parallel: bool,
+}
+
+impl Variant for Bevy {
+    fn name(&self) -> String {
+        if self.parallel { "bevy_ecs par_iter (2 threads)".into() } else { "bevy_ecs Query".into() }
+    }
+    fn step(&mut self) {
+        if self.parallel {
+            self.query
+                .par_iter_mut(&mut self.world)
+                .for_each(|(mut p, mut v, mut prev)| reflecting(&mut p.0, &mut v.0, &mut prev.0));
+        } else {
+            for (mut p, mut v, mut prev) in self.query.iter_mut(&mut self.world) {
+                reflecting(&mut p.0, &mut v.0, &mut prev.0);
+            }
+        }
+    }
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)> {
+        self.order
+            .iter()
+            .map(|&e| {
+                let p = self.world.get::<Position>(e).expect("alive").0;
+                let v = self.world.get::<Velocity>(e).expect("alive").0;
+                (p, v)
+            })
+            .collect()
+    }
+}
+
+struct Tickwork {
+    world: World,
+    pool: rayon::ThreadPool,
+    threads: usize,
+    layout: usize,
+    /// Allocations kept alive between the world's columns (the layout).
+    _spacers: Vec<Vec<u8>>,
+}
+
+impl Tickwork {
+    fn new(start: &[(Vec3A, Vec3A)], threads: usize, layout: usize) -> Self {
+        let config = WorldConfig {
+            integrator: "semi_implicit_euler".into(),
+            parallel_threshold: if threads > 1 { 4_096 } else { usize::MAX },
+            ..WorldConfig::default()
+        };
+        let mut world = World::new(config).expect("registered");
+        world.add_force(Gravity { acceleration: Vec3::from(G) });
+        world.add_force(LinearDrag { rate: DRAG });
+        world.add_collider(Plane::floor(
+            0.0,
+            Material {
+                restitution: RESTITUTION,
+                friction: 0.0,
+            },
+        ));
+        // Different allocation layouts: columns grow by doubling while the
+        // particles are spawned; a spacer allocated between spawns of each
+        // doubling moves where the next column buffers land.
+        let mut spacers = Vec::new();
+        for (k, (p, v)) in start.iter().enumerate() {
+            if k.is_power_of_two() && layout > 0 {
+                spacers.push(vec![1u8; 4096 * layout + 64 * layout * (k.trailing_zeros() as usize % 7)]);
+            }
+            let particle = Particle {
+                position: Vec3::from(*p),
+                velocity: Vec3::from(*v),
+                radius: 0.0,
+                ..Particle::default()
+            };
+            world.spawn(particle).expect("valid");
+        }
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+        Self {
+            world,
+            pool,
+            threads,
+            layout,
+            _spacers: spacers,
+        }
+    }
+}
+
+impl Variant for Tickwork {
+    fn name(&self) -> String {
+        format!(
+            "tickwork ({} thread{}, layout {})",
+            self.threads,
+            if self.threads == 1 { "" } else { "s" },
+            self.layout
+        )
+    }
+    fn step(&mut self) {
+        let world = &mut self.world;
+        self.pool.install(|| {
+            let step = FixedStep {
+                tick: world.tick(),
+                time: world.tick() as f64 / 60.0,
+                dt: 1.0 / 60.0,
+            };
+            world.step(step).expect("step");
+        });
+    }
+    fn state(&mut self) -> Vec<(Vec3A, Vec3A)> {
+        let p = self.world.particles();
+        // Rows stay in spawn order: nothing is despawned.
+        p.position.iter().copied().zip(p.velocity.iter().copied()).collect()
+    }
+    fn projects(&self) -> bool {
+        true
+    }
+}
+
+fn variants(n: usize) -> Vec<Box<dyn Variant>> {
+    let start = initial(n);
+    let (p, v): (Vec<Vec3A>, Vec<Vec3A>) = start.iter().copied().unzip();
+    let hand = |project| Hand {
+        p: p.clone(),
+        v: v.clone(),
+        prev: p.clone(),
+        project,
+    };
+    let mut hecs = hecs::World::new();
+    let order = start
+        .iter()
+        .map(|&(p, v)| hecs.spawn((Position(p), Velocity(v), Previous(p))))
+        .collect();
+    let bevy = |parallel| {
+        let mut world = BevyWorld::new();
+        let order = start
+            .iter()
+            .map(|&(p, v)| world.spawn((Position(p), Velocity(v), Previous(p))).id())
+            .collect();
+        let query = world.query::<(&mut Position, &mut Velocity, &mut Previous)>();
+        Bevy {
+            world,
+            query,
+            order,
+            parallel,
+        }
+    };
+    vec![
+        Box::new(Memcpy {
+            from: vec![[1.0; 12]; n],
+            to: vec![[0.0; 12]; n],
+        }),
+        Box::new(hand(false)),
+        Box::new(hand(true)),
+        Box::new(Hecs { world: hecs, order }),
+        Box::new(bevy(false)),
+        Box::new(bevy(true)),
+        Box::new(Tickwork::new(&start, 1, 0)),
+        Box::new(Tickwork::new(&start, 1, 1)),
+        Box::new(Tickwork::new(&start, 1, 2)),
+        Box::new(Tickwork::new(&start, 2, 0)),
+        Box::new(Tickwork::new(&start, 2, 1)),
+        Box::new(Tickwork::new(&start, 2, 2)),
+    ]
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Runs every variant `rounds` times, interleaved; returns the median ns per
+/// particle-step of each.
+fn measure(variants: &mut [Box<dyn Variant>], n: usize, rounds: usize) -> Vec<f64> {
+    // About 20 ms of work per batch at 5 ns per particle-step.
+    let steps = (4_000_000 / n).clamp(2, 2_000);
+    let mut samples = vec![Vec::new(); variants.len()];
+    for round in 0..rounds {
+        // Rotate the order, so no variant always follows the same one.
+        for k in 0..variants.len() {
+            let i = (k + round) % variants.len();
+            let start = Instant::now();
+            for _ in 0..steps {
+                variants[i].step();
+            }
+            let elapsed = start.elapsed().as_nanos() as f64;
+            samples[i].push(elapsed / (steps * n) as f64);
+        }
+    }
+    samples.into_iter().map(median).collect()
+}
+
+/// The largest difference in position between two states.
+fn max_difference(a: &[(Vec3A, Vec3A)], b: &[(Vec3A, Vec3A)]) -> f32 {
+    a.iter().zip(b).map(|(a, b)| (a.0 - b.0).length()).fold(0.0, f32::max)
+}
+
+/// Checks the states: reflecting variants agree bit for bit, and so do
+/// Tickwork and the hand loop that projects; prints the gap between the two
+/// contact models.
+fn check(variants: &mut [Box<dyn Variant>]) -> Result<(), String> {
+    let states: Vec<(String, bool, Vec<(Vec3A, Vec3A)>)> = variants
+        .iter_mut()
+        .map(|v| (v.name(), v.projects(), v.state()))
+        .filter(|s| !s.2.is_empty())
+        .collect();
+    let reference = |projects: bool| states.iter().find(|s| s.1 == projects).expect("a reference");
+    for (name, projects, state) in &states {
+        let (reference_name, _, reference_state) = reference(*projects);
+        if state != reference_state {
+            return Err(format!(
+                "{name} differs from {reference_name}: largest position difference {:e} m",
+                max_difference(state, reference_state)
+            ));
+        }
+    }
+    let gap = max_difference(&reference(true).2, &reference(false).2);
+    println!("  states: reflecting variants identical; Tickwork identical to the projecting hand loop; projection vs reflection differ by at most {gap:.3e} m");
+    Ok(())
+}
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let sizes: Vec<usize> = match args.iter().position(|a| a == "--sizes") {
+        Some(i) => args
+            .get(i + 1)
+            .ok_or("--sizes takes a list such as 1000,100000")?
+            .split(',')
+            .map(|s| s.parse().map_err(|_| format!("--sizes: '{s}' is not a count")))
+            .collect::<Result<_, _>>()?,
+        None => vec![1_000, 100_000, 1_000_000],
+    };
+    let rounds = if quick { 5 } else { 15 };
+    bevy_tasks::ComputeTaskPool::get_or_init(|| bevy_tasks::TaskPoolBuilder::new().num_threads(2).build());
+    println!("Tickwork peer benchmark: median ns per particle-step over {rounds} interleaved rounds");
+    let mut rows = Vec::new();
+    for &n in &sizes {
+        let mut variants = variants(n);
+        for case in ["fresh", "resting"] {
+            if case == "resting" {
+                for v in variants.iter_mut() {
+                    for _ in 0..SETTLE_STEPS {
+                        v.step();
+                    }
+                }
+            }
+            println!("N = {n}, {case}:");
+            let times = measure(&mut variants, n, rounds);
+            for (v, t) in variants.iter().zip(&times) {
+                println!("  {:<34} {t:>7.2}", v.name());
+            }
+            check(&mut variants)?;
+            rows.push((n, case, variants.iter().map(|v| v.name()).collect::<Vec<_>>(), times));
+        }
+    }
+    print_table(&rows);
+    Ok(())
+}
+
+type Row<'a> = (usize, &'a str, Vec<String>, Vec<f64>);
+
+/// The README's table: each peer's time, and Tickwork's (slowest layout) as a
+/// ratio to the peers its goals name.
+fn print_table(rows: &[Row<'_>]) {
+    println!();
+    println!("| N | memcpy 48 B | hand | hecs | bevy_ecs Query | bevy_ecs par_iter | Tickwork 1 thread | Tickwork 2 threads | 1 thread / bevy Query | 1 thread / hand | 2 threads / bevy Query | 2 threads / bevy par_iter |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for (n, case, names, times) in rows {
+        let get = |prefix: &str| {
+            names
+                .iter()
+                .zip(times)
+                .filter(|(name, _)| name.starts_with(prefix))
+                .map(|(_, t)| *t)
+                .fold(0.0, f64::max)
+        };
+        let exact = |wanted: &str| names.iter().zip(times).find(|(name, _)| *name == wanted).map_or(0.0, |(_, t)| *t);
+        let (memcpy, hand, hecs) = (get("memcpy"), exact("hand"), get("hecs"));
+        let (query, par) = (get("bevy_ecs Query"), get("bevy_ecs par_iter"));
+        let (one, two) = (get("tickwork (1 thread"), get("tickwork (2 threads"));
+        println!(
+            "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            one / query,
+            one / hand,
+            two / query,
+            two / par
+        );
+    }
+}
