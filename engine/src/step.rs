@@ -108,11 +108,12 @@ impl fmt::Display for SimulationError {
 
 impl std::error::Error for SimulationError {}
 
-/// The particle columns one lane steps.
+/// The particle columns one lane steps: `previous` holds the positions at
+/// the start of the step (read), `x` receives the new ones.
 struct LaneColumns<'a> {
     x: &'a mut [Vec3A],
     v: &'a mut [Vec3A],
-    previous: &'a mut [Vec3A],
+    previous: &'a [Vec3A],
     age: &'a mut [f32],
     lifetime: &'a [f32],
     radius: &'a [f32],
@@ -136,7 +137,7 @@ fn merge(a: Result<LaneOutcome, StepError>, b: Result<LaneOutcome, StepError>) -
     })
 }
 
-/// Copy, integrate, collide and age one lane, chunk by chunk.
+/// Integrate (from `previous` into `x`), collide and age one lane, chunk by chunk.
 #[allow(clippy::too_many_arguments)]
 fn step_lane(
     method: &mut dyn Integrator<Vec3A>,
@@ -154,11 +155,9 @@ fn step_lane(
     while start < n {
         let end = (start + CHUNK).min(n);
         let r = start..end;
-        warm(&c, r.clone());
         let (x, v) = (&mut c.x[r.clone()], &mut c.v[r.clone()]);
-        c.previous[r.clone()].copy_from_slice(x);
         let mut field = ForceField::new(forces, &c.inverse_mass[r.clone()], offset + start);
-        let stats = method.step(t, dt, x, v, &mut field)?;
+        let stats = method.step_from(t, dt, &c.previous[r.clone()], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
         for collider in colliders {
             collider.resolve_range(ContactColumns {
@@ -175,23 +174,6 @@ fn step_lane(
         start = end;
     }
     Ok(outcome)
-}
-
-/// Loads one value per cache line of every column of the chunk, in one loop,
-/// so the memory system streams all of them at once (as the bandwidth
-/// baseline does) instead of one per pass as each pass first touches it.
-#[inline(never)]
-fn warm(c: &LaneColumns<'_>, r: core::ops::Range<usize>) {
-    let mut sink = 0.0f32;
-    // A 64-byte line holds 4 `Vec3A`s or 16 `f32`s; all seven columns are
-    // touched in the same loop (measured faster than one loop per kind).
-    for i in r.clone().step_by(4) {
-        sink += c.x[i].x + c.v[i].x + c.previous[i].x;
-        if (i - r.start) & 15 == 0 {
-            sink += c.age[i] + c.lifetime[i] + c.radius[i] + c.inverse_mass[i];
-        }
-    }
-    core::hint::black_box(sink);
 }
 
 /// `age += dt` for every particle, then the rows (numbered from `first_row`)
@@ -287,6 +269,10 @@ impl World {
         self.expired_rows.clear();
         let p = &mut self.particles;
         let n = p.position.len();
+        // Double buffering: the positions at the start of the step become
+        // the previous positions (for interpolation) by a swap, and the step
+        // writes the new positions into the other buffer; nothing is copied.
+        core::mem::swap(&mut p.position, &mut p.previous_position);
         let outcome = if fused {
             let threads = rayon::current_num_threads();
             let lanes = if n >= self.config.parallel_threshold {
@@ -299,7 +285,7 @@ impl World {
             let columns = LaneColumns {
                 x: &mut p.position,
                 v: &mut p.velocity,
-                previous: &mut p.previous_position,
+                previous: &p.previous_position,
                 age: &mut p.age,
                 lifetime: &p.lifetime,
                 radius: &p.radius,
@@ -329,7 +315,7 @@ impl World {
                     .x
                     .par_chunks_mut(len)
                     .zip(columns.v.par_chunks_mut(len))
-                    .zip(columns.previous.par_chunks_mut(len))
+                    .zip(columns.previous.par_chunks(len))
                     .zip(columns.age.par_chunks_mut(len))
                     .zip(columns.lifetime.par_chunks(len))
                     .zip(columns.radius.par_chunks(len))
@@ -366,14 +352,33 @@ impl World {
                 }
                 outcome
             }
-            .map_err(integrator_error)?
         } else {
-            p.previous_position.copy_from_slice(&p.position);
             let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
-            let stats = self
-                .integrator
-                .step(t, dt, &mut p.position, &mut p.velocity, &mut field)
-                .map_err(integrator_error)?;
+            self.integrator
+                .step_from(
+                    t,
+                    dt,
+                    &p.previous_position,
+                    &mut p.position,
+                    &mut p.velocity,
+                    &mut field,
+                )
+                .map(|stats| LaneOutcome {
+                    evaluations: stats.evaluations,
+                    first_bad: None,
+                })
+        };
+        let outcome = match outcome {
+            Ok(outcome) => outcome,
+            Err(error) => {
+                // The method left the state as it was: put the buffers back.
+                core::mem::swap(&mut p.position, &mut p.previous_position);
+                return Err(integrator_error(error));
+            }
+        };
+        let outcome = if fused {
+            outcome
+        } else {
             for collider in &mut self.colliders {
                 collider.resolve_world(ContactColumns {
                     position: &mut p.position,
@@ -384,8 +389,8 @@ impl World {
             }
             age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
             LaneOutcome {
-                evaluations: stats.evaluations,
                 first_bad: first_non_finite(&p.position, &p.velocity, 0),
+                ..outcome
             }
         };
         report.evaluations = outcome.evaluations;

@@ -38,6 +38,33 @@ impl<V: Vector> System<V> for Range<'_, V> {
     fn is_pointwise(&self) -> bool {
         true
     }
+
+    fn affine_range(&self, first: usize, count: usize) -> Option<(V, V::Real)> {
+        self.system.affine_range(self.first + first, count)
+    }
+}
+
+/// [`for_each_chunk`] for [`Integrator::step_from`](crate::Integrator::step_from):
+/// the start positions are read from `start`, the end positions written into `x`.
+pub(crate) fn for_each_chunk_from<V: Vector>(
+    start: &[V],
+    x: &mut [V],
+    v: &mut [V],
+    system: &mut dyn System<V>,
+    mut step: impl FnMut(&[V], &mut [V], &mut [V], &mut dyn System<V>),
+) {
+    if !system.is_pointwise() || x.len() <= CHUNK {
+        step(start, x, v, system);
+        return;
+    }
+    let chunks = start.chunks(CHUNK).zip(x.chunks_mut(CHUNK)).zip(v.chunks_mut(CHUNK));
+    for (k, ((start, x), v)) in chunks.enumerate() {
+        let mut range = Range {
+            system: &mut *system,
+            first: k * CHUNK,
+        };
+        step(start, x, v, &mut range);
+    }
 }
 
 /// Runs `step` on the whole slices, or on chunks of them when the system is

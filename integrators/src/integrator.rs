@@ -190,6 +190,33 @@ pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError>;
 
+    /// [`step`](Self::step) with the start positions in a buffer of their own:
+    /// reads `start`, writes the end positions into `positions` (whatever it
+    /// held), updates `velocities` in place. Bit-identical to copying `start`
+    /// into `positions` and calling `step`, which is the default.
+    ///
+    /// This is what lets the engine keep the previous positions (for
+    /// interpolation) by swapping two buffers instead of copying one: the
+    /// explicit methods override it to read the old buffer and write the new
+    /// one in the same pass, so no copy is ever streamed.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step), and [`StepError::LengthMismatch`] when `start`
+    /// and `positions` differ in length.
+    fn step_from(
+        &mut self,
+        t: V::Real,
+        dt: V::Real,
+        start: &[V],
+        positions: &mut [V],
+        velocities: &mut [V],
+        system: &mut dyn System<V>,
+    ) -> Result<StepStats, StepError> {
+        check_start(self.info().name, start, positions)?;
+        positions.copy_from_slice(start);
+        self.step(t, dt, positions, velocities, system)
+    }
+
     /// Particle `index` was removed with `Vec::swap_remove` semantics: the last
     /// particle moved into its slot. History moves with it.
     fn swap_remove(&mut self, index: usize) {
@@ -222,6 +249,19 @@ pub(crate) fn check_step<V: Vector>(
         });
     }
     Ok(())
+}
+
+/// Checks that the start positions of [`Integrator::step_from`] fit the output.
+pub(crate) fn check_start<V: Vector>(method: &'static str, start: &[V], positions: &[V]) -> Result<(), StepError> {
+    if start.len() == positions.len() {
+        Ok(())
+    } else {
+        Err(StepError::LengthMismatch {
+            method,
+            positions: start.len(),
+            velocities: positions.len(),
+        })
+    }
 }
 
 /// Resizes a scratch buffer to `n` entries; allocates only when it grows.

@@ -41,6 +41,17 @@ pub trait System<V: Vector> {
         V::Real::ZERO
     }
 
+    /// `Some((c, b))` when the acceleration of each of the particles
+    /// `first .. first + count` is exactly `a = c - b v` with the same
+    /// constants (gravity, linear drag, wind): a method may then evaluate it
+    /// inside its own update loop instead of filling a buffer first, with the
+    /// same arithmetic (`c - v * b`), so the result is bit-identical to
+    /// [`acceleration`](Self::acceleration)'s. Default: `None`.
+    fn affine_range(&self, first: usize, count: usize) -> Option<(V, V::Real)> {
+        let _ = (first, count);
+        None
+    }
+
     /// True when each particle's acceleration depends only on its own
     /// position and velocity (and `t`): gravity, drag, wind, fixed attractors;
     /// not springs between particles or n-body gravity. Default: `false`.

@@ -101,7 +101,10 @@ fn implicit_drag_euler_stays_bounded_on_stiff_drag_where_explicit_methods_explod
         "implicit_drag_euler: {split:e} from the terminal velocity"
     );
     let explicit = run("explicit_euler", &mut system);
-    assert!(explicit.is_nan() || explicit >= 1.0, "explicit Euler should have exploded: {explicit:e}");
+    assert!(
+        explicit.is_nan() || explicit >= 1.0,
+        "explicit Euler should have exploded: {explicit:e}"
+    );
     // Every intermediate step is bounded by the start speed too (no overshoot).
     let mut method = ImplicitDragEuler::new();
     let (mut x, mut v) = (vec![glam::Vec3A::ZERO], vec![glam::Vec3A::new(5.0, 20.0, -3.0)]);

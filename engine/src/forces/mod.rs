@@ -129,6 +129,8 @@ pub(crate) struct ForceField<'a> {
     /// Row of the first particle the integrator is stepping.
     pub offset: usize,
     pub pointwise: bool,
+    /// Every force is `c - b v` ([`Force::affine_in_velocity`]).
+    pub all_affine: bool,
     pub drag: f32,
     /// Sum of the affine forces' `c` and `b`: every particle starts from
     /// `c - b v`.
@@ -142,6 +144,7 @@ impl<'a> ForceField<'a> {
             inverse_mass,
             offset,
             pointwise: forces.iter().all(|f| f.is_pointwise()),
+            all_affine: forces.iter().all(|f| f.affine_in_velocity().is_some()),
             drag: forces.iter().map(|f| f.linear_drag()).sum(),
             affine: forces
                 .iter()
@@ -159,12 +162,8 @@ impl System<Vec3A> for ForceField<'_> {
     fn acceleration_range(&mut self, t: f32, first: usize, x: &[Vec3A], v: &[Vec3A], out: &mut [Vec3A]) {
         let inverse_mass = &self.inverse_mass[first..first + out.len()];
         let (c, b) = self.affine;
-        if b == 0.0 {
-            out.fill(c);
-        } else {
-            for (a, v) in out.iter_mut().zip(v) {
-                *a = c - *v * b;
-            }
+        for (a, v) in out.iter_mut().zip(v) {
+            *a = c - *v * b;
         }
         for force in self.forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
             force.accumulate(t, self.offset + first, x, v, inverse_mass, out);
@@ -172,7 +171,7 @@ impl System<Vec3A> for ForceField<'_> {
         // Immovable particles do not accelerate: a select, not a branch, and
         // only in the (rare) slices that hold one; the test is a cheap
         // vectorised pass over the inverse masses.
-        if !inverse_mass.iter().fold(true, |all, &w| all & (w > 0.0)) {
+        if !all_movable(inverse_mass) {
             for (a, &w) in out.iter_mut().zip(inverse_mass) {
                 *a = if w > 0.0 { *a } else { Vec3A::ZERO };
             }
@@ -183,9 +182,21 @@ impl System<Vec3A> for ForceField<'_> {
         self.drag
     }
 
+    fn affine_range(&self, first: usize, count: usize) -> Option<(Vec3A, f32)> {
+        // The affine sum is the whole acceleration only where every particle
+        // moves (immovable ones get 0).
+        (self.all_affine && all_movable(&self.inverse_mass[first..first + count])).then_some(self.affine)
+    }
+
     fn is_pointwise(&self) -> bool {
         self.pointwise
     }
+}
+
+/// Whether no inverse mass is 0 (one branch-free, vectorised pass).
+#[inline]
+fn all_movable(inverse_mass: &[f32]) -> bool {
+    inverse_mass.iter().fold(true, |all, &w| all & (w > 0.0))
 }
 
 /// `1 / w`, or 0 for an immovable particle (which is no source of gravity:

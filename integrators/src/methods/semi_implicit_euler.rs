@@ -13,8 +13,8 @@
 //!   time-reversible. The popular choice of game physics engines, and
 //!   Tickwork's default.
 
-use crate::chunks::for_each_chunk;
-use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
+use crate::chunks::{for_each_chunk, for_each_chunk_from};
+use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_start, check_step, fit};
 use crate::system::System;
 use crate::vector::Vector;
 
@@ -75,6 +75,32 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
         });
         Ok(StepStats::single(1))
     }
+
+    fn step_from(
+        &mut self,
+        t: V::Real,
+        dt: V::Real,
+        start: &[V],
+        x: &mut [V],
+        v: &mut [V],
+        system: &mut dyn System<V>,
+    ) -> Result<StepStats, StepError> {
+        check_step(INFO.name, dt, start, v)?;
+        check_start(INFO.name, start, x)?;
+        if let Some((c, b)) = system.affine_range(0, x.len()) {
+            // One pass, no acceleration buffer: `a = c - b v` evaluated in
+            // the update, as the system would have (bit-identical).
+            kick_drift_affine(start, x, v, c, b, dt);
+            return Ok(StepStats::single(1));
+        }
+        let accel = &mut self.accel;
+        for_each_chunk_from(start, x, v, system, |start, x, v, system| {
+            fit(accel, x.len());
+            system.acceleration(t, start, v, accel);
+            kick_drift_from(start, x, v, accel, dt);
+        });
+        Ok(StepStats::single(1))
+    }
 }
 
 /// `v += a h; x += v h`. A function of its own so that the slices and `h`
@@ -85,5 +111,25 @@ fn kick_drift<V: Vector>(x: &mut [V], v: &mut [V], a: &[V], h: V::Real) {
     for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(a) {
         *v += *a * h;
         *x += *v * h;
+    }
+}
+
+/// `v += a h; x = x0 + v h`, from the start positions `x0` into `x`.
+#[inline]
+fn kick_drift_from<V: Vector>(x0: &[V], x: &mut [V], v: &mut [V], a: &[V], h: V::Real) {
+    for (((x, v), a), x0) in x.iter_mut().zip(v.iter_mut()).zip(a).zip(x0) {
+        *v += *a * h;
+        *x = *x0 + *v * h;
+    }
+}
+
+/// `v += (c - v b) h; x = x0 + v h`: the whole step of an affine system in
+/// one pass over the particles.
+#[inline]
+fn kick_drift_affine<V: Vector>(x0: &[V], x: &mut [V], v: &mut [V], c: V, b: V::Real, h: V::Real) {
+    for ((x, v), x0) in x.iter_mut().zip(v.iter_mut()).zip(x0) {
+        let a = c - *v * b;
+        *v += a * h;
+        *x = *x0 + *v * h;
     }
 }
