@@ -1,7 +1,8 @@
 //! A full fixed step of the engine (forces, integration, a ground plane,
 //! ageing, bookkeeping) at 1k, 100k and 1M particles, on one thread and on
 //! rayon's threads, beside a memory-bandwidth baseline over the same bytes
-//! measured in the same run; and 10k particles with the collision grid.
+//! measured in the same run; and 10k particles with the collision grid, of
+//! one size and with one big ball among them.
 //!
 //! Run: `cargo bench -p tickwork-engine --bench step`, then
 //! `scripts/bench-report engine` for the README table.
@@ -200,6 +201,24 @@ fn engine_step(c: &mut Criterion) {
     let (_, pool) = &pools[0];
     group.bench_function("semi_implicit_euler_grid_1t", |b| {
         b.iter_custom(|iters| timed_steps(pool, &mut world, &make, iters));
+    });
+    // The same pile with one ball 50 times a grain's radius: one cell size
+    // set by the ball made this quadratic; the hierarchical grid keeps it
+    // near the uniform pile's cost.
+    let make_mixed = || {
+        let mut w = rain(10_000, "semi_implicit_euler", true);
+        w.spawn(Particle {
+            position: Vec3::new(0.5, 3.0, 0.5),
+            radius: 1.0,
+            mass: 100.0,
+            ..Particle::default()
+        })
+        .expect("valid");
+        w
+    };
+    let mut world = make_mixed();
+    group.bench_function("semi_implicit_euler_grid_mixed_sizes_1t", |b| {
+        b.iter_custom(|iters| timed_steps(pool, &mut world, &make_mixed, iters));
     });
     group.finish();
 }
