@@ -90,6 +90,9 @@ pub enum RunError {
     Exists(PathBuf),
     /// The game failed (its set-up, a step, its own error).
     Game(GameError),
+    /// A request past one of the engine's limits: the message names the
+    /// limit and what to do instead.
+    Limit(String),
     /// A file could not be written.
     Io {
         /// The file.
@@ -106,6 +109,7 @@ impl fmt::Display for RunError {
             Self::Render(e) => e.fmt(f),
             Self::Game(e) => e.fmt(f),
             Self::Window(message) => write!(f, "cannot open a window: {message}"),
+            Self::Limit(message) => f.write_str(message),
             Self::Exists(path) => write!(f, "{}: exists; pass --force to overwrite it", path.display()),
             Self::Io { path, message } => write!(f, "{}: {message}", path.display()),
         }

@@ -206,6 +206,9 @@ fn fresh_output_dir(title: &str) -> PathBuf {
         .unwrap_or_else(|| base.join(&slug))
 }
 
+/// The most frames an off-screen run computes for a replay by itself.
+pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
+
 /// Runs `game` with `options`: in a window when a display is available
 /// (and `--headless` is not given), else off-screen into PNG frames and a
 /// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
@@ -289,12 +292,33 @@ fn show<G: Game>(
     } else {
         let (width, height) = options.size.unwrap_or((640, 360));
         let display_hz = options.display_hz.unwrap_or(60.0);
-        let frames = options.frames.unwrap_or_else(|| match replay_ticks {
+        let frames = match (options.frames, replay_ticks) {
+            (Some(frames), _) if frames > MAX_OFFSCREEN_FRAMES => {
+                return Err(RunError::Limit(format!(
+                    "--frames {frames} is past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames \
+                     (MAX_OFFSCREEN_FRAMES); draw a shorter run"
+                )));
+            }
+            (Some(frames), _) => frames,
             // Enough frames for every recorded tick: steps per frame are
             // hz * time scale / display rate.
-            Some((ticks, hz)) => (ticks as f64 * display_hz / (hz * options.time_scale)).ceil() as u64 + 1,
-            None => 300,
-        });
+            (None, Some((ticks, hz))) => {
+                let needed = (ticks as f64 * display_hz / (hz * options.time_scale)).ceil() + 1.0;
+                if needed.is_nan() || needed > MAX_OFFSCREEN_FRAMES as f64 {
+                    return Err(RunError::Io {
+                        path: options.replay.clone().unwrap_or_default(),
+                        message: format!(
+                            "replaying {ticks} ticks at {hz} Hz needs {} frames at {display_hz} frames per second, \
+                             past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames; replay with a higher \
+                             --time-scale or a lower --display-hz, or pass --frames",
+                            crate::clock::Number(needed)
+                        ),
+                    });
+                }
+                needed as u64
+            }
+            (None, None) => 300,
+        };
         let out = options.out.clone().unwrap_or_else(|| fresh_output_dir(&title));
         let gif = options
             .gif

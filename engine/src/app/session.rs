@@ -46,13 +46,64 @@ impl Recording {
     /// malformed one.
     pub fn load(path: &Path) -> Result<Self, RunError> {
         let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, &e))?;
-        ron::from_str(&text).map_err(|e| RunError::Io {
+        let recording: Self = ron::from_str(&text).map_err(|e| RunError::Io {
             path: path.to_path_buf(),
             message: format!(
                 "line {}, column {}: {} (not a Tickwork input recording?)",
                 e.span.start.line, e.span.start.col, e.code
             ),
-        })
+        })?;
+        recording.check().map_err(|(field, message)| {
+            let (line, column) = field_position(&text, field);
+            RunError::Io {
+                path: path.to_path_buf(),
+                message: format!("line {line}, column {column}: {field}: {message}"),
+            }
+        })?;
+        Ok(recording)
+    }
+
+    /// The most ticks a recording may cover: a billion (over six months at
+    /// 60 Hz). Past it a replay could not be drawn in any reasonable number
+    /// of frames; record shorter runs.
+    pub const MAX_TICKS: u64 = 1_000_000_000;
+
+    /// Range-checks every field: the field's name and what is wrong.
+    fn check(&self) -> Result<(), (&'static str, String)> {
+        Rate::hz_f64(self.hz).map_err(|e| match e {
+            crate::clock::ClockError::InvalidRate { expected, .. } => (
+                "hz",
+                format!(
+                    "{} steps per second (accepted: {expected})",
+                    crate::clock::Number(self.hz)
+                ),
+            ),
+            other => ("hz", other.to_string()),
+        })?;
+        if self.ticks > Self::MAX_TICKS {
+            return Err((
+                "ticks",
+                format!(
+                    "{} is past the limit of {} recorded ticks (Recording::MAX_TICKS); record a shorter run",
+                    self.ticks,
+                    Self::MAX_TICKS
+                ),
+            ));
+        }
+        let mut previous = None;
+        for (k, (tick, _)) in self.inputs.iter().enumerate() {
+            if *tick >= self.ticks || previous.is_some_and(|p| *tick <= p) {
+                return Err((
+                    "inputs",
+                    format!(
+                        "entry {k} is at tick {tick}: ticks must rise and stay below the recording's {} ticks",
+                        self.ticks
+                    ),
+                ));
+            }
+            previous = Some(*tick);
+        }
+        Ok(())
     }
 
     /// Writes the recording as RON.
@@ -71,6 +122,25 @@ impl Recording {
         .map_err(|e| RunError::io(path, &e))?;
         std::fs::write(path, text).map_err(|e| RunError::io(path, &e))
     }
+}
+
+/// Line and column (from 1) of the first `field:` in a RON text, or of the
+/// start when it is not found.
+fn field_position(text: &str, field: &str) -> (usize, usize) {
+    let key = format!("{field}:");
+    let offset = text
+        .match_indices(&key)
+        .find(|(i, _)| {
+            text[..*i]
+                .chars()
+                .next_back()
+                .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+        })
+        .map_or(0, |(i, _)| i);
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let column = before.len() - before.rfind('\n').map_or(0, |n| n + 1) + 1;
+    (line, column)
 }
 
 /// Where the session's per-tick input comes from.

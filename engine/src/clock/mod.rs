@@ -46,12 +46,16 @@ pub enum HitchPolicy {
     #[default]
     Drop,
     /// Throw it away and slow the game down: the clock lowers an internal
-    /// speed factor to what the cap could simulate, so following frames run
-    /// smoothly in slow motion instead of in bursts of `max_steps_per_frame`,
-    /// then recovers by 5% per frame once frames fit again.
+    /// speed factor to what the cap could simulate (never below
+    /// [`FixedClock::MIN_DILATION`], so it always recovers), so following
+    /// frames run smoothly in slow motion instead of in bursts of
+    /// `max_steps_per_frame`, then recovers by 5% per frame once frames fit
+    /// again.
     SlowDown,
     /// Keep it as a debt and run it over the next frames, at most
     /// `max_steps_per_frame` steps per frame, until the game has caught up.
+    /// The debt is bounded: beyond [`FixedClock::MAX_DEBT_FRAMES`] frames'
+    /// worth of capped steps it is dropped (and reported as dropped).
     CatchUp,
 }
 
@@ -61,7 +65,8 @@ pub struct ClockConfig {
     /// The fixed step (default: 60 Hz).
     pub rate: Rate,
     /// Longest frame duration counted, in seconds; longer frames count as this
-    /// (default: `0.25`, as bevy_time's maximum delta).
+    /// (default: `0.25`, as bevy_time's maximum delta; at most
+    /// [`FixedClock::MAX_FRAME_TIME`]).
     pub max_frame_time: f64,
     /// Most steps one frame may run (default: `8`, as Godot's
     /// `max_physics_steps_per_frame`).
@@ -69,7 +74,9 @@ pub struct ClockConfig {
     /// What happens to time beyond the step cap (default: [`HitchPolicy::Drop`]).
     pub hitch_policy: HitchPolicy,
     /// Game seconds per real second: 0.25 is slow motion, 2 fast forward
-    /// (default: `1.0`). Changes how many steps run, never the step size.
+    /// (default: `1.0`; from [`FixedClock::MIN_TIME_SCALE`] to
+    /// [`FixedClock::MAX_TIME_SCALE`]). Changes how many steps run, never the
+    /// step size.
     pub time_scale: f64,
 }
 
@@ -99,6 +106,8 @@ pub enum ClockError {
         what: &'static str,
         /// The value given.
         value: f64,
+        /// The accepted range.
+        expected: &'static str,
     },
     /// A setting out of range.
     InvalidSetting {
@@ -115,11 +124,21 @@ impl fmt::Display for ClockError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::InvalidFrameTime { value } => {
-                write!(f, "invalid frame duration: {value} s (must be finite and not negative)")
+                write!(
+                    f,
+                    "invalid frame duration: {} s (must be finite and not negative)",
+                    Number(*value)
+                )
             }
-            Self::InvalidRate { what, value } => write!(f, "invalid {what}: {value} (must be finite and positive)"),
+            Self::InvalidRate { what, value, expected } => {
+                write!(f, "invalid {what}: {} (accepted: {expected})", Number(*value))
+            }
             Self::InvalidSetting { field, value, expected } => {
-                write!(f, "invalid clock setting {field}: {value} (expected {expected})")
+                write!(
+                    f,
+                    "invalid clock setting {field}: {} (expected {expected})",
+                    Number(*value)
+                )
             }
         }
     }
@@ -127,25 +146,65 @@ impl fmt::Display for ClockError {
 
 impl std::error::Error for ClockError {}
 
+/// A number as a person reads it in a message: plain when it is of an
+/// ordinary size, in scientific notation when huge or tiny (`1e308`, not 309
+/// digits).
+#[derive(Clone, Copy, Debug)]
+pub struct Number(pub f64);
+
+impl fmt::Display for Number {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        if v.is_finite() && v != 0.0 && !(1e-4..1e7).contains(&v.abs()) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
+    }
+}
+
 /// Maps ticks to exact simulated times: `epoch + (tick - epoch_tick) * step`.
 ///
-/// The epoch moves when the rate changes, so time stays continuous.
+/// The epoch moves when the rate changes, so time stays continuous. It is
+/// kept in the units of the rate in force, `1 / (1e9 denom)` seconds (the
+/// accumulator's), re-based at each change: exact within a rate, and
+/// rounded to under a nanosecond at a change. Keeping the epoch as an exact
+/// fraction instead made its denominator the least common multiple of every
+/// rate ever used, which overflowed `u128` after a dozen changes between
+/// prime rates (the control panel's rate box makes one per edit) and then
+/// made simulated time jump.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Timeline {
-    epoch_numer: u128,
-    epoch_denom: u128,
+    epoch_units: u128,
     epoch_tick: u64,
     rate: Rate,
 }
 
+/// `a * m / d`, rounded to nearest, without overflowing for `a` up to any
+/// `u128` and `m, d` below 2^64 (the product saturates only past `u128`).
+fn mul_div_round(a: u128, m: u128, d: u128) -> u128 {
+    let (whole, rest) = (a / d, a % d);
+    whole.saturating_mul(m).saturating_add((rest * m + d / 2) / d)
+}
+
 impl Timeline {
+    /// Units of `1 / (1e9 denom)` seconds in one step: `numer * 1e9`.
+    fn step_units(&self) -> u128 {
+        u128::from(self.rate.fraction().0) * NANOS
+    }
+
+    /// Units per second: `1e9 denom`.
+    fn units_per_second(&self) -> u128 {
+        u128::from(self.rate.fraction().1) * NANOS
+    }
+
     /// The exact simulated time at the start of `tick`, as `(numer, denom)` seconds.
     #[must_use]
     pub fn exact_time_of(&self, tick: u64) -> (u128, u128) {
-        let (p, q) = self.rate.fraction();
         let k = u128::from(tick.saturating_sub(self.epoch_tick));
-        let numer = self.epoch_numer * u128::from(q) + k * u128::from(p) * self.epoch_denom;
-        let denom = self.epoch_denom * u128::from(q);
+        // Saturates only past 10^29 s of simulated time.
+        let numer = self.epoch_units.saturating_add(k.saturating_mul(self.step_units()));
+        let denom = self.units_per_second();
         let g = gcd(numer, denom);
         (numer / g, denom / g)
     }
@@ -156,6 +215,18 @@ impl Timeline {
         let (n, d) = self.exact_time_of(tick);
         // Split to keep full precision for large numerators.
         (n / d) as f64 + (n % d) as f64 / d as f64
+    }
+
+    /// The same time line from `tick` on at `rate`: the epoch is the time
+    /// reached at `tick`, re-based into the new rate's units.
+    fn rebased(&self, tick: u64, rate: Rate) -> Self {
+        let (numer, denom) = self.exact_time_of(tick);
+        let units_per_second = u128::from(rate.fraction().1) * NANOS;
+        Self {
+            epoch_units: mul_div_round(numer, units_per_second, denom),
+            epoch_tick: tick,
+            rate,
+        }
     }
 
     /// The step in force.
@@ -233,14 +304,37 @@ impl Default for FixedClock {
 }
 
 impl FixedClock {
+    /// The largest time scale: a million game seconds per real second. The
+    /// limit keeps the accumulator's integer arithmetic exact (1e30 once
+    /// overflowed it); raise the rate rather than the scale past it.
+    pub const MAX_TIME_SCALE: f64 = 1e6;
+    /// The smallest time scale (pause instead of scaling towards zero).
+    pub const MIN_TIME_SCALE: f64 = 1e-6;
+    /// The longest `max_frame_time`, in seconds: an hour.
+    pub const MAX_FRAME_TIME: f64 = 3600.0;
+    /// The lowest speed factor [`HitchPolicy::SlowDown`] goes to, so that it
+    /// always recovers (an extreme time scale once drove it to 0 for good).
+    pub const MIN_DILATION: f64 = 1e-3;
+    /// [`HitchPolicy::CatchUp`] keeps at most this many frames' worth of
+    /// capped steps (`max_steps_per_frame` each) as debt; the rest is dropped.
+    pub const MAX_DEBT_FRAMES: u128 = 60;
+
     /// A clock with `config`, at tick 0 and time 0.
     ///
     /// # Errors
-    /// [`ClockError::InvalidSetting`] for a `max_frame_time` or `time_scale`
-    /// that is not finite and positive, or a zero `max_steps_per_frame`.
+    /// [`ClockError::InvalidSetting`] for a `max_frame_time` that is not
+    /// finite, above zero and at most [`MAX_FRAME_TIME`](Self::MAX_FRAME_TIME),
+    /// a `time_scale` outside [`MIN_TIME_SCALE`](Self::MIN_TIME_SCALE) to
+    /// [`MAX_TIME_SCALE`](Self::MAX_TIME_SCALE), or a zero `max_steps_per_frame`.
     pub fn new(config: ClockConfig) -> Result<Self, ClockError> {
-        check_positive("max_frame_time", config.max_frame_time)?;
-        check_positive("time_scale", config.time_scale)?;
+        check_range(
+            "max_frame_time",
+            config.max_frame_time,
+            f64::MIN_POSITIVE,
+            Self::MAX_FRAME_TIME,
+            "seconds above zero, at most 3600",
+        )?;
+        check_time_scale(config.time_scale)?;
         if config.max_steps_per_frame == 0 {
             return Err(ClockError::InvalidSetting {
                 field: "max_steps_per_frame",
@@ -255,8 +349,7 @@ impl FixedClock {
         Self {
             config,
             timeline: Timeline {
-                epoch_numer: 0,
-                epoch_denom: 1,
+                epoch_units: 0,
                 epoch_tick: 0,
                 rate: config.rate,
             },
@@ -281,9 +374,11 @@ impl FixedClock {
         }
         let first_tick = self.tick;
         let step_units = self.step_units();
+        let cap = self.config.max_steps_per_frame;
         if self.paused {
-            let steps = self.single_steps;
-            self.single_steps = 0;
+            // Queued single steps run at most `cap` a frame, like any steps.
+            let steps = self.single_steps.min(cap);
+            self.single_steps -= steps;
             self.tick += u64::from(steps);
             return Ok(self.frame(steps, 0.0, real_seconds, first_tick));
         }
@@ -293,29 +388,31 @@ impl FixedClock {
         // Straight into accumulator units (1 / (1e9 denom) s), rounded: a
         // display frame of exactly 1/30 s is then exactly two 60 Hz steps,
         // where whole nanoseconds (33 333 333) would fall a third of a
-        // nanosecond short and run 1, 2, 2, 1, ... steps.
+        // nanosecond short and run 1, 2, 2, 1, ... steps. Bounded: at most
+        // an hour times a million times 1e9 times a denominator below 2^32,
+        // about 2^95 units.
         let (_, denom) = self.timeline.rate.fraction();
         let units = (counted * speed * 1e9 * denom as f64).round() as u128;
-        self.accumulator += units;
-        self.accepted_nanos += units.div_ceil(u128::from(denom));
+        self.accumulator = self.accumulator.saturating_add(units);
+        self.accepted_nanos = self.accepted_nanos.saturating_add(units.div_ceil(u128::from(denom)));
 
         let needed = self.accumulator / step_units;
-        let cap = u128::from(self.config.max_steps_per_frame);
+        let cap = u128::from(cap);
         let steps = needed.min(cap);
         self.accumulator -= steps * step_units;
         if needed > cap {
-            let excess = (needed - cap) * step_units;
-            match self.config.hitch_policy {
-                HitchPolicy::CatchUp => {}
-                policy => {
-                    self.accumulator -= excess;
-                    let excess_nanos = excess / u128::from(denom);
-                    self.accepted_nanos -= excess_nanos;
-                    dropped += excess_nanos as f64 / 1e9 / speed;
-                    if policy == HitchPolicy::SlowDown {
-                        self.dilation *= cap as f64 / needed as f64;
-                    }
-                }
+            let excess_steps = match self.config.hitch_policy {
+                // Keep the debt, up to its bound.
+                HitchPolicy::CatchUp => (needed - cap).saturating_sub(cap.saturating_mul(Self::MAX_DEBT_FRAMES)),
+                HitchPolicy::Drop | HitchPolicy::SlowDown => needed - cap,
+            };
+            let excess = excess_steps * step_units;
+            self.accumulator -= excess;
+            let excess_nanos = excess / u128::from(denom);
+            self.accepted_nanos = self.accepted_nanos.saturating_sub(excess_nanos);
+            dropped += excess_nanos as f64 / 1e9 / speed;
+            if self.config.hitch_policy == HitchPolicy::SlowDown {
+                self.dilation = (self.dilation * cap as f64 / needed as f64).max(Self::MIN_DILATION);
             }
         } else if self.config.hitch_policy == HitchPolicy::SlowDown {
             self.dilation = (self.dilation * 1.05).min(1.0);
@@ -356,7 +453,7 @@ impl FixedClock {
     }
 
     fn step_units(&self) -> u128 {
-        u128::from(self.timeline.rate.fraction().0) * NANOS
+        self.timeline.step_units()
     }
 
     /// The interpolation factor now, in `[0, 1)`.
@@ -383,11 +480,13 @@ impl FixedClock {
         self.paused
     }
 
-    /// While paused, makes the next frame run exactly one more step. Ignored
-    /// (returns false) while running, where steps come from real time.
+    /// While paused, makes the next frame run exactly one more step (queued
+    /// steps run at most `max_steps_per_frame` a frame, the rest on the
+    /// following frames). Ignored (returns false) while running, where steps
+    /// come from real time.
     pub fn single_step(&mut self) -> bool {
         if self.paused {
-            self.single_steps += 1;
+            self.single_steps = self.single_steps.saturating_add(1);
         }
         self.paused
     }
@@ -396,26 +495,28 @@ impl FixedClock {
     /// change add the new step to the time reached so far. Accumulated time
     /// carries over (rounded down to the new units, under a nanosecond).
     pub fn set_rate(&mut self, rate: Rate) {
-        let (numer, denom) = self.timeline.exact_time_of(self.tick);
         let (_, old_denom) = self.timeline.rate.fraction();
         let (_, new_denom) = rate.fraction();
-        self.accumulator = self.accumulator * u128::from(new_denom) / u128::from(old_denom);
-        self.timeline = Timeline {
-            epoch_numer: numer,
-            epoch_denom: denom,
-            epoch_tick: self.tick,
-            rate,
-        };
+        // Round down, as documented: the carried time never runs ahead.
+        let (whole, rest) = (
+            self.accumulator / u128::from(old_denom),
+            self.accumulator % u128::from(old_denom),
+        );
+        self.accumulator = whole
+            .saturating_mul(u128::from(new_denom))
+            .saturating_add(rest * u128::from(new_denom) / u128::from(old_denom));
+        self.timeline = self.timeline.rebased(self.tick, rate);
         self.config.rate = rate;
     }
 
     /// Sets the time scale (game seconds per real second).
     ///
     /// # Errors
-    /// [`ClockError::InvalidSetting`] for a scale that is not finite and positive
-    /// (pause instead of scaling to zero).
+    /// [`ClockError::InvalidSetting`] for a scale outside
+    /// [`MIN_TIME_SCALE`](Self::MIN_TIME_SCALE) to
+    /// [`MAX_TIME_SCALE`](Self::MAX_TIME_SCALE) (pause instead of scaling to zero).
     pub fn set_time_scale(&mut self, scale: f64) -> Result<(), ClockError> {
-        check_positive("time_scale", scale)?;
+        check_time_scale(scale)?;
         self.config.time_scale = scale;
         Ok(())
     }
@@ -484,16 +585,22 @@ impl FixedClock {
     }
 }
 
-fn check_positive(field: &'static str, value: f64) -> Result<(), ClockError> {
-    if value.is_finite() && value > 0.0 {
+fn check_range(field: &'static str, value: f64, min: f64, max: f64, expected: &'static str) -> Result<(), ClockError> {
+    if value.is_finite() && (min..=max).contains(&value) {
         Ok(())
     } else {
-        Err(ClockError::InvalidSetting {
-            field,
-            value,
-            expected: "a finite number above zero",
-        })
+        Err(ClockError::InvalidSetting { field, value, expected })
     }
+}
+
+fn check_time_scale(scale: f64) -> Result<(), ClockError> {
+    check_range(
+        "time_scale",
+        scale,
+        FixedClock::MIN_TIME_SCALE,
+        FixedClock::MAX_TIME_SCALE,
+        "from 1e-6 to 1e6 game seconds per real second",
+    )
 }
 
 #[cfg(test)]

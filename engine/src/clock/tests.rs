@@ -127,7 +127,7 @@ fn bad_settings_are_errors() {
     let mut c = FixedClock::default();
     assert_eq!(
         c.set_time_scale(-2.0).unwrap_err().to_string(),
-        "invalid clock setting time_scale: -2 (expected a finite number above zero)"
+        "invalid clock setting time_scale: -2 (expected from 1e-6 to 1e6 game seconds per real second)"
     );
 }
 
@@ -301,4 +301,174 @@ proptest! {
             }
         }
     }
+}
+
+/// One operation on a clock, as a game, the control panel or a hostile user
+/// makes them.
+#[derive(Clone, Debug)]
+enum Operation {
+    Frame(f64),
+    Rate(u32),
+    PrimeRate(usize),
+    Scale(f64),
+    Pause,
+    Resume,
+    SingleSteps(u32),
+    Policy(HitchPolicy),
+}
+
+const PRIMES: [u32; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+
+fn operation() -> impl Strategy<Value = Operation> {
+    prop_oneof![
+        6 => prop_oneof![0.0f64..0.05, 0.0f64..2.0, Just(1e9), Just(f64::MAX)].prop_map(Operation::Frame),
+        2 => (1u32..2000).prop_map(Operation::Rate),
+        2 => (0usize..PRIMES.len()).prop_map(Operation::PrimeRate),
+        1 => prop_oneof![1e-6f64..1e6, Just(1e6), Just(1e-6)].prop_map(Operation::Scale),
+        1 => Just(Operation::Pause),
+        1 => Just(Operation::Resume),
+        1 => prop_oneof![0u32..3, Just(1_000_000)].prop_map(Operation::SingleSteps),
+        1 => prop_oneof![Just(HitchPolicy::Drop), Just(HitchPolicy::SlowDown), Just(HitchPolicy::CatchUp)]
+            .prop_map(Operation::Policy),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Long random sequences of rate, scale, pause, single-step, policy and
+    /// frame-time changes, with overflow checks on (this crate's tests build
+    /// in the dev profile): nothing panics, the step cap holds on every
+    /// frame (single steps included), time never goes back and stays
+    /// continuous across rate changes (within the re-basing's nanosecond),
+    /// and alpha stays in range. Before, a dozen prime-rate changes
+    /// overflowed the exact time and a time scale of 1e30 the accumulator.
+    #[test]
+    fn exact_time_survives_any_sequence_of_operations(
+        operations in prop::collection::vec(operation(), 1..600),
+        cap in 1u32..16,
+    ) {
+        let mut c = clock(ClockConfig { max_steps_per_frame: cap, ..ClockConfig::default() });
+        let mut last_time = 0.0f64;
+        for op in operations {
+            match op {
+                Operation::Frame(d) => {
+                    let f = c.advance(d).expect("a finite frame");
+                    prop_assert!(f.steps <= cap, "{} steps, cap {}", f.steps, cap);
+                    prop_assert!((0.0..1.0).contains(&f.alpha));
+                    prop_assert!(f.dropped.is_finite() && f.dropped >= 0.0, "dropped {}", f.dropped);
+                    let times: Vec<f64> = f.fixed_steps().map(|s| s.time).collect();
+                    prop_assert!(times.windows(2).all(|w| w[0] < w[1]));
+                }
+                Operation::Rate(hz) => {
+                    let before = c.time();
+                    c.set_rate(Rate::hz(hz).expect("in range"));
+                    prop_assert!((c.time() - before).abs() <= 1e-9 * before.max(1.0), "{} -> {}", before, c.time());
+                }
+                Operation::PrimeRate(k) => c.set_rate(Rate::hz(PRIMES[k]).expect("in range")),
+                Operation::Scale(s) => c.set_time_scale(s).expect("in range"),
+                Operation::Pause => c.pause(),
+                Operation::Resume => c.resume(),
+                Operation::SingleSteps(n) => {
+                    for _ in 0..n.min(1_000) {
+                        c.single_step();
+                    }
+                }
+                Operation::Policy(p) => c.set_hitch_policy(p),
+            }
+            let time = c.time();
+            prop_assert!(time.is_finite() && time >= last_time - 1e-9 * last_time.max(1.0), "{} after {}", time, last_time);
+            last_time = time;
+        }
+    }
+}
+
+#[test]
+fn sixty_prime_rate_changes_keep_exact_time_continuous() {
+    // The least common multiple of these denominators is far past u128.
+    let mut c = FixedClock::default();
+    let mut expected = 0.0f64;
+    for (k, hz) in PRIMES.iter().cycle().take(60).enumerate() {
+        c.set_rate(Rate::hz(*hz * 37 + k as u32).expect("in range"));
+        c.step(7);
+        expected += 7.0 * c.dt();
+        assert!(
+            (c.time() - expected).abs() < 1e-9,
+            "change {k}: {} vs {expected}",
+            c.time()
+        );
+    }
+}
+
+#[test]
+fn a_huge_time_scale_is_an_error_naming_the_limit() {
+    let mut c = FixedClock::default();
+    let error = c.set_time_scale(1e30).unwrap_err().to_string();
+    assert_eq!(
+        error,
+        "invalid clock setting time_scale: 1e30 (expected from 1e-6 to 1e6 game seconds per real second)"
+    );
+    let error = FixedClock::new(ClockConfig {
+        max_frame_time: 1e300,
+        ..ClockConfig::default()
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("max_frame_time: 1e300 (expected seconds above zero, at most 3600)"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_million_queued_single_steps_run_at_most_the_cap_per_frame() {
+    let mut c = FixedClock::default();
+    c.pause();
+    for _ in 0..1_000_000 {
+        c.single_step();
+    }
+    let mut total = 0u64;
+    for _ in 0..10 {
+        let f = c.advance(1.0 / 60.0).expect("frame");
+        assert!(f.steps <= 8, "{} steps in one frame", f.steps);
+        total += u64::from(f.steps);
+    }
+    assert_eq!(total, 80);
+    c.resume();
+    assert_eq!(c.advance(0.0).expect("frame").steps, 0, "resume drops the queue");
+}
+
+#[test]
+fn slow_down_recovers_after_an_extreme_time_scale() {
+    let mut c = clock(ClockConfig {
+        hitch_policy: HitchPolicy::SlowDown,
+        ..ClockConfig::default()
+    });
+    c.set_time_scale(FixedClock::MAX_TIME_SCALE).expect("in range");
+    for _ in 0..1_000 {
+        let f = c.advance(0.25).expect("frame");
+        assert!(f.dropped.is_finite());
+        assert_eq!(f.steps, 8, "the clock never freezes");
+    }
+    c.set_time_scale(1.0).expect("in range");
+    // 5% a frame from the floor of 1e-3: about 140 frames to full speed.
+    let mut steps = 0;
+    for _ in 0..400 {
+        steps = c.advance(1.0 / 60.0).expect("frame").steps;
+    }
+    assert_eq!(steps, 1, "back to one step per 60 Hz frame");
+}
+
+#[test]
+fn catch_up_debt_is_bounded() {
+    let mut c = clock(ClockConfig {
+        hitch_policy: HitchPolicy::CatchUp,
+        max_frame_time: 3600.0,
+        ..ClockConfig::default()
+    });
+    // An hour-long frame owes 216 000 steps; the debt keeps 60 frames' worth.
+    let f = c.advance(3600.0).expect("frame");
+    assert_eq!(f.steps, 8);
+    assert!(f.dropped > 3590.0, "dropped {}", f.dropped);
+    assert!(c.backlog() <= 61.0 * 8.0 / 60.0, "backlog {}", c.backlog());
 }

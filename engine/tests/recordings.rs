@@ -1,0 +1,74 @@
+//! Recordings are range-checked when loaded: every bad field is an error
+//! naming the file, the line, the column and the field, never a panic or a
+//! replay that silently draws nothing.
+
+use std::path::PathBuf;
+
+use tickwork_engine::app::Recording;
+
+/// Writes `text` to a fresh file under the target directory.
+fn file(name: &str, text: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("recordings");
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("written");
+    path
+}
+
+fn recording(hz: &str, ticks: &str, inputs: &str) -> String {
+    format!(
+        "Recording(\n    game: \"Lander\",\n    hz: {hz},\n    seed: 0,\n    integrator: None,\n    ticks: {ticks},\n    inputs: [{inputs}],\n)\n"
+    )
+}
+
+fn error(name: &str, text: &str) -> String {
+    let path = file(name, text);
+    let message = Recording::load(&path).expect_err("refused").to_string();
+    assert!(message.starts_with(&path.display().to_string()), "{message}");
+    message
+}
+
+#[test]
+fn a_good_recording_loads() {
+    let path = file("good.ron", &recording("60.0", "120", ""));
+    let r = Recording::load(&path).expect("valid");
+    assert_eq!((r.hz, r.ticks), (60.0, 120));
+}
+
+#[test]
+fn every_bad_field_is_an_error_with_file_line_column_and_field() {
+    let message = error("huge_ticks.ron", &recording("60.0", "18446744073709551615", ""));
+    assert!(
+        message.ends_with(
+            "line 6, column 5: ticks: 18446744073709551615 is past the limit of 1000000000 recorded ticks \
+             (Recording::MAX_TICKS); record a shorter run"
+        ),
+        "{message}"
+    );
+    let message = error("tiny_hz.ron", &recording("1e-300", "120", ""));
+    assert!(
+        message.ends_with(
+            "line 3, column 5: hz: 1e-300 steps per second (accepted: from 1/3600 (a step of an hour) to 1e6 \
+             (a step of a microsecond) steps per second)"
+        ),
+        "{message}"
+    );
+    for hz in ["NaN", "inf", "0.0", "-60.0"] {
+        let message = error("bad_hz.ron", &recording(hz, "120", ""));
+        assert!(message.contains("line 3, column 5: hz: "), "{hz}: {message}");
+    }
+    let message = error(
+        "late_input.ron",
+        &recording("60.0", "10", "(12, (held: [], pressed: []))"),
+    );
+    assert!(
+        message.contains("line 7, column 5: inputs: entry 0 is at tick 12"),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_malformed_recording_names_its_line_and_column() {
+    let message = error("malformed.ron", "Recording(\n    game: \"Lander\",\n    hz: sixty,\n)");
+    assert!(message.contains("line 3, column"), "{message}");
+}
