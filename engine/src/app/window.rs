@@ -141,6 +141,7 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
         cursor: (0.0, 0.0),
         hold_started: None,
         screenshot: false,
+        announce: None,
     };
     event_loop
         .run_app(&mut app)
@@ -182,6 +183,18 @@ struct App<'a> {
     cursor: (f64, f64),
     hold_started: Option<std::time::Instant>,
     screenshot: bool,
+    /// A line to print once this many more frames have been presented: the
+    /// signal tests and tools wait on (a state change, then two presents,
+    /// so the first frame that shows it has surely reached the screen),
+    /// instead of sleeping and hoping.
+    announce: Option<(String, u8)>,
+}
+
+/// Prints a line of the window's protocol on standard output, flushed.
+fn say(line: &str) {
+    use std::io::Write;
+    println!("{line}");
+    let _ = std::io::stdout().flush();
 }
 
 impl App<'_> {
@@ -293,6 +306,9 @@ impl App<'_> {
             }
             (Key::Named(NamedKey::F1), _) => {
                 self.panel_visible = !self.panel_visible;
+                let state = if self.panel_visible { "shown" } else { "hidden" };
+                say(&format!("tickwork: panel {state} (F1)"));
+                self.announce = Some((format!("tickwork: panel {state} (F1) and presented"), 2));
                 None
             }
             (Key::Named(NamedKey::Space), _) | (_, PhysicalKey::Code(KeyCode::KeyP)) => Some(Control::TogglePause),
@@ -371,15 +387,24 @@ impl App<'_> {
         if !holding {
             self.summary.frames += 1;
         }
+        if let Some((line, presents)) = self.announce.as_mut() {
+            *presents -= 1;
+            if *presents == 0 {
+                say(line);
+                self.announce = None;
+            }
+        }
         if let Some(limit) = self.options.frames {
             if self.summary.frames >= limit && self.hold_started.is_none() {
                 self.hold_started = Some(std::time::Instant::now());
-                println!(
-                    "tickwork: frame {limit} shown; holding it {} s",
-                    self.options.hold_seconds
-                );
-                use std::io::Write;
-                let _ = std::io::stdout().flush();
+                // Said after the held frame's next present.
+                self.announce = Some((
+                    format!(
+                        "tickwork: frame {limit} shown; holding it {} s",
+                        self.options.hold_seconds
+                    ),
+                    1,
+                ));
             }
             if let Some(start) = self.hold_started
                 && start.elapsed().as_secs_f64() >= self.options.hold_seconds
@@ -562,10 +587,20 @@ impl ApplicationHandler for App<'_> {
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
-                if let Some(state) = self.state.as_mut()
-                    && let Err(error) = state.resize(size.width, size.height)
-                {
-                    self.fail(event_loop, error);
+                if let Some(state) = self.state.as_mut() {
+                    match state.resize(size.width, size.height) {
+                        Err(error) => self.fail(event_loop, error),
+                        // A 0x0 (minimised) window presents nothing: said now.
+                        Ok(()) if state.buffers.is_none() => {
+                            say(&format!("tickwork: resized to {}x{}", size.width, size.height));
+                        }
+                        Ok(()) => {
+                            self.announce = Some((
+                                format!("tickwork: resized to {}x{} and presented", size.width, size.height),
+                                2,
+                            ));
+                        }
+                    }
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
