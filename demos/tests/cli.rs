@@ -231,3 +231,36 @@ fn sim_traces_rigid_body_orientation_and_angular_velocity() {
     assert_eq!(tumbling[2], 0.0);
     assert!(tumbling[16].abs() > 1.0, "off-axis spin grew: {tumbling:?}");
 }
+
+#[test]
+fn rates_outside_the_range_are_errors_stating_it_never_a_silent_substitute() {
+    // `--hz 5e-7` once ran at "rate 1 Hz".
+    for (option, value, range) in [
+        (
+            "--hz",
+            "5e-7",
+            "accepted: from 1/3600 (a step of an hour) to 1e6 (a step of a microsecond) steps per second",
+        ),
+        ("--hz", "1e7", "accepted: from 1/3600"),
+        (
+            "--dt",
+            "1e-7",
+            "accepted: from 1e-6 (a microsecond) to 3600 (an hour) seconds",
+        ),
+        (
+            "--dt",
+            "3601",
+            "accepted: from 1e-6 (a microsecond) to 3600 (an hour) seconds",
+        ),
+    ] {
+        let output = tickwork(&["sim", &scene("projectile.ron"), option, value, "--until", "1"]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{option} {value} was accepted");
+        assert!(!stderr.contains("panicked at"), "{stderr}");
+        assert!(stderr.contains(&format!("{option}: ")), "{option} {value}: {stderr}");
+        assert!(stderr.contains(range), "{option} {value}: {stderr}");
+    }
+    let output = tickwork(&["sim", &scene("projectile.ron"), "--hz", "1e308", "--until", "1"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("invalid rate in Hz: 1e308 (accepted"), "{stderr}");
+}
