@@ -76,6 +76,13 @@ impl Emitter {
                 check(field, value, value.is_finite(), "finite coordinates")?;
             }
         }
+        // A zero (or overflowing) direction once became +y silently.
+        check(
+            "emitter.direction",
+            self.direction.length(),
+            self.direction.try_normalize().is_some(),
+            "a direction of non-zero, finite length",
+        )?;
         let non_negative = |v: f32| v.is_finite() && v >= 0.0;
         let positive = |v: f32| v.is_finite() && v > 0.0;
         check(
@@ -102,6 +109,14 @@ impl Emitter {
             (0.0..=1.0).contains(&self.speed_jitter),
             "0 to 1",
         )?;
+        // The fastest particle, speed (1 + jitter), must be finite too (a
+        // speed of 3e38 once gave infinite velocities).
+        check(
+            "emitter.speed",
+            self.speed,
+            (self.speed * (1.0 + self.speed_jitter)).is_finite(),
+            "a speed whose jittered maximum, speed (1 + speed_jitter), is finite",
+        )?;
         check(
             "emitter.lifetime",
             self.lifetime,
@@ -124,11 +139,11 @@ impl Emitter {
 
     /// The particles due in a step of `dt`: `rate * dt` plus what was owed,
     /// rounded down; the remainder is owed to the next step.
-    pub(crate) fn due(&mut self, dt: f32) -> u32 {
+    pub(crate) fn due(&mut self, dt: f32) -> f32 {
         let total = self.owed + self.rate * dt;
         let whole = total.floor();
         self.owed = total - whole;
-        whole as u32
+        whole
     }
 
     /// One particle with a random direction in the cone (uniform over the

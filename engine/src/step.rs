@@ -74,17 +74,56 @@ pub enum SimulationError {
         error: crate::world::SpawnError,
     },
     /// A position or velocity became NaN or infinite (an explosion: a step too
-    /// large for the method's stability, or a force that divides by zero).
+    /// large for the method's stability, or a force that divides by zero),
+    /// or was already so, or a force gave a non-finite acceleration.
     NonFinite {
         /// The tick of the step.
         tick: u64,
         /// The first entity (in row order) with a non-finite value.
         entity: Entity,
-        /// `"position"` or `"velocity"`.
+        /// `"position"`, `"velocity"` or `"acceleration"`.
         field: &'static str,
         /// The value.
         value: Vec3,
+        /// What is known of how it came about.
+        cause: NonFiniteCause,
     },
+    /// An emitter is due more particles in one step than
+    /// [`WorldConfig::max_spawns_per_step`](crate::world::WorldConfig) allows.
+    SpawnLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        emitter: usize,
+        /// Particles it was due.
+        due: f64,
+        /// The limit in force.
+        limit: u32,
+    },
+    /// The fixed step itself is invalid: a time or `dt` that is not finite
+    /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
+    InvalidStep {
+        /// The tick of the step.
+        tick: u64,
+        /// Its time, in seconds.
+        time: f64,
+        /// Its `dt`, in seconds.
+        dt: f64,
+    },
+}
+
+/// How a non-finite value came about, as far as the step can tell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NonFiniteCause {
+    /// The step made it: too large a step for the method's stability, or a
+    /// force that diverged.
+    Step,
+    /// It was already non-finite when the step began: set outside the step
+    /// (through `particles_mut`, a game's system).
+    Start,
+    /// The forces gave a non-finite acceleration at a finite state (what
+    /// made an implicit or adaptive solve fail).
+    Force,
 }
 
 impl fmt::Display for SimulationError {
@@ -97,10 +136,33 @@ impl fmt::Display for SimulationError {
                 entity,
                 field,
                 value,
+                cause,
+            } => {
+                write!(f, "step {tick}: {entity} has a non-finite {field} {value}; ")?;
+                f.write_str(match cause {
+                    NonFiniteCause::Step => "the step is too large for the integrator's stability, or a force diverged",
+                    NonFiniteCause::Start => {
+                        "it was so before the step began: it was set outside the step (particles_mut, a game system)"
+                    }
+                    NonFiniteCause::Force => "the forces gave it at a finite position and velocity",
+                })
+            }
+            Self::SpawnLimit {
+                tick,
+                emitter,
+                due,
+                limit,
             } => write!(
                 f,
-                "step {tick}: {entity} has a non-finite {field} {value}; the step is too large for the \
-                 integrator's stability, or a force diverged"
+                "step {tick}: emitter {emitter} is due {} particles in one step, past the limit of {limit} \
+                 (WorldConfig::max_spawns_per_step); lower its rate or raise the limit",
+                crate::clock::Number(*due)
+            ),
+            Self::InvalidStep { tick, time, dt } => write!(
+                f,
+                "step {tick}: invalid fixed step: time {} s, dt {} s (both must be finite)",
+                crate::clock::Number(*time),
+                crate::clock::Number(*dt)
             ),
         }
     }
@@ -251,10 +313,22 @@ impl World {
         mut systems: impl FnMut(&mut World, &FixedStep),
     ) -> Result<StepReport, SimulationError> {
         let tick = step.tick;
+        if !(step.time.is_finite() && step.dt.is_finite()) {
+            return Err(SimulationError::InvalidStep {
+                tick,
+                time: step.time,
+                dt: step.dt,
+            });
+        }
         let (t, dt) = (step.time as f32, step.dt as f32);
         let mut report = StepReport::default();
         for force in &mut self.forces {
             force.prepare(&self.entities);
+        }
+        if std::mem::take(&mut self.edited)
+            && let Some(row) = first_non_finite(&self.particles.position, &self.particles.velocity, 0)
+        {
+            return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         self.integrate(t, dt, tick, &mut report)?;
         self.step_rigid_bodies(t, dt, tick)?;
@@ -383,7 +457,8 @@ impl World {
             Err(error) => {
                 // The method left the state as it was: put the buffers back.
                 core::mem::swap(&mut p.position, &mut p.previous_position);
-                return Err(integrator_error(error));
+                // A solve that failed on a non-finite value says which.
+                return Err(self.diagnose(t, tick).unwrap_or_else(|| integrator_error(error)));
             }
         };
         let outcome = if fused {
@@ -405,20 +480,49 @@ impl World {
         };
         report.evaluations = outcome.evaluations;
         if let Some(row) = outcome.first_bad {
-            let (x, v) = (p.position[row], p.velocity[row]);
-            let (field, value) = if x.is_finite() {
-                ("velocity", v)
-            } else {
-                ("position", x)
-            };
-            return Err(SimulationError::NonFinite {
-                tick,
-                entity: self.entities.rows()[row],
-                field,
-                value: value.into(),
-            });
+            return Err(self.non_finite(tick, row, NonFiniteCause::Step));
         }
         Ok(())
+    }
+
+    /// The error for row `row`'s non-finite position or velocity.
+    fn non_finite(&self, tick: u64, row: usize, cause: NonFiniteCause) -> SimulationError {
+        let p = &self.particles;
+        let (x, v) = (p.position[row], p.velocity[row]);
+        let (field, value) = if x.is_finite() {
+            ("velocity", v)
+        } else {
+            ("position", x)
+        };
+        SimulationError::NonFinite {
+            tick,
+            entity: self.entities.rows()[row],
+            field,
+            value: value.into(),
+            cause,
+        }
+    }
+
+    /// After a failed integrator step: the first particle whose state, or
+    /// whose acceleration at that state, is not finite (so a NaN force is
+    /// named, not reported as a solve that "did not converge"). Only on the
+    /// error path, so its scratch buffer may allocate.
+    fn diagnose(&self, t: f32, tick: u64) -> Option<SimulationError> {
+        let p = &self.particles;
+        if let Some(row) = first_non_finite(&p.position, &p.velocity, 0) {
+            return Some(self.non_finite(tick, row, NonFiniteCause::Start));
+        }
+        let mut accelerations = vec![Vec3A::ZERO; p.len()];
+        let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
+        tickwork_integrators::System::acceleration(&mut field, t, &p.position, &p.velocity, &mut accelerations);
+        let row = accelerations.iter().position(|a| !a.is_finite())?;
+        Some(SimulationError::NonFinite {
+            tick,
+            entity: self.entities.rows()[row],
+            field: "acceleration",
+            value: accelerations[row].into(),
+            cause: NonFiniteCause::Force,
+        })
     }
 
     fn step_rigid_bodies(&mut self, t: f32, dt: f32, tick: u64) -> Result<(), SimulationError> {
@@ -447,6 +551,7 @@ impl World {
                 entity: self.entities.rows()[row],
                 field: "angular_velocity",
                 value: r.angular_velocity[k],
+                cause: NonFiniteCause::Step,
             });
         }
         Ok(())
@@ -477,7 +582,16 @@ impl World {
                 .validate()
                 .map_err(|error| SimulationError::Emitter { tick, index: k, error })?;
             let due = self.emitters[k].due(dt);
-            for _ in 0..due {
+            let limit = self.config.max_spawns_per_step;
+            if due.is_nan() || due > limit as f32 {
+                return Err(SimulationError::SpawnLimit {
+                    tick,
+                    emitter: k,
+                    due: f64::from(due),
+                    limit,
+                });
+            }
+            for _ in 0..due as u32 {
                 let particle = self.emitters[k].particle(&mut self.rng);
                 let entity = self.entities.reserve();
                 self.queue.push(crate::world::Command::Spawn(entity, particle));

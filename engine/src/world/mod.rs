@@ -59,6 +59,10 @@ pub struct WorldConfig {
     /// the forces and the method allow it (default: `65536`; thread dispatch
     /// costs microseconds, more than stepping a few thousand particles).
     pub parallel_threshold: usize,
+    /// Most particles one emitter may spawn in one step (default:
+    /// `1_000_000`): an emitter of 1e12 per second is an error naming this
+    /// limit, not an allocation that takes the machine.
+    pub max_spawns_per_step: u32,
 }
 
 impl Default for WorldConfig {
@@ -68,6 +72,7 @@ impl Default for WorldConfig {
             angular_integrator: "angular_rk4".into(),
             seed: 0,
             parallel_threshold: 65_536,
+            max_spawns_per_step: 1_000_000,
         }
     }
 }
@@ -172,6 +177,8 @@ pub struct World {
     id: u64,
     /// Counts changes to the particle and rigid-body columns.
     pub(crate) revision: u64,
+    /// `particles_mut` was called since the last step began.
+    pub(crate) edited: bool,
     // Scratch reused by every step.
     pub(crate) lanes: Vec<Lane>,
     pub(crate) expired_rows: Vec<u32>,
@@ -197,6 +204,7 @@ impl Clone for World {
             config: self.config.clone(),
             id: next_world_id(),
             revision: 0,
+            edited: false,
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
@@ -227,6 +235,8 @@ impl Clone for World {
         self.time = source.time;
         self.config.clone_from(&source.config);
         self.revision += 1;
+        // A restored state came from outside the step: checked at the next.
+        self.edited = true;
     }
 }
 
@@ -297,6 +307,7 @@ impl World {
             config,
             id: next_world_id(),
             revision: 0,
+            edited: false,
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
@@ -481,6 +492,9 @@ impl World {
     /// but not by interpolation; prefer [`teleport`](Self::teleport).
     pub fn particles_mut(&mut self) -> &mut Particles {
         self.revision += 1;
+        // The next step checks the state it starts from, so a NaN written
+        // here is named as such, not blamed on the step.
+        self.edited = true;
         &mut self.particles
     }
 
