@@ -108,10 +108,58 @@ fn scene_errors_carry_their_parts() {
 
 #[test]
 fn a_zero_plane_normal_is_an_error() {
-    let scene = Scene::parse("SceneFile(colliders: [Plane(normal: (0, 0, 0))])", "z.ron").expect("parses");
-    let err = scene.build().map(|_| ()).expect_err("zero normal");
+    // Refused while read, with its line and column (it once waited for the
+    // build, which has no position to give).
+    let err = Scene::parse("SceneFile(colliders: [Plane(normal: (0, 0, 0))])", "z.ron").expect_err("zero normal");
     assert_eq!(
         err.to_string(),
-        "z.ron: colliders: plane normal [0, 0, 0] has zero length"
+        "z.ron:1:45: colliders[0].Plane.normal: expected a direction of non-zero, finite length, got [0.0, 0.0, 0.0]"
     );
+}
+
+#[test]
+fn misspelt_fields_and_bad_values_inside_forces_and_colliders_are_errors() {
+    let cases = [
+        // Misspelt fields were silently ignored inside variants.
+        (
+            "SceneFile(forces: [Attractor(position: (0, 0, 0), gm: 1, softning: 0.5)])",
+            "bad.ron:1:",
+            "softning",
+        ),
+        (
+            "SceneFile(colliders: [Plane(normal: (0, 1, 0), ofset: 2.0)])",
+            "bad.ron:1:",
+            "ofset",
+        ),
+        (
+            "SceneFile(colliders: [Plane(normal: (0, 1, 0), material: (restitution: 0.5), materail: ())])",
+            "bad.ron:1:",
+            "materail",
+        ),
+        // A NaN or infinite offset made the floor inert (or blamed the step size).
+        (
+            "SceneFile(colliders: [Plane(normal: (0, 1, 0), offset: NaN)])",
+            "bad.ron:1:",
+            "colliders[0].Plane.offset: expected a finite number, got NaN",
+        ),
+        (
+            "SceneFile(colliders: [Plane(normal: (0, 1, 0), offset: inf)])",
+            "bad.ron:1:",
+            "colliders[0].Plane.offset: expected a finite number, got inf",
+        ),
+        // A normal whose length overflows was reported as "zero length".
+        (
+            "SceneFile(colliders: [Plane(normal: (3e38, 3e38, 0))])",
+            "bad.ron:1:",
+            "colliders[0].Plane.normal: expected a direction of non-zero, finite length",
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for (text, start, contains) in cases {
+        let message = parse_error(text).to_string();
+        if !(message.starts_with(start) && message.contains(contains)) {
+            wrong.push(format!("got:      {message}\nexpected: {start}... {contains}"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }

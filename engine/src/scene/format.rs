@@ -85,6 +85,30 @@ impl From<Vector> for glam::Vec3 {
     }
 }
 
+/// A direction: a vector of finite coordinates whose length is neither zero
+/// nor overflows (`(3e38, 3e38, 0)` has an infinite length), so it can be
+/// normalised.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Direction(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Direction {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let Vector(v) = Vector::deserialize(d)?;
+        if glam::Vec3::from_array(v).try_normalize().is_none() {
+            return Err(de::Error::custom(format_args!(
+                "expected a direction of non-zero, finite length, got {v:?}"
+            )));
+        }
+        Ok(Self(v))
+    }
+}
+
+impl From<Direction> for glam::Vec3 {
+    fn from(v: Direction) -> Self {
+        glam::Vec3::from_array(v.0)
+    }
+}
+
 /// An integrator name that the registry knows.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MethodName(pub String);
@@ -229,8 +253,9 @@ fn default_angles() -> (Finite, Finite) {
     (Finite(30.0), Finite(20.0))
 }
 
-/// A force generator.
+/// A force generator. A misspelt field in any variant is an error.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum ForceSpec {
     /// Uniform gravity, m/s^2.
     Gravity(Vector),
@@ -291,6 +316,7 @@ fn zero() -> NonNegative {
 
 /// One end of a spring.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum EndSpec {
     /// The particle at this index of `particles`.
     Particle(ParticleIndex),
@@ -323,16 +349,17 @@ fn half() -> Unit {
     Unit(0.5)
 }
 
-/// A collider.
+/// A collider. A misspelt field in any variant is an error.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum ColliderSpec {
     /// An infinite plane `normal . x >= offset`.
     Plane {
         /// Normal into the free side (normalised on load).
-        normal: Vector,
-        /// Offset along the normal (default: 0).
-        #[serde(default)]
-        offset: f32,
+        normal: Direction,
+        /// Offset along the normal, finite (default: 0).
+        #[serde(default = "zero_offset")]
+        offset: Finite,
         /// Material (default: restitution 0.5, no friction).
         #[serde(default)]
         material: MaterialSpec,
@@ -360,6 +387,10 @@ pub enum ColliderSpec {
 
 fn yes() -> bool {
     true
+}
+
+fn zero_offset() -> Finite {
+    Finite(0.0)
 }
 
 /// A colour `(r, g, b, a)`, each from 0 to 1, sRGB.

@@ -257,13 +257,11 @@ impl Scene {
                     offset,
                     material,
                 } => {
-                    let n = Vec3::from(normal);
-                    let Some(unit) = n.try_normalize() else {
-                        return Err(self.error("colliders", format!("plane normal {n} has zero length")));
-                    };
+                    // Checked while read: finite, of non-zero, finite length.
+                    let unit = Vec3::from(normal).normalize_or(Vec3::Y);
                     world.add_collider(Plane {
                         normal: unit,
-                        offset,
+                        offset: offset.0,
                         material: material_of(material),
                     });
                 }
