@@ -163,3 +163,24 @@ fn misspelt_fields_and_bad_values_inside_forces_and_colliders_are_errors() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+#[test]
+fn resource_demands_past_a_limit_are_errors_naming_the_limit() {
+    let err = parse_error("SceneFile(lattices: [(origin: (0, 0, 0), count: (1000, 1000, 1000), spacing: 0.1)])");
+    let message = err.to_string();
+    assert!(message.starts_with("bad.ron:1:"), "{message}");
+    assert!(
+        message.contains(
+            "lattices[0].count: expected at most 10000000 particles in a lattice (MAX_LATTICE_PARTICLES), \
+             got 1000 x 1000 x 1000 = 1000000000; split it into several lattices"
+        ),
+        "{message}"
+    );
+    // A file that never ends (Linux's /dev/zero) is read only to the limit.
+    let err = Scene::load(std::path::Path::new("/dev/zero")).expect_err("endless");
+    assert_eq!(
+        err.to_string(),
+        "/dev/zero: cannot read the scene: it is larger than the limit of 16777216 bytes \
+         (Scene::MAX_FILE_BYTES); a scene this large is better built by a program"
+    );
+}

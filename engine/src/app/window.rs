@@ -292,7 +292,17 @@ impl App<'_> {
         {
             return;
         }
-        if !down {
+        // A held key repeats: single step and the time scale may repeat, the
+        // toggles (F1, pause, integrator, restart, F12) act once a press.
+        // (Under load, the X server's autorepeat turned one F1 into two, and
+        // the panel came back.)
+        let repeatable = matches!(
+            event.physical_key,
+            PhysicalKey::Code(
+                KeyCode::Period | KeyCode::NumpadAdd | KeyCode::NumpadSubtract | KeyCode::Equal | KeyCode::Minus
+            )
+        );
+        if !down || (event.repeat && !repeatable) {
             return;
         }
         let control = match (&event.logical_key, event.physical_key) {

@@ -449,8 +449,8 @@ fn small_radius() -> NonNegative {
 pub struct LatticeSpec {
     /// First particle's position.
     pub origin: Vector,
-    /// Particles along x, y, z.
-    pub count: (u32, u32, u32),
+    /// Particles along x, y, z (at most [`MAX_LATTICE_PARTICLES`] in all).
+    pub count: LatticeCount,
     /// Distance between neighbours, m.
     pub spacing: Positive,
     /// Every particle's velocity (default: zero).
@@ -465,6 +465,30 @@ pub struct LatticeSpec {
     /// Colour (default: white).
     #[serde(default = "white")]
     pub colour: ColourSpec,
+}
+
+/// The most particles one lattice may hold: ten million (about a gigabyte
+/// of world). A larger request is an error naming this limit, not an
+/// allocation that aborts the process; split the lattice to go past it.
+pub const MAX_LATTICE_PARTICLES: u64 = 10_000_000;
+
+/// A lattice's particle counts along x, y and z, whose product is checked
+/// against [`MAX_LATTICE_PARTICLES`] while read.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LatticeCount(pub u32, pub u32, pub u32);
+
+impl<'de> Deserialize<'de> for LatticeCount {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let (x, y, z) = <(u32, u32, u32)>::deserialize(d)?;
+        let total = u64::from(x) * u64::from(y) * u64::from(z);
+        if total > MAX_LATTICE_PARTICLES {
+            return Err(de::Error::custom(format_args!(
+                "expected at most {MAX_LATTICE_PARTICLES} particles in a lattice (MAX_LATTICE_PARTICLES), \
+                 got {x} x {y} x {z} = {total}; split it into several lattices"
+            )));
+        }
+        Ok(Self(x, y, z))
+    }
 }
 
 /// An emitter.

@@ -74,15 +74,38 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] for an unreadable or malformed file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
+        use std::io::Read;
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        let error = |message: String| SceneError {
             file: file.clone(),
             position: None,
             field: String::new(),
-            message: format!("cannot read the scene: {e}"),
+            message,
+        };
+        // Read at most one byte past the limit: `/dev/zero` once read until
+        // memory ran out.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(Self::MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(|e| error(format!("cannot read the scene: {e}")))?;
+        if bytes.len() as u64 > Self::MAX_FILE_BYTES {
+            return Err(error(format!(
+                "cannot read the scene: it is larger than the limit of {} bytes (Scene::MAX_FILE_BYTES); \
+                 a scene this large is better built by a program",
+                Self::MAX_FILE_BYTES
+            )));
+        }
+        let text = String::from_utf8(bytes).map_err(|e| {
+            error(format!(
+                "cannot read the scene: not UTF-8 text (at byte {})",
+                e.utf8_error().valid_up_to()
+            ))
         })?;
         Self::parse(&text, &file)
     }
+
+    /// The largest scene file read: 16 MiB.
+    pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
     /// Parses scene text; `file` names it in errors.
     ///
@@ -158,7 +181,7 @@ impl Scene {
             listed.push(entity);
         }
         for (k, l) in s.lattices.iter().enumerate() {
-            let (nx, ny, nz) = l.count;
+            let format::LatticeCount(nx, ny, nz) = l.count;
             for (i, j, m) in (0..nz).flat_map(|m| (0..ny).flat_map(move |j| (0..nx).map(move |i| (i, j, m)))) {
                 let offset = Vec3::new(i as f32, j as f32, m as f32) * l.spacing.0;
                 let p = Particle {
