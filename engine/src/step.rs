@@ -1,19 +1,22 @@
 //! The fixed step: what happens to the world once per tick of the clock.
 //!
 //! ```text
-//! previous <- current                       (for interpolation)
-//! x, v     <- integrator(t, dt, x, v, forces)
-//! colliders, ageing, expiry
-//! emitters and queued spawns/despawns
+//! check: the step's time; the state, if it was edited outside the steps
+//! previous <-> current                      (a swap of buffers, for interpolation)
+//! x, v     <- integrator(t, dt, previous, v, forces)   (into the other buffer)
+//! colliders, ageing
+//! check: every position and velocity finite (a failed solve: which force)
+//! rigid bodies: orientations and angular velocities (then the same check)
+//! expiry, emitters and queued spawns/despawns
 //! the game's fixed systems (then their queued commands)
-//! check: every position and velocity finite
 //! ```
 //!
 //! When every force and collider is pointwise and the method
-//! [splits](tickwork_integrators::Integrator::splits_pointwise), the first
-//! three lines run fused, one cache-sized chunk of 512 particles at a time:
-//! each chunk is copied, integrated, collided and aged while it sits in L1,
-//! so a million-particle step reads and writes each column about once. Above
+//! [splits](tickwork_integrators::Integrator::splits_pointwise), the
+//! integration, the colliders, the ageing and the finiteness check run
+//! fused, one cache-sized chunk of 512 particles at a time, while the chunk
+//! sits in L1, so a million-particle step reads and writes each column about
+//! once. Above
 //! [`WorldConfig::parallel_threshold`](crate::world::WorldConfig) particles,
 //! contiguous lanes of chunks run on rayon's threads, each with its own copy
 //! of the method; results are bit-identical to the serial step because each
