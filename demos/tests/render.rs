@@ -224,6 +224,10 @@ impl Xvfb {
                 &format!("{width}x{height}x24"),
                 "-nolisten",
                 "tcp",
+                // No autorepeat: on a busy machine xdotool's press and
+                // release of F1 could be far enough apart for the server to
+                // repeat the press, and the panel toggled twice.
+                "-r",
             ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
