@@ -264,3 +264,32 @@ fn rates_outside_the_range_are_errors_stating_it_never_a_silent_substitute() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("invalid rate in Hz: 1e308 (accepted"), "{stderr}");
 }
+
+#[test]
+fn negative_and_non_finite_numbers_are_errors_naming_the_option_and_the_value() {
+    // Negative numbers once got clap's "unexpected argument '-1'" and a
+    // wrong tip.
+    let projectile = scene("projectile.ron");
+    let cases: [(&[&str], &str, &str); 7] = [
+        (&["render", &projectile, "--frames", "-1"], "--frames", "-1"),
+        (&["render", &projectile, "--size", "-5x5"], "--size", "-5x5"),
+        (&["render", &projectile, "--display-hz", "-60"], "--display-hz", "-60"),
+        (&["sim", &projectile, "--until", "-inf"], "--until", "-inf"),
+        (&["sim", &projectile, "--hz", "-1"], "--hz", "-1"),
+        (&["sim", &projectile, "--dt", "-0.01"], "--dt", "-0.01"),
+        (&["view", &projectile, "--hold", "NaN"], "--hold", "NaN"),
+    ];
+    for (args, option, value) in cases {
+        let output = tickwork(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?} was accepted");
+        assert!(
+            matches!(output.status.code(), Some(1 | 2)),
+            "{args:?}: {:?}",
+            output.status
+        );
+        assert!(!stderr.contains("panicked at"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("unexpected argument"), "{args:?}: {stderr}");
+        assert!(stderr.contains(option) && stderr.contains(value), "{args:?}: {stderr}");
+    }
+}

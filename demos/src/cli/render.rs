@@ -7,7 +7,9 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use tickwork_engine::Scene;
-use tickwork_engine::app::{FrameOutput, OffscreenRun, Playback, WindowOptions, parse_size, run_window};
+use tickwork_engine::app::{
+    FrameOutput, OffscreenRun, Playback, WindowOptions, non_negative_seconds, parse_size, run_window,
+};
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::render::{Blend, Gpu, Interpolation, RendererConfig};
 
@@ -42,7 +44,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub integrator: Option<String>,
     /// Image or window size in pixels, WIDTHxHEIGHT.
-    #[arg(long, value_parser = parse_size)]
+    #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
     pub size: Option<(u32, u32)>,
     /// Particle compositing.
     #[arg(long, value_enum, default_value_t)]
@@ -88,7 +90,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
     /// Frames to draw.
-    #[arg(long, default_value_t = 120)]
+    #[arg(long, default_value_t = 120, allow_negative_numbers = true)]
     pub frames: u64,
     /// Directory for the PNG frames (frame_00000.png, ...).
     #[arg(long, default_value = "frames")]
@@ -97,14 +99,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub gif: Option<PathBuf>,
     /// Refresh rate of the simulated display, frames per second.
-    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
     pub display_hz: f64,
     /// Jitter the frame times by +-50% around 1/display-hz (seeded, so
     /// reproducible), as a real display under load would.
     #[arg(long)]
     pub jitter: bool,
     /// Seed of the jitter.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub jitter_seed: u64,
     /// Overwrite existing frames and GIF.
     #[arg(long)]
@@ -124,14 +126,14 @@ pub struct WindowArgs {
     #[arg(long)]
     pub panel: bool,
     /// Close after this many frames.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u64>,
     /// After --frames, keep the last frame on screen this many seconds.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative_seconds, allow_hyphen_values = true)]
     pub hold: f64,
     /// Drive the clock from a simulated display at this rate instead of the
     /// real clock (reproducible frames, for tests).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub display_hz: Option<f64>,
     /// Directory for F12 screenshots.
     #[arg(long, default_value = ".")]

@@ -18,23 +18,23 @@ pub struct SimArgs {
     #[arg(long)]
     pub integrator: Option<String>,
     /// Fixed steps per second instead of the scene's rate.
-    #[arg(long, conflicts_with = "dt", allow_negative_numbers = true)]
+    #[arg(long, conflicts_with = "dt", allow_hyphen_values = true)]
     pub hz: Option<f64>,
     /// Fixed step in seconds instead of the scene's rate.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// Number of steps to run (default: the scene's duration).
-    #[arg(long, conflicts_with = "until")]
+    #[arg(long, conflicts_with = "until", allow_negative_numbers = true)]
     pub steps: Option<u64>,
     /// Simulated seconds to run to (default: the scene's duration).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub until: Option<f64>,
     /// Write a CSV trace (step, t, entity, position, velocity, orientation,
     /// angular velocity) to this file.
     #[arg(long)]
     pub trace: Option<PathBuf>,
     /// Trace every K-th step (default: every step).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub every: u64,
     /// Overwrite the trace file if it exists.
     #[arg(long)]

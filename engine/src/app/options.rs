@@ -21,17 +21,17 @@ pub struct RunOptions {
     #[arg(long)]
     pub integrator: Option<String>,
     /// Fixed steps per second (default: the game's, usually 60).
-    #[arg(long, value_parser = positive_f64)]
+    #[arg(long, value_parser = positive_f64, allow_hyphen_values = true)]
     pub hz: Option<f64>,
     /// Simulated seconds per real second.
-    #[arg(long, default_value_t = 1.0, value_parser = positive_f64)]
+    #[arg(long, default_value_t = 1.0, value_parser = positive_f64, allow_hyphen_values = true)]
     pub time_scale: f64,
     /// Draw off-screen even when a display is available.
     #[arg(long)]
     pub headless: bool,
     /// Frames to run (default: until the window is closed; 300 off-screen,
     /// or as many as a replayed recording needs).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u64>,
     /// Off-screen: directory for the PNG frames (default: a new
     /// `tickwork-out/<game>` directory).
@@ -43,10 +43,10 @@ pub struct RunOptions {
     pub gif: Option<PathBuf>,
     /// Window or frame size, WIDTHxHEIGHT (default: 1280x720 in a window,
     /// 640x360 off-screen).
-    #[arg(long, value_parser = parse_size)]
+    #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
     pub size: Option<(u32, u32)>,
     /// Seed of the worlds' random generators.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub seed: u64,
     /// Record the keys of every tick to this file (RON) when the run ends.
     #[arg(long, conflicts_with = "replay")]
@@ -56,11 +56,11 @@ pub struct RunOptions {
     pub replay: Option<PathBuf>,
     /// Frame durations from a simulated display at this rate (default: the
     /// real clock in a window, 60 Hz off-screen).
-    #[arg(long, value_parser = positive_f64)]
+    #[arg(long, value_parser = positive_f64, allow_hyphen_values = true)]
     pub display_hz: Option<f64>,
     /// Window: after `--frames`, keep showing the last frame this many
     /// seconds before closing (for a screenshot from outside).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative_f64)]
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative_seconds, allow_hyphen_values = true)]
     pub hold: f64,
     /// Overwrite existing frames, GIF or recording.
     #[arg(long)]
@@ -133,7 +133,12 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     Ok((side(w)?, side(h)?))
 }
 
-fn non_negative_f64(text: &str) -> Result<f64, String> {
+/// Parses a finite number of seconds, 0 or more (a command-line value
+/// parser: the error names the value; clap adds the option).
+///
+/// # Errors
+/// A message naming the value.
+pub fn non_negative_seconds(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("{text:?} is not a finite number of seconds, 0 or more")),
