@@ -293,3 +293,44 @@ fn negative_and_non_finite_numbers_are_errors_naming_the_option_and_the_value() 
         assert!(stderr.contains(option) && stderr.contains(value), "{args:?}: {stderr}");
     }
 }
+
+#[test]
+fn runaway_and_misdirected_requests_are_errors_that_write_nothing() {
+    let projectile = scene("projectile.ron");
+    let dir = temp_path("misdirected");
+    std::fs::create_dir_all(&dir).expect("a directory");
+    let gif = temp_path("never.gif");
+    let dir_text = dir.to_str().expect("utf-8");
+    let gif_text = gif.to_str().expect("utf-8");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["sim", &projectile, "--until", "1e300"],
+            "--until: 1e300 s is 6e301 steps at 60 Hz, past the limit of 10000000000 steps a run",
+        ),
+        (
+            &["sim", &projectile, "--trace", dir_text],
+            "is a directory; name a file",
+        ),
+        (
+            &["render", &projectile, "--frames", "0", "--gif", gif_text],
+            "--frames: 0 frames; pass at least 1",
+        ),
+        (
+            &["render", &projectile, "--gif", dir_text],
+            "is a directory; name a .gif file",
+        ),
+    ];
+    for (args, expected) in cases {
+        let output = tickwork(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{args:?} was accepted");
+        assert!(!stderr.contains("panicked at"), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+    assert!(!gif.exists(), "no GIF was written for zero frames");
+    assert_eq!(
+        std::fs::read_dir(&dir).expect("listed").count(),
+        0,
+        "nothing written into the directory"
+    );
+}

@@ -154,6 +154,14 @@ fn check_hz(hz: f64) -> Result<(), String> {
 /// A message for a bad scene, option, adapter, or an output that exists.
 pub fn render(args: &RenderArgs) -> Result<(), String> {
     check_hz(args.display_hz)?;
+    if args.frames == 0 {
+        // Refused before anything is written: an empty GIF named as written
+        // helped no one.
+        return Err("--frames: 0 frames; pass at least 1".into());
+    }
+    if let Some(gif) = args.gif.as_ref().filter(|gif| gif.is_dir()) {
+        return Err(format!("--gif: {} is a directory; name a .gif file", gif.display()));
+    }
     let mut playback = args.view.playback()?;
     let (width, height) = args.view.size.unwrap_or((640, 360));
     let gpu = Gpu::headless().map_err(|e| e.to_string())?;

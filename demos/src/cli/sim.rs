@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use tickwork_engine::clock::Rate;
+use tickwork_engine::clock::{Number, Rate};
 use tickwork_engine::{Scene, TraceWriter, run_headless};
 
 /// Arguments of `tickwork sim`.
@@ -41,6 +41,10 @@ pub struct SimArgs {
     pub force: bool,
 }
 
+/// The most steps `--until` may ask for: ten billion (about five years at
+/// 60 Hz); `--until 1e300` once became `u64::MAX` steps in silence.
+const MAX_STEPS: u64 = 10_000_000_000;
+
 /// Runs the scene and prints the summary to `out`.
 ///
 /// # Errors
@@ -62,12 +66,26 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
     }
     let steps = match (args.steps, args.until) {
         (Some(n), _) => n,
-        (_, Some(t)) if t.is_finite() && t >= 0.0 => (t / rate.step_seconds()).round() as u64,
+        (_, Some(t)) if t.is_finite() && t >= 0.0 => {
+            let steps = (t / rate.step_seconds()).round();
+            if steps > MAX_STEPS as f64 {
+                return Err(format!(
+                    "--until: {} s is {} steps at {rate}, past the limit of {MAX_STEPS} steps a run; \
+                     simulate less time, or pass --steps",
+                    Number(t),
+                    Number(steps)
+                ));
+            }
+            steps as u64
+        }
         (_, Some(t)) => return Err(format!("--until: {t} is not a finite time, not negative")),
         _ => (f64::from(scene.spec.duration.0) / rate.step_seconds()).round() as u64,
     };
     let mut trace = match &args.trace {
         Some(path) => {
+            if path.is_dir() {
+                return Err(format!("--trace: {} is a directory; name a file", path.display()));
+            }
             if path.exists() && !args.force {
                 return Err(format!("{}: exists; pass --force to overwrite it", path.display()));
             }
