@@ -346,3 +346,27 @@ fn bad_options_and_files_are_errors_that_say_what_and_where() {
     );
     assert!(Path::new(&other).exists());
 }
+
+#[test]
+fn a_recording_that_cannot_be_saved_is_refused_before_the_run() {
+    // It was refused only after the whole run, losing the input.
+    let out = root().join("target/test-demos/record-refused");
+    let _ = std::fs::remove_dir_all(&out);
+    for (record, expected) in [
+        (
+            "/nonexistent-dir/r.ron",
+            "/nonexistent-dir/r.ron: the directory /nonexistent-dir does not exist",
+        ),
+        ("/", "/: is a directory; name a file"),
+    ] {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_orbits"))
+            .args(["--headless", "--frames", "3", "--record", record, "--out"])
+            .arg(&out)
+            .output()
+            .expect("runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{record}: accepted");
+        assert!(stderr.contains(expected), "{record}: {stderr}");
+        assert!(!out.exists(), "{record}: frames were drawn before the refusal");
+    }
+}

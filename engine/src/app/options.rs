@@ -211,6 +211,27 @@ fn fresh_output_dir(title: &str) -> PathBuf {
         .unwrap_or_else(|| base.join(&slug))
 }
 
+/// Whether a file can be written at `path`: not a directory, in a directory
+/// that exists, and new unless `overwrite`.
+fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunError> {
+    let io = |message: String| RunError::Io {
+        path: path.to_path_buf(),
+        message,
+    };
+    if path.is_dir() {
+        return Err(io("is a directory; name a file".into()));
+    }
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty())
+        && !parent.is_dir()
+    {
+        return Err(io(format!("the directory {} does not exist", parent.display())));
+    }
+    if path.exists() && !overwrite {
+        return Err(RunError::Exists(path.to_path_buf()));
+    }
+    Ok(())
+}
+
 /// The most frames an off-screen run computes for a replay by itself.
 pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 
@@ -223,6 +244,11 @@ pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 /// [`RunError`] with what went wrong: a bad option or recording, no GPU
 /// adapter, a failed step, a file that exists (without `--force`).
 pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // Where the recording goes is checked before the run: a run that failed
+    // to save at its end lost all the input it had taken.
+    if let Some(path) = &options.record {
+        check_output_file(path, options.force)?;
+    }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
     let mut session = GameSession::new(
