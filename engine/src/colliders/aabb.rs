@@ -62,14 +62,8 @@ impl Collider for BoxCollider {
         "box"
     }
 
-    fn resolve_range(&self, c: ContactColumns<'_>) {
-        for (((x, v), &r), &w) in c
-            .position
-            .iter_mut()
-            .zip(c.velocity.iter_mut())
-            .zip(c.radius)
-            .zip(c.inverse_mass)
-        {
+    fn resolve_range(&self, mut c: ContactColumns<'_>) {
+        for (x, v, r, w) in c.rows() {
             if self.inside {
                 self.contain(x, v, r, w > 0.0);
             } else {

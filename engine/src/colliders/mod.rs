@@ -38,6 +38,19 @@ pub struct ContactColumns<'a> {
     pub inverse_mass: &'a [f32],
 }
 
+impl ContactColumns<'_> {
+    /// Each particle's position and velocity (to change) with its radius and
+    /// inverse mass: the loop every pointwise collider runs.
+    pub fn rows(&mut self) -> impl Iterator<Item = (&mut Vec3A, &mut Vec3A, f32, f32)> {
+        self.position
+            .iter_mut()
+            .zip(self.velocity.iter_mut())
+            .zip(self.radius)
+            .zip(self.inverse_mass)
+            .map(|(((x, v), &r), &w)| (x, v, r, w))
+    }
+}
+
 /// A collider.
 pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// Short name for diagnostics and scene files (`"plane"`).

@@ -82,15 +82,9 @@ impl Plane {
     /// tangential arithmetic are needed. One particle at a time, with the
     /// contact selected by bit masks (never a branch: resting particles flip
     /// the test unpredictably); the same arithmetic as the four-lane path.
-    fn resolve_axis_frictionless<const AXIS: usize>(&self, c: ContactColumns<'_>, sign: f32) {
+    fn resolve_axis_frictionless<const AXIS: usize>(&self, mut c: ContactColumns<'_>, sign: f32) {
         let bounce = -(1.0 + self.material.restitution);
-        let cols = c
-            .position
-            .iter_mut()
-            .zip(c.velocity.iter_mut())
-            .zip(c.radius)
-            .zip(c.inverse_mass);
-        for (((x, v), &r), &w) in cols {
+        for (x, v, r, w) in c.rows() {
             let gap = x[AXIS] * sign - self.offset - r;
             let vn = v[AXIS] * sign;
             let dvn = bounce * vn.min(0.0);
@@ -158,13 +152,8 @@ impl Collider for Plane {
             Some((_, sign)) => self.resolve_axis::<2>(c, sign),
             None => {
                 let n = Vec3A::from(self.normal);
-                let cols = c
-                    .position
-                    .iter_mut()
-                    .zip(c.velocity.iter_mut())
-                    .zip(c.radius)
-                    .zip(c.inverse_mass);
-                for (((x, v), &r), &w) in cols {
+                let mut c = c;
+                for (x, v, r, w) in c.rows() {
                     let gap = n.dot(*x) - self.offset - r;
                     resolve(x, v, n, gap, w > 0.0, self.material);
                 }
