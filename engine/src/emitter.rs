@@ -65,7 +65,7 @@ impl Emitter {
             if ok {
                 Ok(())
             } else {
-                Err(SpawnError { field, value, expected })
+                Err(SpawnError::invalid(field, value, expected))
             }
         };
         for (field, v) in [

@@ -103,6 +103,16 @@ pub enum SimulationError {
         /// The limit in force.
         limit: u32,
     },
+    /// An emitter would take the world past
+    /// [`WorldConfig::max_particles`](crate::world::WorldConfig).
+    ParticleLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        emitter: usize,
+        /// The limit in force.
+        limit: usize,
+    },
     /// The fixed step itself is invalid: a time or `dt` that is not finite
     /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
     InvalidStep {
@@ -159,7 +169,14 @@ impl fmt::Display for SimulationError {
                 f,
                 "step {tick}: emitter {emitter} is due {} particles in one step, past the limit of {limit} \
                  (WorldConfig::max_spawns_per_step); lower its rate or raise the limit",
-                crate::clock::Number(*due)
+                // `due` was an f32: its shortest form, not its widening's digits.
+                crate::clock::Number::from(*due as f32)
+            ),
+            Self::ParticleLimit { tick, emitter, limit } => write!(
+                f,
+                "step {tick}: emitter {emitter} would take the world past its limit of {limit} particles \
+                 (WorldConfig::max_particles); give its particles a shorter lifetime, lower its rate \
+                 or raise the limit"
             ),
             Self::InvalidStep { tick, time, dt } => write!(
                 f,
@@ -594,11 +611,19 @@ impl World {
                     limit,
                 });
             }
+            if self.check_room(due as usize).is_err() {
+                return Err(SimulationError::ParticleLimit {
+                    tick,
+                    emitter: k,
+                    limit: self.config.max_particles,
+                });
+            }
             for _ in 0..due as u32 {
                 let particle = self.emitters[k].particle(&mut self.rng);
                 let entity = self.entities.reserve();
                 self.queue.push(crate::world::Command::Spawn(entity, particle));
             }
+            self.queued_spawns += due as usize;
         }
         Ok(())
     }

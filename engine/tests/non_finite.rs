@@ -158,8 +158,44 @@ fn an_emitter_past_the_spawn_limit_is_an_error_naming_the_limit() {
     let error = step(&mut w).expect_err("too many spawns");
     assert_eq!(
         error.to_string(),
-        "step 0: emitter 0 is due 1.6666667008e10 particles in one step, past the limit of 1000000 \
+        "step 0: emitter 0 is due 1.6666667e10 particles in one step, past the limit of 1000000 \
          (WorldConfig::max_spawns_per_step); lower its rate or raise the limit"
     );
     assert_eq!(w.particles().len(), 0, "nothing was spawned");
+}
+
+#[test]
+fn the_world_wide_particle_limit_holds_for_spawns_queues_and_emitters() {
+    let mut w = World::new(WorldConfig {
+        max_particles: 3,
+        ..WorldConfig::default()
+    })
+    .expect("registered");
+    w.spawn(Particle::default()).expect("room for one");
+    w.queue_spawn(Particle::default()).expect("room for a queued one");
+    w.spawn(Particle::default()).expect("room for the third");
+    let limit = "the world already holds its limit of 3 particles (WorldConfig::max_particles); \
+                 despawn some or raise the limit";
+    let error = w
+        .spawn(Particle::default())
+        .expect_err("full, counting the queued spawn");
+    assert_eq!(error.to_string(), limit);
+    assert_eq!(w.queue_spawn(Particle::default()).expect_err("full").to_string(), limit);
+    assert_eq!(w.len(), 2, "the refused spawns left nothing behind");
+    step(&mut w).expect("the queued spawn lands");
+    assert_eq!(w.len(), 3);
+
+    // An emitter due more than the room left fails the step, naming the limit.
+    w.add_emitter(Emitter {
+        rate: 60.0,
+        ..Emitter::default()
+    })
+    .expect("a valid emitter");
+    let error = step(&mut w).expect_err("no room for the emitted particle");
+    assert_eq!(
+        error.to_string(),
+        "step 1: emitter 0 would take the world past its limit of 3 particles (WorldConfig::max_particles); \
+         give its particles a shorter lifetime, lower its rate or raise the limit"
+    );
+    assert_eq!(w.len(), 3, "nothing was spawned");
 }

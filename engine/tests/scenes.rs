@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use tickwork_engine::{FixedClock, Scene, SceneError};
+use tickwork_engine::{FixedClock, Scene, SceneError, WorldConfig};
 
 fn scenes_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes")
@@ -153,6 +153,45 @@ fn misspelt_fields_and_bad_values_inside_forces_and_colliders_are_errors() {
             "bad.ron:1:",
             "colliders[0].Plane.normal: expected a direction of non-zero, finite length",
         ),
+        // An inverted box was accepted (and pushed every particle out).
+        (
+            "SceneFile(colliders: [Plane(normal: (0, 1, 0)),\n  Box(min: (1, 1, 1), max: (-1, -1, -1))])",
+            "bad.ron:2:40: colliders[1]: ",
+            "Box.max.x = -1 is not above Box.min.x = 1",
+        ),
+        (
+            "SceneFile(colliders: [Box(min: (-3e38, 0, 0), max: (3e38, 1, 1))])",
+            "bad.ron:1:",
+            "colliders[0]: Box from min.x = -3e38 to max.x = 3e38: expected a width that is a finite number",
+        ),
+        // A zero emitter direction silently became +y.
+        (
+            "SceneFile(emitters: [(position: (0, 0, 0), direction: (0, 0, 0), speed: 1, rate: 1, lifetime: 1)])",
+            "bad.ron:1:",
+            "emitters[0].direction: expected a direction of non-zero, finite length",
+        ),
+        // Rigid bodies: a zero quaternion, negative or degenerate extents, an
+        // inertia whose inverse overflows; once only found by the build, with no position.
+        (
+            "SceneFile(rigid_bodies: [(particle: (position: (0, 0, 0)), orientation: (0, 0, 0, 0), half_extents: (1, 1, 1))])",
+            "bad.ron:1:",
+            "rigid_bodies[0].orientation: expected a quaternion (x, y, z, w) of finite coordinates and non-zero",
+        ),
+        (
+            "SceneFile(rigid_bodies: [(particle: (position: (0, 0, 0)), half_extents: (1, -1, 1))])",
+            "bad.ron:1:",
+            "rigid_bodies[0]: half_extents.y = -1: expected half extents that are not negative",
+        ),
+        (
+            "SceneFile(rigid_bodies: [(particle: (position: (0, 0, 0)), half_extents: (1, 0, 0))])",
+            "bad.ron:1:",
+            "rigid_bodies[0]: half_extents (1, 0, 0) and mass 1 give the moment of inertia inertia.x = 0: expected",
+        ),
+        (
+            "SceneFile(rigid_bodies: [(particle: (position: (0, 0, 0), mass: 1e30), half_extents: (1e10, 1, 1))])",
+            "bad.ron:1:",
+            "rigid_bodies[0]: half_extents (1e10, 1, 1) and mass 1e30 give the moment of inertia inertia.y = inf: expected",
+        ),
     ];
     let mut wrong = Vec::new();
     for (text, start, contains) in cases {
@@ -175,6 +214,43 @@ fn resource_demands_past_a_limit_are_errors_naming_the_limit() {
              got 1000 x 1000 x 1000 = 1000000000; split it into several lattices"
         ),
         "{message}"
+    );
+    // Lattices each under their limit, together past the world's: refused
+    // before a particle is allocated.
+    let two = "SceneFile(lattices: [\
+        (origin: (0, 0, 0), count: (1000, 1000, 10), spacing: 0.1),\
+        (origin: (0, 0, 5), count: (1000, 1000, 10), spacing: 0.1)])";
+    let scene = Scene::parse(two, "two.ron").expect("each lattice is within its limit");
+    let err = scene.build().expect_err("past the world's limit");
+    assert_eq!(
+        err.to_string(),
+        "two.ron: the scene holds 20000000 particles, past the world's limit of 10000000 \
+         (WorldConfig::max_particles); build it with Scene::build_with and a higher limit"
+    );
+    let small = WorldConfig {
+        max_particles: 15,
+        ..scene.world_config()
+    };
+    let four = Scene::parse(
+        "SceneFile(lattices: [(origin: (0, 0, 0), count: (4, 4, 1), spacing: 0.1)])",
+        "four.ron",
+    )
+    .expect("a small lattice");
+    assert!(
+        four.build_with(small.clone())
+            .expect_err("16 > 15")
+            .to_string()
+            .contains("holds 16 particles")
+    );
+    assert_eq!(
+        four.build_with(WorldConfig {
+            max_particles: 16,
+            ..small
+        })
+        .expect("fits")
+        .0
+        .len(),
+        16
     );
     // A file that never ends (Linux's /dev/zero) is read only to the limit.
     let err = Scene::load(std::path::Path::new("/dev/zero")).expect_err("endless");

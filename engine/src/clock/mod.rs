@@ -152,6 +152,14 @@ impl std::error::Error for ClockError {}
 #[derive(Clone, Copy, Debug)]
 pub struct Number(pub f64);
 
+impl From<f32> for Number {
+    /// Through its shortest decimal form, so that `3e38_f32` reads `3e38`,
+    /// not the `3.0000000054977558e38` of its exact widening.
+    fn from(v: f32) -> Self {
+        Self(v.to_string().parse().unwrap_or(f64::from(v)))
+    }
+}
+
 impl fmt::Display for Number {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.0;

@@ -10,6 +10,8 @@ use core::fmt;
 use serde::de::{self, Deserializer};
 use serde::{Deserialize, Serialize};
 
+use crate::clock::Number;
+
 thread_local! {
     /// Number of particles in the scene being read, for checking spring ends
     /// (set by the second pass of `Scene::parse`; `usize::MAX` = not checked).
@@ -178,7 +180,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub forces: Vec<ForceSpec>,
     /// Colliders (default: none).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "checked_list")]
     pub colliders: Vec<ColliderSpec>,
     /// Particles, one by one; springs refer to them by index (default: none).
     #[serde(default)]
@@ -190,7 +192,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub emitters: Vec<EmitterSpec>,
     /// Rigid bodies (default: none).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "checked_list")]
     pub rigid_bodies: Vec<RigidBodySpec>,
 }
 
@@ -497,9 +499,9 @@ impl<'de> Deserialize<'de> for LatticeCount {
 pub struct EmitterSpec {
     /// Where particles appear.
     pub position: Vector,
-    /// Launch direction (default: +y).
+    /// Launch direction, of non-zero, finite length (default: +y).
     #[serde(default = "up")]
-    pub direction: Vector,
+    pub direction: Direction,
     /// Cone half-angle, degrees (default: 15).
     #[serde(default = "fifteen")]
     pub spread_degrees: NonNegative,
@@ -523,8 +525,8 @@ pub struct EmitterSpec {
     pub mass: Positive,
 }
 
-fn up() -> Vector {
-    Vector([0.0, 1.0, 0.0])
+fn up() -> Direction {
+    Direction([0.0, 1.0, 0.0])
 }
 fn fifteen() -> NonNegative {
     NonNegative(15.0)
@@ -548,18 +550,117 @@ fn centigram() -> Positive {
 pub struct RigidBodySpec {
     /// Centre of mass.
     pub particle: ParticleSpec,
-    /// Quaternion `(x, y, z, w)` (default: identity).
+    /// Quaternion `(x, y, z, w)`, of non-zero, finite length; normalised on
+    /// load (default: identity).
     #[serde(default = "identity")]
-    pub orientation: (Finite, Finite, Finite, Finite),
+    pub orientation: Orientation,
     /// rad/s, world frame (default: zero).
     #[serde(default = "origin")]
     pub angular_velocity: Vector,
-    /// Half extents of a solid box, m; the inertia follows from them and the mass.
+    /// Half extents of a solid box, m, none negative; the inertia follows
+    /// from them and the mass (checked: above zero and finite on every axis).
     pub half_extents: Vector,
 }
 
-fn identity() -> (Finite, Finite, Finite, Finite) {
-    (Finite(0.0), Finite(0.0), Finite(0.0), Finite(1.0))
+fn identity() -> Orientation {
+    Orientation([0.0, 0.0, 0.0, 1.0])
+}
+
+/// A rotation quaternion `(x, y, z, w)`: finite, of a length that can be
+/// normalised (`(0, 0, 0, 0)` is no rotation at all).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Orientation(pub [f32; 4]);
+
+impl<'de> Deserialize<'de> for Orientation {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let (x, y, z, w) = <(f32, f32, f32, f32)>::deserialize(d)?;
+        let q = glam::Vec4::new(x, y, z, w);
+        let length = q.length();
+        if !q.is_finite() || !length.is_finite() || length < 1e-6 {
+            return Err(de::Error::custom(format_args!(
+                "expected a quaternion (x, y, z, w) of finite coordinates and non-zero, finite length, \
+                 got ({x}, {y}, {z}, {w})"
+            )));
+        }
+        Ok(Self([x, y, z, w]))
+    }
+}
+
+/// Checks across the fields of one list item (a box's two corners, a rigid
+/// body's mass and extents), run once the item is read: the error then
+/// carries the item's path (`colliders[2]`) and the position just past it,
+/// and names the fields inside.
+pub(crate) trait CheckItem {
+    /// `Err` says which fields disagree and what is required.
+    fn check(&self) -> Result<(), String>;
+}
+
+struct Checked<T>(T);
+
+impl<'de, T: Deserialize<'de> + CheckItem> Deserialize<'de> for Checked<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let item = T::deserialize(d)?;
+        item.check().map_err(de::Error::custom)?;
+        Ok(Self(item))
+    }
+}
+
+fn checked_list<'de, D, T>(d: D) -> Result<Vec<T>, D::Error>
+where
+    D: Deserializer<'de>,
+    T: Deserialize<'de> + CheckItem,
+{
+    let items = Vec::<Checked<T>>::deserialize(d)?;
+    Ok(items.into_iter().map(|item| item.0).collect())
+}
+
+impl CheckItem for ColliderSpec {
+    fn check(&self) -> Result<(), String> {
+        let Self::Box { min, max, .. } = self else {
+            return Ok(());
+        };
+        for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+            let (lo, hi) = (Number::from(min.0[axis]), Number::from(max.0[axis]));
+            if min.0[axis] >= max.0[axis] {
+                return Err(format!(
+                    "Box.max.{name} = {hi} is not above Box.min.{name} = {lo}: a box's max corner must be \
+                     above its min corner on every axis (swap them if they are inverted)"
+                ));
+            }
+            if !(max.0[axis] - min.0[axis]).is_finite() {
+                return Err(format!(
+                    "Box from min.{name} = {lo} to max.{name} = {hi}: expected a width that is a finite number"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl CheckItem for RigidBodySpec {
+    fn check(&self) -> Result<(), String> {
+        let h = self.half_extents.0;
+        let [x, y, z] = h.map(Number::from);
+        if let Some(axis) = h.iter().position(|&c| c < 0.0) {
+            return Err(format!(
+                "half_extents.{} = {}: expected half extents that are not negative",
+                ["x", "y", "z"][axis],
+                Number::from(h[axis])
+            ));
+        }
+        // The same check as `World::spawn_rigid`, here so that it has a position.
+        let mass = self.particle.mass.0;
+        let body = crate::world::RigidBody::solid_box(mass, glam::Vec3::from_array(h));
+        body.validate().map_err(|e| match e {
+            crate::world::SpawnError::Invalid { field, value, .. } if field.starts_with("inertia") => format!(
+                "half_extents ({x}, {y}, {z}) and mass {} give the moment of inertia {field} = {}: expected \
+                 one above zero and finite, whose inverse is finite (at most one half extent may be zero)",
+                Number::from(mass),
+                Number::from(value)
+            ),
+            _ => e.to_string(),
+        })
+    }
 }
 
 impl fmt::Display for RateSpec {

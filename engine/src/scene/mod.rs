@@ -158,20 +158,55 @@ impl Scene {
         }
     }
 
+    /// The settings of the scene's world: its integrator and seed, the rest
+    /// [`WorldConfig::default`].
+    #[must_use]
+    pub fn world_config(&self) -> WorldConfig {
+        WorldConfig {
+            integrator: self.spec.integrator.0.clone(),
+            seed: self.spec.seed,
+            ..WorldConfig::default()
+        }
+    }
+
     /// Builds a world: particles (in file order, then lattices), rigid
     /// bodies, emitters, forces (springs grouped into one force), colliders.
     /// Returns the world and the entities of the listed `particles`.
     ///
     /// # Errors
     /// [`SceneError`] if a value is refused by the world (which the format's
-    /// checks should already have caught).
+    /// checks should already have caught), or the scene holds more particles
+    /// than [`WorldConfig::max_particles`].
     pub fn build(&self) -> Result<(World, Vec<Entity>), SceneError> {
+        self.build_with(self.world_config())
+    }
+
+    /// [`build`](Self::build) with other settings (limits, threads): the
+    /// scene's integrator and seed are taken from `config`, so start from
+    /// [`world_config`](Self::world_config).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with(&self, config: WorldConfig) -> Result<(World, Vec<Entity>), SceneError> {
         let s = &self.spec;
-        let config = WorldConfig {
-            integrator: s.integrator.0.clone(),
-            seed: s.seed,
-            ..WorldConfig::default()
-        };
+        // Counted before anything is allocated: two lattices under their own
+        // limit can still be past the world's.
+        let lattice_particles = s
+            .lattices
+            .iter()
+            .map(|l| u64::from(l.count.0) * u64::from(l.count.1) * u64::from(l.count.2))
+            .sum::<u64>();
+        let total = lattice_particles + s.particles.len() as u64 + s.rigid_bodies.len() as u64;
+        if total > config.max_particles as u64 {
+            return Err(self.error(
+                "",
+                format!(
+                    "the scene holds {total} particles, past the world's limit of {} \
+                     (WorldConfig::max_particles); build it with Scene::build_with and a higher limit",
+                    config.max_particles
+                ),
+            ));
+        }
         let mut world = World::new(config).map_err(|e| self.error("integrator", e.to_string()))?;
         let mut listed = Vec::with_capacity(s.particles.len());
         for (k, p) in s.particles.iter().enumerate() {
@@ -198,10 +233,10 @@ impl Scene {
             }
         }
         for (k, b) in s.rigid_bodies.iter().enumerate() {
-            let (x, y, z, w) = b.orientation;
             let mut body = RigidBody::solid_box(b.particle.mass.0, b.half_extents.into());
             body.particle = particle(&b.particle);
-            body.orientation = Quat::from_xyzw(x.0, y.0, z.0, w.0);
+            // Checked while read: finite, of a length that normalises.
+            body.orientation = Quat::from_array(b.orientation.0).normalize();
             body.angular_velocity = b.angular_velocity.into();
             world
                 .spawn_rigid(body)

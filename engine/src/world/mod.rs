@@ -63,6 +63,12 @@ pub struct WorldConfig {
     /// `1_000_000`): an emitter of 1e12 per second is an error naming this
     /// limit, not an allocation that takes the machine.
     pub max_spawns_per_step: u32,
+    /// Most particles the world may hold, live and queued (default:
+    /// `10_000_000`, about a gigabyte of columns): a spawn past it is
+    /// [`SpawnError::ParticleLimit`], an emitter's step past it
+    /// [`SimulationError::ParticleLimit`](crate::step::SimulationError), not an
+    /// allocation that aborts the process.
+    pub max_particles: usize,
 }
 
 impl Default for WorldConfig {
@@ -73,6 +79,7 @@ impl Default for WorldConfig {
             seed: 0,
             parallel_threshold: 65_536,
             max_spawns_per_step: 1_000_000,
+            max_particles: 10_000_000,
         }
     }
 }
@@ -168,6 +175,8 @@ pub struct World {
     pub(crate) integrator: Box<dyn Integrator<Vec3A>>,
     pub(crate) angular: Box<dyn AngularIntegrator<Quat>>,
     pub(crate) queue: Vec<Command>,
+    /// Spawn commands in `queue`, for the particle limit.
+    pub(crate) queued_spawns: usize,
     pub(crate) rng: Pcg32,
     pub(crate) tick: u64,
     pub(crate) time: f64,
@@ -198,6 +207,7 @@ impl Clone for World {
             integrator: self.integrator.clone_boxed(),
             angular: self.angular.clone_boxed(),
             queue: self.queue.clone(),
+            queued_spawns: self.queued_spawns,
             rng: self.rng.clone(),
             tick: self.tick,
             time: self.time,
@@ -230,6 +240,7 @@ impl Clone for World {
             self.angular = source.angular.clone_boxed();
         }
         self.queue.clone_from(&source.queue);
+        self.queued_spawns = source.queued_spawns;
         self.rng.clone_from(&source.rng);
         self.tick = source.tick;
         self.time = source.time;
@@ -301,6 +312,7 @@ impl World {
             integrator,
             angular,
             queue: Vec::new(),
+            queued_spawns: 0,
             rng: Pcg32::seed_from_u64(config.seed),
             tick: 0,
             time: 0.0,
@@ -322,6 +334,7 @@ impl World {
     /// [`SpawnError`] naming the invalid field; nothing is spawned.
     pub fn spawn(&mut self, particle: Particle) -> Result<Entity, SpawnError> {
         particle.validate()?;
+        self.check_room(1)?;
         let entity = self.entities.reserve();
         self.bind(entity, &particle);
         Ok(entity)
@@ -333,9 +346,21 @@ impl World {
     /// [`SpawnError`] naming the invalid field; nothing is spawned.
     pub fn spawn_rigid(&mut self, body: RigidBody) -> Result<Entity, SpawnError> {
         body.validate()?;
+        self.check_room(1)?;
         let entity = self.entities.reserve();
         self.bind_rigid(entity, &body);
         Ok(entity)
+    }
+
+    /// Whether `more` particles fit under [`WorldConfig::max_particles`],
+    /// counting the live ones and the queued spawns.
+    pub(crate) fn check_room(&self, more: usize) -> Result<(), SpawnError> {
+        let limit = self.config.max_particles;
+        let held = self.entities.len().saturating_add(self.queued_spawns);
+        if held.saturating_add(more) > limit {
+            return Err(SpawnError::ParticleLimit { limit });
+        }
+        Ok(())
     }
 
     fn bind(&mut self, entity: Entity, particle: &Particle) -> usize {
@@ -387,8 +412,10 @@ impl World {
     /// [`SpawnError`] naming the invalid field; nothing is queued.
     pub fn queue_spawn(&mut self, particle: Particle) -> Result<Entity, SpawnError> {
         particle.validate()?;
+        self.check_room(1)?;
         let entity = self.entities.reserve();
         self.queue.push(Command::Spawn(entity, particle));
+        self.queued_spawns += 1;
         Ok(entity)
     }
 
@@ -398,8 +425,10 @@ impl World {
     /// [`SpawnError`] naming the invalid field; nothing is queued.
     pub fn queue_spawn_rigid(&mut self, body: RigidBody) -> Result<Entity, SpawnError> {
         body.validate()?;
+        self.check_room(1)?;
         let entity = self.entities.reserve();
         self.queue.push(Command::SpawnRigid(entity, body));
+        self.queued_spawns += 1;
         Ok(entity)
     }
 
@@ -423,6 +452,7 @@ impl World {
     pub fn apply_queued(&mut self) -> (u32, u32) {
         let (mut spawned, mut despawned) = (0, 0);
         let mut queue = core::mem::take(&mut self.queue);
+        self.queued_spawns = 0;
         for command in queue.drain(..) {
             match command {
                 Command::Spawn(entity, particle) => {

@@ -47,24 +47,55 @@ impl Default for Particle {
     }
 }
 
-/// A spawn refused because a field is invalid.
+/// A spawn refused: a field is invalid, or the world is full.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpawnError {
-    /// The field at fault (`"mass"`, `"position.y"`, ...).
-    pub field: &'static str,
-    /// The value given.
-    pub value: f32,
-    /// What is required.
-    pub expected: &'static str,
+pub enum SpawnError {
+    /// A field is invalid.
+    Invalid {
+        /// The field at fault (`"mass"`, `"position.y"`, ...).
+        field: &'static str,
+        /// The value given.
+        value: f32,
+        /// What is required.
+        expected: &'static str,
+    },
+    /// The world already holds (or has queued) as many particles as
+    /// [`WorldConfig::max_particles`](super::WorldConfig) allows.
+    ParticleLimit {
+        /// The limit in force.
+        limit: usize,
+    },
+}
+
+impl SpawnError {
+    /// An invalid field.
+    #[must_use]
+    pub const fn invalid(field: &'static str, value: f32, expected: &'static str) -> Self {
+        Self::Invalid { field, value, expected }
+    }
+
+    /// The field at fault, for [`Invalid`](Self::Invalid) (`None` for a limit).
+    #[must_use]
+    pub const fn field(&self) -> Option<&'static str> {
+        match self {
+            Self::Invalid { field, .. } => Some(field),
+            Self::ParticleLimit { .. } => None,
+        }
+    }
 }
 
 impl fmt::Display for SpawnError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "invalid particle {}: {} (expected {})",
-            self.field, self.value, self.expected
-        )
+        match self {
+            Self::Invalid { field, value, expected } => {
+                write!(f, "invalid particle {field}: {value} (expected {expected})")
+            }
+            Self::ParticleLimit { limit } => write!(
+                f,
+                "the world already holds its limit of {limit} particles (WorldConfig::max_particles); \
+                 despawn some or raise the limit"
+            ),
+        }
     }
 }
 
@@ -82,27 +113,23 @@ impl Particle {
         check_vector("velocity", self.velocity)?;
         let valid_mass = self.mass.is_finite() && self.mass > 0.0;
         if !(self.immovable || valid_mass) {
-            return Err(SpawnError {
-                field: "mass",
-                value: self.mass,
-                expected: "a finite mass above zero, or immovable: true",
-            });
+            return Err(SpawnError::invalid(
+                "mass",
+                self.mass,
+                "a finite mass above zero, or immovable: true",
+            ));
         }
         if !(self.radius.is_finite() && self.radius >= 0.0) {
-            return Err(SpawnError {
-                field: "radius",
-                value: self.radius,
-                expected: "a finite radius, not negative",
-            });
+            return Err(SpawnError::invalid(
+                "radius",
+                self.radius,
+                "a finite radius, not negative",
+            ));
         }
         if let Some(lifetime) = self.lifetime
             && !(lifetime.is_finite() && lifetime > 0.0)
         {
-            return Err(SpawnError {
-                field: "lifetime",
-                value: lifetime,
-                expected: "finite seconds above zero",
-            });
+            return Err(SpawnError::invalid("lifetime", lifetime, "finite seconds above zero"));
         }
         Ok(())
     }
@@ -129,11 +156,7 @@ pub(crate) fn check_vector(field: &'static str, v: Vec3) -> Result<(), SpawnErro
     };
     for (value, name) in v.to_array().into_iter().zip(names) {
         if !value.is_finite() {
-            return Err(SpawnError {
-                field: name,
-                value,
-                expected: "a finite number",
-            });
+            return Err(SpawnError::invalid(name, value, "a finite number"));
         }
     }
     Ok(())

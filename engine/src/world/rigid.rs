@@ -70,21 +70,22 @@ impl RigidBody {
             .into_iter()
             .zip(["inertia.x", "inertia.y", "inertia.z"])
         {
-            if value <= 0.0 {
-                return Err(SpawnError {
+            // A subnormal moment has an infinite inverse.
+            if value < f32::MIN_POSITIVE {
+                return Err(SpawnError::invalid(
                     field,
                     value,
-                    expected: "a moment of inertia above zero",
-                });
+                    "a moment of inertia above zero whose inverse is finite",
+                ));
             }
         }
         let norm = self.orientation.length();
         if !norm.is_finite() || norm < 1e-6 {
-            return Err(SpawnError {
-                field: "orientation",
-                value: norm,
-                expected: "a quaternion of non-zero length",
-            });
+            return Err(SpawnError::invalid(
+                "orientation",
+                norm,
+                "a quaternion of non-zero length",
+            ));
         }
         Ok(())
     }
