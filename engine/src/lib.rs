@@ -42,6 +42,7 @@ pub mod input;
 pub mod render;
 pub mod scene;
 mod step;
+mod text_file;
 pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource};

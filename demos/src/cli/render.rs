@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use tickwork_engine::Scene;
 use tickwork_engine::app::{
-    FrameOutput, OffscreenRun, Playback, WindowOptions, non_negative_seconds, parse_size, run_window,
+    FrameOutput, OffscreenRun, Playback, WindowOptions, display_hz, non_negative_seconds, parse_size, run_window,
 };
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::render::{Blend, Gpu, Interpolation, RendererConfig};
@@ -99,7 +99,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub gif: Option<PathBuf>,
     /// Refresh rate of the simulated display, frames per second.
-    #[arg(long, default_value_t = 60.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 60.0, value_parser = display_hz, allow_hyphen_values = true)]
     pub display_hz: f64,
     /// Jitter the frame times by +-50% around 1/display-hz (seeded, so
     /// reproducible), as a real display under load would.
@@ -133,19 +133,11 @@ pub struct WindowArgs {
     pub hold: f64,
     /// Drive the clock from a simulated display at this rate instead of the
     /// real clock (reproducible frames, for tests).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = display_hz, allow_hyphen_values = true)]
     pub display_hz: Option<f64>,
     /// Directory for F12 screenshots.
     #[arg(long, default_value = ".")]
     pub screenshots: PathBuf,
-}
-
-fn check_hz(hz: f64) -> Result<(), String> {
-    if hz.is_finite() && hz > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("--display-hz: {hz} is not a positive, finite rate"))
-    }
 }
 
 /// Runs `tickwork render`.
@@ -153,7 +145,6 @@ fn check_hz(hz: f64) -> Result<(), String> {
 /// # Errors
 /// A message for a bad scene, option, adapter, or an output that exists.
 pub fn render(args: &RenderArgs) -> Result<(), String> {
-    check_hz(args.display_hz)?;
     if args.frames == 0 {
         // Refused before anything is written: an empty GIF named as written
         // helped no one.
@@ -218,9 +209,6 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
 /// # Errors
 /// A message for a bad scene or option, no display, no adapter.
 pub fn view(args: &WindowArgs) -> Result<(), String> {
-    if let Some(hz) = args.display_hz {
-        check_hz(hz)?;
-    }
     let mut playback = args.view.playback()?;
     let (width, height) = args.view.size.unwrap_or((1280, 720));
     let options = WindowOptions {

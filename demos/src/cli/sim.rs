@@ -41,7 +41,7 @@ pub struct SimArgs {
     pub force: bool,
 }
 
-/// The most steps `--until` may ask for: ten billion (about five years at
+/// The most steps `--steps` or `--until` may ask for: ten billion (about five years at
 /// 60 Hz); `--until 1e300` once became `u64::MAX` steps in silence.
 const MAX_STEPS: u64 = 10_000_000_000;
 
@@ -65,6 +65,11 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
         return Err("--every: must be at least 1".into());
     }
     let steps = match (args.steps, args.until) {
+        (Some(n), _) if n > MAX_STEPS => {
+            return Err(format!(
+                "--steps: {n} steps, past the limit of {MAX_STEPS} steps a run; run fewer"
+            ));
+        }
         (Some(n), _) => n,
         (_, Some(t)) if t.is_finite() && t >= 0.0 => {
             let steps = (t / rate.step_seconds()).round();

@@ -97,6 +97,9 @@ pub fn run(args: &LabArgs) -> Result<Written, String> {
         Some(name) => vec![Problem::parse(name)?],
         None => Problem::ALL.to_vec(),
     };
+    if args.out.exists() && !args.out.is_dir() {
+        return Err(format!("--out: {} is a file; name a directory", args.out.display()));
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let mut out = Out {
         dir: &args.out,

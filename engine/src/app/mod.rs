@@ -13,7 +13,10 @@ mod window;
 
 pub use game::{Draw, EnergyTrace, Game, GameError, Key, KeySet, OnFailure, Settings, Stage, StageWorld, TickInput};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
-pub use options::{RunOptions, RunSummary, exit_code, non_negative_seconds, parse_size, run};
+pub use options::{
+    MAX_DISPLAY_HZ, MAX_OFFSCREEN_FRAMES, MIN_DISPLAY_HZ, RunOptions, RunSummary, display_hz, exit_code,
+    non_negative_seconds, parse_size, run,
+};
 pub use playback::{Control, Playback, PlaybackError};
 pub use session::{GameSession, Recording, SessionOptions};
 // RunError and FrameSource are defined below.

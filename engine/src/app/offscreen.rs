@@ -88,7 +88,8 @@ impl<'g> OffscreenRun<'g> {
     /// `output`; `progress` is called after each frame with its number.
     ///
     /// # Errors
-    /// [`RunError::Exists`] if an output file exists and `overwrite` is
+    /// [`RunError::Limit`] for more than [`MAX_OFFSCREEN_FRAMES`](super::MAX_OFFSCREEN_FRAMES)
+    /// frames, [`RunError::Exists`] if an output file exists and `overwrite` is
     /// off (checked before anything is drawn), [`RunError::Io`] for a file
     /// that cannot be written, and as [`OffscreenRun::frame`].
     pub fn run(
@@ -99,6 +100,19 @@ impl<'g> OffscreenRun<'g> {
         output: &FrameOutput,
         progress: &mut dyn FnMut(u64),
     ) -> Result<OffscreenSummary, RunError> {
+        if frames > super::MAX_OFFSCREEN_FRAMES {
+            return Err(RunError::Limit(format!(
+                "--frames {frames} is past the limit of {} off-screen frames (MAX_OFFSCREEN_FRAMES); \
+                 draw a shorter run",
+                super::MAX_OFFSCREEN_FRAMES
+            )));
+        }
+        if let Some(dir) = output.dir.as_deref().filter(|dir| dir.exists() && !dir.is_dir()) {
+            return Err(RunError::Io {
+                path: dir.to_path_buf(),
+                message: "is a file; name a directory for the frames".into(),
+            });
+        }
         let png = |k: u64| output.dir.as_ref().map(|dir| dir.join(format!("frame_{k:05}.png")));
         if !output.overwrite {
             for path in (0..frames).filter_map(png).chain(output.gif.clone()) {

@@ -56,7 +56,7 @@ pub struct RunOptions {
     pub replay: Option<PathBuf>,
     /// Frame durations from a simulated display at this rate (default: the
     /// real clock in a window, 60 Hz off-screen).
-    #[arg(long, value_parser = positive_f64, allow_hyphen_values = true)]
+    #[arg(long, value_parser = display_hz, allow_hyphen_values = true)]
     pub display_hz: Option<f64>,
     /// Window: after `--frames`, keep showing the last frame this many
     /// seconds before closing (for a screenshot from outside).
@@ -142,6 +142,26 @@ pub fn non_negative_seconds(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("{text:?} is not a finite number of seconds, 0 or more")),
+    }
+}
+
+/// The slowest simulated display: a frame an hour (the clock's longest frame).
+pub const MIN_DISPLAY_HZ: f64 = 1.0 / 3600.0;
+/// The fastest simulated display: a million frames a second (a microsecond,
+/// the shortest fixed step; `1e300` once made every frame last no time).
+pub const MAX_DISPLAY_HZ: f64 = 1e6;
+
+/// Parses a simulated display's rate (`--display-hz`), within
+/// [`MIN_DISPLAY_HZ`] and [`MAX_DISPLAY_HZ`].
+///
+/// # Errors
+/// A message naming the value and the accepted range.
+pub fn display_hz(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if (MIN_DISPLAY_HZ..=MAX_DISPLAY_HZ).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{text:?} is outside the accepted range, from 1/3600 to 1e6 frames per second"
+        )),
     }
 }
 
@@ -232,7 +252,8 @@ fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunE
     Ok(())
 }
 
-/// The most frames an off-screen run computes for a replay by itself.
+/// The most frames an off-screen run draws: a million (over four hours at
+/// 60 frames per second; `--frames 100000000` once stalled the run).
 pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 
 /// Runs `game` with `options`: in a window when a display is available
@@ -247,6 +268,11 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     // Where the recording goes is checked before the run: a run that failed
     // to save at its end lost all the input it had taken.
     if let Some(path) = &options.record {
+        check_output_file(path, options.force)?;
+    }
+    // So is the GIF (the frames' directory is checked by the runner, before
+    // a frame is drawn).
+    if let Some(path) = &options.gif {
         check_output_file(path, options.force)?;
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
@@ -324,12 +350,7 @@ fn show<G: Game>(
         let (width, height) = options.size.unwrap_or((640, 360));
         let display_hz = options.display_hz.unwrap_or(60.0);
         let frames = match (options.frames, replay_ticks) {
-            (Some(frames), _) if frames > MAX_OFFSCREEN_FRAMES => {
-                return Err(RunError::Limit(format!(
-                    "--frames {frames} is past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames \
-                     (MAX_OFFSCREEN_FRAMES); draw a shorter run"
-                )));
-            }
+            // Past MAX_OFFSCREEN_FRAMES: refused by the runner.
             (Some(frames), _) => frames,
             // Enough frames for every recorded tick: steps per frame are
             // hz * time scale / display rate.

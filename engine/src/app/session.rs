@@ -45,7 +45,8 @@ impl Recording {
     /// [`RunError::Io`] naming the file, with the line and column of a
     /// malformed one.
     pub fn load(path: &Path) -> Result<Self, RunError> {
-        let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, &e))?;
+        let text = crate::text_file::read_limited(path, Self::MAX_FILE_BYTES, "Recording::MAX_FILE_BYTES")
+            .map_err(|e| RunError::io(path, &e))?;
         let recording: Self = ron::from_str(&text).map_err(|e| RunError::Io {
             path: path.to_path_buf(),
             message: format!(
@@ -62,6 +63,10 @@ impl Recording {
         })?;
         Ok(recording)
     }
+
+    /// The largest recording read: 256 MiB (hours of input changing every
+    /// tick; a recording stores only the ticks whose input changed).
+    pub const MAX_FILE_BYTES: u64 = 256 << 20;
 
     /// The most ticks a recording may cover: a billion (over six months at
     /// 60 Hz). Past it a replay could not be drawn in any reasonable number

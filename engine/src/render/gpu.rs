@@ -100,6 +100,38 @@ impl Gpu {
         })
     }
 
+    /// Runs `create` (which makes textures or buffers) inside an
+    /// out-of-memory error scope: a size within the device's limits can
+    /// still be past its memory (16384 x 16384 with MSAA is 4 GiB a
+    /// buffer on a software adapter), which wgpu reports to its
+    /// uncaptured-error handler, a panic. Here it is a
+    /// [`RenderError::Device`] naming `what` and what to try.
+    ///
+    /// # Errors
+    /// `create`'s own, or the out-of-memory error.
+    pub fn allocate<T>(
+        &self,
+        what: &dyn Fn() -> String,
+        create: impl FnOnce() -> Result<T, RenderError>,
+    ) -> Result<T, RenderError> {
+        // Views of a texture that failed to allocate are validation errors:
+        // caught too, and reported as the memory error that caused them.
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let created = create();
+        let invalid = pollster::block_on(validation.pop());
+        if let Some(error) = pollster::block_on(memory.pop()) {
+            return Err(RenderError::Device(format!(
+                "out of GPU memory for {}: {error}; draw a smaller size, or without MSAA",
+                what()
+            )));
+        }
+        if let Some(error) = invalid {
+            return Err(RenderError::Device(format!("cannot create {}: {error}", what())));
+        }
+        created
+    }
+
     /// What the adapter is: name, backend and device type, for logs and
     /// HUDs (e.g. `llvmpipe (LLVM 15.0.6, 256 bits) on Vulkan (Cpu)`).
     #[must_use]

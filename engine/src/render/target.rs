@@ -48,6 +48,13 @@ impl FrameBuffers {
         samples: u32,
     ) -> Result<Self, RenderError> {
         check_size(gpu, width, height)?;
+        gpu.allocate(
+            &|| format!("{width}x{height} frame buffers with {samples} samples per pixel"),
+            || Ok(Self::create(gpu, width, height, format, samples)),
+        )
+    }
+
+    fn create(gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat, samples: u32) -> Self {
         let size = wgpu::Extent3d {
             width,
             height,
@@ -73,7 +80,7 @@ impl FrameBuffers {
         } else {
             depth.clone()
         };
-        Ok(Self {
+        Self {
             width,
             height,
             format,
@@ -81,7 +88,7 @@ impl FrameBuffers {
             msaa,
             depth,
             single_depth,
-        })
+        }
     }
 
     /// The colour attachment that draws into `output` (through the
@@ -175,6 +182,13 @@ impl OffscreenTarget {
     /// [`RenderError::Size`] for a zero or too large size.
     pub fn new(gpu: &Gpu, width: u32, height: u32, samples: u32) -> Result<Self, RenderError> {
         let buffers = FrameBuffers::new(gpu, width, height, OFFSCREEN_FORMAT, samples)?;
+        gpu.allocate(
+            &|| format!("a {width}x{height} off-screen target and its readback buffer"),
+            || Ok(Self::create(gpu, buffers, width, height)),
+        )
+    }
+
+    fn create(gpu: &Gpu, buffers: FrameBuffers, width: u32, height: u32) -> Self {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tickwork offscreen"),
             size: wgpu::Extent3d {
@@ -201,13 +215,13 @@ impl OffscreenTarget {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        Ok(Self {
+        Self {
             buffers,
             texture,
             view,
             readback,
             padded_row,
-        })
+        }
     }
 
     /// Width in pixels.

@@ -74,33 +74,21 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] for an unreadable or malformed file.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        use std::io::Read;
         let file = path.display().to_string();
-        let error = |message: String| SceneError {
-            file: file.clone(),
-            position: None,
-            field: String::new(),
-            message,
-        };
-        // Read at most one byte past the limit: `/dev/zero` once read until
-        // memory ran out.
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .and_then(|f| f.take(Self::MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(|e| error(format!("cannot read the scene: {e}")))?;
-        if bytes.len() as u64 > Self::MAX_FILE_BYTES {
-            return Err(error(format!(
-                "cannot read the scene: it is larger than the limit of {} bytes (Scene::MAX_FILE_BYTES); \
-                 a scene this large is better built by a program",
-                Self::MAX_FILE_BYTES
-            )));
-        }
-        let text = String::from_utf8(bytes).map_err(|e| {
-            error(format!(
-                "cannot read the scene: not UTF-8 text (at byte {})",
-                e.utf8_error().valid_up_to()
-            ))
-        })?;
+        let text =
+            crate::text_file::read_limited(path, Self::MAX_FILE_BYTES, "Scene::MAX_FILE_BYTES").map_err(|e| {
+                let hint = if e.starts_with("it is larger") {
+                    "; a scene this large is better built by a program"
+                } else {
+                    ""
+                };
+                SceneError {
+                    file: file.clone(),
+                    position: None,
+                    field: String::new(),
+                    message: format!("cannot read the scene: {e}{hint}"),
+                }
+            })?;
         Self::parse(&text, &file)
     }
 
