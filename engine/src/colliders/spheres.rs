@@ -196,6 +196,18 @@ fn cell_of(x: Vec3A, inv_cell: f32) -> I64Vec3 {
     (x * inv_cell).floor().as_i64vec3()
 }
 
+/// The cell at `offset` from `home`, or `None` past the edge of i64 (a
+/// particle 1e18 m out, whose cell saturated): no cell is there, and a
+/// saturating sum would visit one of the others twice.
+#[inline]
+fn neighbour(home: I64Vec3, offset: I64Vec3) -> Option<I64Vec3> {
+    Some(I64Vec3::new(
+        home.x.checked_add(offset.x)?,
+        home.y.checked_add(offset.y)?,
+        home.z.checked_add(offset.z)?,
+    ))
+}
+
 /// Whether every position is finite: a sum of `0 * x`, which a NaN or an
 /// infinity poisons (one vectorised pass).
 fn all_finite(x: &[Vec3A]) -> bool {
@@ -275,15 +287,18 @@ impl SphereCollisions {
         self.sort_and_gather(keys, c);
         for i in 0..self.position.len() {
             let home = self.sorted_cell[i];
-            let (x0, x1) = ((home.x - 1).max(lo.x), (home.x + 1).min(lo.x + size.x - 1));
+            // Saturating: a cell at the edge of i64 (a particle 1e18 m out)
+            // has no neighbour past it. `lo + size - 1` is the highest cell.
+            let hi = lo + (size - I64Vec3::ONE);
+            let (x0, x1) = (home.x.saturating_sub(1).max(lo.x), home.x.saturating_add(1).min(hi.x));
             for dz in -1..=1 {
-                let z = home.z + dz;
-                if z < lo.z || z >= lo.z + size.z {
+                let z = home.z.saturating_add(dz);
+                if z < lo.z || z > hi.z || (dz != 0 && z == home.z) {
                     continue;
                 }
                 for dy in -1..=1 {
-                    let y = home.y + dy;
-                    if y < lo.y || y >= lo.y + size.y {
+                    let y = home.y.saturating_add(dy);
+                    if y < lo.y || y > hi.y || (dy != 0 && y == home.y) {
                         continue;
                     }
                     // Cells x0..=x1 of this row are consecutive keys.
@@ -307,7 +322,9 @@ impl SphereCollisions {
         for i in 0..n {
             let home = self.sorted_cell[i];
             for offset in NEIGHBOURS {
-                let cell = home.saturating_add(offset);
+                let Some(cell) = neighbour(home, offset) else {
+                    continue;
+                };
                 let b = hash(cell, 0, mask) as usize;
                 let (first, end) = (self.starts[b] as usize, self.starts[b + 1] as usize);
                 for j in first.max(i + 1)..end {
@@ -358,7 +375,9 @@ impl SphereCollisions {
             for level in (0..=own).rev().filter(|l| used & (1 << l) != 0) {
                 let home = self.sorted_cell[i] >> i64::from(own - level);
                 for offset in NEIGHBOURS {
-                    let cell = home.saturating_add(offset);
+                    let Some(cell) = neighbour(home, offset) else {
+                        continue;
+                    };
                     let b = hash(cell, level, mask) as usize;
                     let (first, end) = (self.starts[b] as usize, self.starts[b + 1] as usize);
                     let first = if level == own { first.max(i + 1) } else { first };

@@ -1,0 +1,225 @@
+//! A campaign: many mutated cases from the shipped scenes, each run inside
+//! `catch_unwind` under the limits, and the defects found, minimised.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use crate::case::{Outcome, Stage, run_case};
+use crate::limits::{Watchdog, begin_case, peak_bytes};
+use crate::minimise::minimise;
+use crate::mutate::Mutator;
+
+/// What a campaign runs.
+#[derive(Clone, Debug)]
+pub struct Campaign {
+    /// Seed of the mutations (default: `1`).
+    pub seed: u64,
+    /// Cases to run (default: `2000`); the campaign also stops at `duration`.
+    pub cases: u64,
+    /// Wall time after which no new case starts (default: none).
+    pub duration: Option<Duration>,
+    /// A case still running after this is a hang (default: 60 s: a case
+    /// takes milliseconds, and a loaded machine must not make one a hang).
+    pub case_limit: Duration,
+    /// A case whose live heap peaks past this is a defect (default: 512 MiB).
+    pub memory_limit: usize,
+    /// The texts mutated (default: none; see [`shipped_seeds`]).
+    pub seeds: Vec<String>,
+}
+
+impl Default for Campaign {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            cases: 2000,
+            duration: None,
+            case_limit: Duration::from_secs(60),
+            memory_limit: 512 << 20,
+            seeds: Vec::new(),
+        }
+    }
+}
+
+/// A defect: the case, what went wrong, its text and its minimised text.
+#[derive(Clone, Debug)]
+pub struct Defect {
+    /// The case's number in the campaign.
+    pub case: u64,
+    /// `panicked: ...`, `memory: ...` or the case's own defect.
+    pub what: String,
+    /// The mutated text.
+    pub text: String,
+    /// The smallest text found that shows the same kind of defect.
+    pub minimised: String,
+}
+
+/// What a campaign found.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    /// Cases run.
+    pub cases: u64,
+    /// Cases refused at parse, build and step.
+    pub refused: [u64; 3],
+    /// Cases that stepped.
+    pub stepped: u64,
+    /// Defects, in the order found.
+    pub defects: Vec<Defect>,
+    /// The largest live-heap peak of a case, bytes.
+    pub peak_bytes: usize,
+}
+
+static PANIC_MESSAGE: Mutex<Option<String>> = Mutex::new(None);
+
+/// The shipped scenes under `scenes`, plus copies of those with lattices
+/// shrunk to 6 x 6 x 6 (the full lattices are past a case's particle
+/// limit, so without the copies their forces and colliders would never be
+/// stepped).
+///
+/// # Errors
+/// An unreadable directory or file.
+pub fn shipped_seeds(scenes: &Path) -> std::io::Result<Vec<String>> {
+    let mut paths: Vec<_> = std::fs::read_dir(scenes)?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    paths.sort();
+    let mut seeds = Vec::new();
+    for path in paths {
+        let text = std::fs::read_to_string(&path)?;
+        if text.contains("count: (") {
+            seeds.push(shrink_lattices(&text));
+        }
+        seeds.push(text);
+    }
+    Ok(seeds)
+}
+
+fn shrink_lattices(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(at) = rest.find("count: (") {
+        let open = at + "count: (".len();
+        out.push_str(&rest[..open]);
+        let close = rest[open..].find(')').map_or(rest.len(), |c| open + c);
+        out.push_str("6, 6, 6");
+        rest = &rest[close..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// What one case did, as the campaign sees it.
+enum Verdict {
+    Fine(Outcome),
+    Defect(String),
+}
+
+fn judge(case: u64, text: &str, memory_limit: usize) -> Verdict {
+    if let Ok(mut slot) = PANIC_MESSAGE.lock() {
+        *slot = None;
+    }
+    let base = crate::limits::live_bytes();
+    begin_case(case);
+    let result = catch_unwind(AssertUnwindSafe(|| run_case(text)));
+    let peak = peak_bytes().saturating_sub(base);
+    match result {
+        Err(_) => {
+            let message = PANIC_MESSAGE.lock().ok().and_then(|m| m.clone()).unwrap_or_default();
+            Verdict::Defect(format!("panicked: {message}"))
+        }
+        Ok(Err(defect)) => Verdict::Defect(defect),
+        Ok(Ok(_)) if peak > memory_limit => Verdict::Defect(format!(
+            "memory: the case's heap peaked at {peak} bytes, past the limit of {memory_limit}"
+        )),
+        Ok(Ok(outcome)) => Verdict::Fine(outcome),
+    }
+}
+
+/// The kind of a defect (`panicked`, `memory`, or the message up to its
+/// first colon), which minimising keeps.
+fn kind(what: &str) -> &str {
+    what.split(':').next().unwrap_or(what)
+}
+
+impl Campaign {
+    /// Runs the campaign. Panics are caught, their messages kept; the
+    /// panic hook is restored afterwards.
+    #[must_use]
+    pub fn run(&self) -> Report {
+        let hook = std::panic::take_hook();
+        std::panic::set_hook(Box::new(|info| {
+            let location = info.location().map(|l| format!(" at {}:{}", l.file(), l.line()));
+            let payload = info
+                .payload()
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| info.payload().downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            if let Ok(mut slot) = PANIC_MESSAGE.lock() {
+                *slot = Some(format!("{payload}{}", location.unwrap_or_default()));
+            }
+        }));
+        let watchdog = Watchdog::start(self.case_limit);
+        let mut mutator = Mutator::new(self.seed);
+        let mut report = Report::default();
+        let start = Instant::now();
+        for case in 0..self.cases {
+            if self.duration.is_some_and(|d| start.elapsed() >= d) {
+                break;
+            }
+            let text = mutator.mutate(&self.seeds);
+            watchdog.begin(case, &text);
+            let verdict = judge(case, &text, self.memory_limit);
+            report.peak_bytes = report.peak_bytes.max(peak_bytes());
+            report.cases += 1;
+            match verdict {
+                Verdict::Fine(Outcome::Stepped) => report.stepped += 1,
+                Verdict::Fine(Outcome::Refused(stage, _)) => {
+                    report.refused[match stage {
+                        Stage::Parse => 0,
+                        Stage::Build => 1,
+                        Stage::Step => 2,
+                    }] += 1;
+                }
+                Verdict::Defect(what) => {
+                    let wanted = kind(&what).to_owned();
+                    let minimised = minimise(
+                        &text,
+                        &mut |t| matches!(judge(case, t, self.memory_limit), Verdict::Defect(w) if kind(&w) == wanted),
+                        2000,
+                    );
+                    report.defects.push(Defect {
+                        case,
+                        what,
+                        text,
+                        minimised,
+                    });
+                }
+            }
+            watchdog.end();
+        }
+        std::panic::set_hook(hook);
+        report
+    }
+}
+
+impl Report {
+    /// One paragraph: cases, outcomes, defects, the heap's peak.
+    #[must_use]
+    pub fn summary(&self) -> String {
+        format!(
+            "{} cases: {} refused while parsed, {} at build, {} by a step, {} stepped; {} defects; \
+             largest heap {:.1} MiB",
+            self.cases,
+            self.refused[0],
+            self.refused[1],
+            self.refused[2],
+            self.stepped,
+            self.defects.len(),
+            self.peak_bytes as f64 / f64::from(1 << 20)
+        )
+    }
+}

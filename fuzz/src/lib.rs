@@ -1,0 +1,20 @@
+//! The scene fuzzer, on stable Rust: shipped scenes mutated (tokens, bytes,
+//! special numbers, misspelt and duplicated fields, deep nesting, long
+//! strings), each parsed, built and stepped inside `catch_unwind`, under an
+//! allocation limit and a hang watchdog.
+//!
+//! CI runs a bounded campaign (a fixed seed, `tests/campaign.rs`); a long
+//! run is `cargo run --release -p tickwork-fuzz -- --minutes 30`. Inputs that
+//! found bugs, minimised, live in `fuzz/regressions/` with the outcome each
+//! must now have (`tests/regressions.rs`).
+
+pub mod campaign;
+pub mod case;
+pub mod limits;
+pub mod minimise;
+pub mod mutate;
+
+pub use campaign::{Campaign, Defect, Report};
+pub use case::{Outcome, Stage, run_case};
+pub use limits::LimitedAlloc;
+pub use mutate::Mutator;
