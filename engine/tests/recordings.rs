@@ -72,3 +72,19 @@ fn a_malformed_recording_names_its_line_and_column() {
     let message = error("malformed.ron", "Recording(\n    game: \"Lander\",\n    hz: sixty,\n)");
     assert!(message.contains("line 3, column"), "{message}");
 }
+
+#[test]
+fn a_misspelt_field_is_an_error_not_a_replay_on_other_settings() {
+    // `integrater: Some("rk4")` was ignored: the replay ran the default
+    // integrator, and diverged from the recorded run in silence.
+    let text = recording("60.0", "120", "").replace("integrator: None", "integrater: Some(\"rk4\")");
+    let message = error("misspelt.ron", &text);
+    assert!(message.contains("line 5, column"), "{message}");
+    assert!(message.contains("integrater"), "{message}");
+    let text = recording("60.0", "120", "(3, TickInput(held: [Up], presed: [Up]))");
+    let message = error("misspelt-input.ron", &text);
+    assert!(
+        message.contains("line 7, column") && message.contains("presed"),
+        "{message}"
+    );
+}

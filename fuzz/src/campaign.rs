@@ -27,6 +27,9 @@ pub struct Campaign {
     pub memory_limit: usize,
     /// The texts mutated (default: none; see [`shipped_seeds`]).
     pub seeds: Vec<String>,
+    /// What a case runs (default: [`run_case`], scenes; or
+    /// [`run_recording_case`](crate::recording::run_recording_case)).
+    pub target: fn(&str) -> Result<Outcome, String>,
 }
 
 impl Default for Campaign {
@@ -38,6 +41,7 @@ impl Default for Campaign {
             case_limit: Duration::from_secs(60),
             memory_limit: 512 << 20,
             seeds: Vec::new(),
+            target: run_case,
         }
     }
 }
@@ -72,6 +76,20 @@ pub struct Report {
 
 static PANIC_MESSAGE: Mutex<Option<String>> = Mutex::new(None);
 
+/// The `.ron` files of a directory, sorted (the shipped recordings).
+///
+/// # Errors
+/// An unreadable directory or file.
+pub fn ron_files(dir: &Path) -> std::io::Result<Vec<String>> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .collect();
+    paths.sort();
+    paths.iter().map(std::fs::read_to_string).collect()
+}
+
 /// The shipped scenes under `scenes`, plus copies of those with lattices
 /// shrunk to 6 x 6 x 6 (the full lattices are past a case's particle
 /// limit, so without the copies their forces and colliders would never be
@@ -80,15 +98,8 @@ static PANIC_MESSAGE: Mutex<Option<String>> = Mutex::new(None);
 /// # Errors
 /// An unreadable directory or file.
 pub fn shipped_seeds(scenes: &Path) -> std::io::Result<Vec<String>> {
-    let mut paths: Vec<_> = std::fs::read_dir(scenes)?
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
-        .collect();
-    paths.sort();
     let mut seeds = Vec::new();
-    for path in paths {
-        let text = std::fs::read_to_string(&path)?;
+    for text in ron_files(scenes)? {
         if text.contains("count: (") {
             seeds.push(shrink_lattices(&text));
         }
@@ -117,13 +128,13 @@ enum Verdict {
     Defect(String),
 }
 
-fn judge(case: u64, text: &str, memory_limit: usize) -> Verdict {
+fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, memory_limit: usize) -> Verdict {
     if let Ok(mut slot) = PANIC_MESSAGE.lock() {
         *slot = None;
     }
     let base = crate::limits::live_bytes();
     begin_case(case);
-    let result = catch_unwind(AssertUnwindSafe(|| run_case(text)));
+    let result = catch_unwind(AssertUnwindSafe(|| target(text)));
     let peak = peak_bytes().saturating_sub(base);
     match result {
         Err(_) => {
@@ -172,7 +183,7 @@ impl Campaign {
             }
             let text = mutator.mutate(&self.seeds);
             watchdog.begin(case, &text);
-            let verdict = judge(case, &text, self.memory_limit);
+            let verdict = judge(self.target, case, &text, self.memory_limit);
             report.peak_bytes = report.peak_bytes.max(peak_bytes());
             report.cases += 1;
             match verdict {
@@ -188,7 +199,7 @@ impl Campaign {
                     let wanted = kind(&what).to_owned();
                     let minimised = minimise(
                         &text,
-                        &mut |t| matches!(judge(case, t, self.memory_limit), Verdict::Defect(w) if kind(&w) == wanted),
+                        &mut |t| matches!(judge(self.target, case, t, self.memory_limit), Verdict::Defect(w) if kind(&w) == wanted),
                         2000,
                     );
                     report.defects.push(Defect {

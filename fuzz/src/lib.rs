@@ -1,7 +1,8 @@
 //! The scene fuzzer, on stable Rust: shipped scenes mutated (tokens, bytes,
 //! special numbers, misspelt and duplicated fields, deep nesting, long
 //! strings), each parsed, built and stepped inside `catch_unwind`, under an
-//! allocation limit and a hang watchdog.
+//! allocation limit and a hang watchdog; and the shipped input recordings,
+//! mutated the same way, parsed and replayed by their game.
 //!
 //! CI runs a bounded campaign (a fixed seed, `tests/campaign.rs`); a long
 //! run is `cargo run --release -p tickwork-fuzz -- --minutes 30`. Inputs that
@@ -13,8 +14,10 @@ pub mod case;
 pub mod limits;
 pub mod minimise;
 pub mod mutate;
+pub mod recording;
 
 pub use campaign::{Campaign, Defect, Report};
 pub use case::{Outcome, Stage, run_case};
 pub use limits::LimitedAlloc;
 pub use mutate::Mutator;
+pub use recording::run_recording_case;

@@ -3,15 +3,16 @@
 //! `cargo run --release -p tickwork-fuzz -- --minutes 30` runs cases until
 //! the time is up; defects are printed and their minimised inputs written
 //! to `--save` (default `target/fuzz-found/`), to become regression tests
-//! in `fuzz/regressions/`.
+//! in `fuzz/regressions/`. `--recordings assets/recordings` fuzzes the
+//! input recordings instead.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use tickwork_fuzz::campaign::shipped_seeds;
-use tickwork_fuzz::{Campaign, LimitedAlloc};
+use tickwork_fuzz::campaign::{ron_files, shipped_seeds};
+use tickwork_fuzz::{Campaign, LimitedAlloc, run_case, run_recording_case};
 
 #[global_allocator]
 static ALLOC: LimitedAlloc = LimitedAlloc;
@@ -35,6 +36,10 @@ struct Args {
     /// The scenes to mutate.
     #[arg(long, default_value = "assets/scenes")]
     scenes: PathBuf,
+    /// Fuzz the input recordings of this directory (replayed by the lander)
+    /// instead of the scenes.
+    #[arg(long)]
+    recordings: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -44,14 +49,18 @@ fn main() -> ExitCode {
         eprintln!("error: give --minutes or --cases");
         return ExitCode::from(2);
     }
-    let seeds = match shipped_seeds(&args.scenes) {
+    let (dir, seeds, target) = match &args.recordings {
+        Some(dir) => (dir, ron_files(dir), run_recording_case as fn(&str) -> _),
+        None => (&args.scenes, shipped_seeds(&args.scenes), run_case as fn(&str) -> _),
+    };
+    let seeds = match seeds {
         Ok(seeds) if !seeds.is_empty() => seeds,
         Ok(_) => {
-            eprintln!("error: {}: no .ron scenes", args.scenes.display());
+            eprintln!("error: {}: no .ron files", dir.display());
             return ExitCode::FAILURE;
         }
         Err(e) => {
-            eprintln!("error: {}: {e}", args.scenes.display());
+            eprintln!("error: {}: {e}", dir.display());
             return ExitCode::FAILURE;
         }
     };
@@ -63,6 +72,7 @@ fn main() -> ExitCode {
         cases: args.cases,
         duration: minutes.map(|m| Duration::from_secs_f64(m * 60.0)),
         seeds,
+        target,
         ..Campaign::default()
     };
     let report = campaign.run();

@@ -10,8 +10,12 @@ use tickwork_fuzz::{Campaign, LimitedAlloc};
 #[global_allocator]
 static ALLOC: LimitedAlloc = LimitedAlloc;
 
+/// Campaigns share the panic hook and the allocator's counters.
+static ONE_CAMPAIGN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn a_fixed_seed_campaign_over_every_shipped_scene_finds_no_defect() {
+    let _one_at_a_time = ONE_CAMPAIGN.lock();
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes");
     let seeds = shipped_seeds(&scenes).expect("the shipped scenes");
     assert!(seeds.len() >= 8, "every shipped scene is a seed: {}", seeds.len());
@@ -35,4 +39,30 @@ fn a_fixed_seed_campaign_over_every_shipped_scene_finds_no_defect() {
     // parser would test nothing past it.
     assert!(report.refused.iter().all(|&n| n > 0), "{}", report.summary());
     assert!(report.stepped > 0, "{}", report.summary());
+}
+
+#[test]
+fn a_fixed_seed_campaign_over_the_shipped_recordings_finds_no_defect() {
+    // In the same process as the scene campaign, but not at the same time:
+    // the panic hook and the allocator's counters are the process's.
+    let _one_at_a_time = ONE_CAMPAIGN.lock();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/recordings");
+    let seeds = tickwork_fuzz::campaign::ron_files(&dir).expect("the shipped recordings");
+    assert!(!seeds.is_empty(), "a shipped recording");
+    let report = Campaign {
+        seed: 20261202,
+        cases: 1_500,
+        seeds,
+        target: tickwork_fuzz::run_recording_case,
+        ..Campaign::default()
+    }
+    .run();
+    println!("{}", report.summary());
+    let defects: Vec<String> = report
+        .defects
+        .iter()
+        .map(|d| format!("case {}: {}\nminimised:\n{}", d.case, d.what, d.minimised))
+        .collect();
+    assert!(defects.is_empty(), "{}", defects.join("\n\n"));
+    assert!(report.refused[0] > 0 && report.stepped > 0, "{}", report.summary());
 }

@@ -132,6 +132,7 @@ impl fmt::Debug for KeySet {
 
 /// What one fixed step sees of the keyboard.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TickInput {
     /// Keys down during this step (thrust while held).
     #[serde(default)]

@@ -21,7 +21,10 @@ use tickwork_integrators::{METHODS, UnknownMethod, build};
 const ENERGY_EVERY_STEP: usize = 4_000;
 
 /// The inputs of a run, by tick, with what a replay needs to repeat it.
+/// A misspelt field is an error (`integrater: Some("rk4")` once left the
+/// replay on the default integrator in silence).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Recording {
     /// The game's title.
     pub game: String,
@@ -47,7 +50,15 @@ impl Recording {
     pub fn load(path: &Path) -> Result<Self, RunError> {
         let text = crate::text_file::read_limited(path, Self::MAX_FILE_BYTES, "Recording::MAX_FILE_BYTES")
             .map_err(|e| RunError::io(path, &e))?;
-        let recording: Self = ron::from_str(&text).map_err(|e| RunError::Io {
+        Self::parse(&text, path)
+    }
+
+    /// Parses and range-checks recording text; `path` names it in errors.
+    ///
+    /// # Errors
+    /// [`RunError::Io`] naming `path`, with the line and column of the fault.
+    pub fn parse(text: &str, path: &Path) -> Result<Self, RunError> {
+        let recording: Self = ron::from_str(text).map_err(|e| RunError::Io {
             path: path.to_path_buf(),
             message: format!(
                 "line {}, column {}: {} (not a Tickwork input recording?)",
@@ -55,7 +66,7 @@ impl Recording {
             ),
         })?;
         recording.check().map_err(|(field, message)| {
-            let (line, column) = field_position(&text, field);
+            let (line, column) = field_position(text, field);
             RunError::Io {
                 path: path.to_path_buf(),
                 message: format!("line {line}, column {column}: {field}: {message}"),

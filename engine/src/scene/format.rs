@@ -482,8 +482,9 @@ pub struct LatticeCount(pub u32, pub u32, pub u32);
 impl<'de> Deserialize<'de> for LatticeCount {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let (x, y, z) = <(u32, u32, u32)>::deserialize(d)?;
-        let total = u64::from(x) * u64::from(y) * u64::from(z);
-        if total > MAX_LATTICE_PARTICLES {
+        // In u128: three u32 can pass u64 (494967295 x 10 x 4294967295 did).
+        let total = u128::from(x) * u128::from(y) * u128::from(z);
+        if total > u128::from(MAX_LATTICE_PARTICLES) {
             return Err(de::Error::custom(format_args!(
                 "expected at most {MAX_LATTICE_PARTICLES} particles in a lattice (MAX_LATTICE_PARTICLES), \
                  got {x} x {y} x {z} = {total}; split it into several lattices"

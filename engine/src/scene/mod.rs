@@ -182,10 +182,10 @@ impl Scene {
         let lattice_particles = s
             .lattices
             .iter()
-            .map(|l| u64::from(l.count.0) * u64::from(l.count.1) * u64::from(l.count.2))
-            .sum::<u64>();
-        let total = lattice_particles + s.particles.len() as u64 + s.rigid_bodies.len() as u64;
-        if total > config.max_particles as u64 {
+            .map(|l| u128::from(l.count.0) * u128::from(l.count.1) * u128::from(l.count.2))
+            .sum::<u128>();
+        let total = lattice_particles + s.particles.len() as u128 + s.rigid_bodies.len() as u128;
+        if total > config.max_particles as u128 {
             return Err(self.error(
                 "",
                 format!(
