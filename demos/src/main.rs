@@ -3,5 +3,8 @@
 use clap::Parser;
 
 fn main() -> std::process::ExitCode {
+    // This thread steps the worlds: as the pool's thread 0, its parallel
+    // steps allocate nothing.
+    let _ = tickwork_engine::threads::join_thread_pool();
     tickwork_demos::cli::run(tickwork_demos::cli::Cli::parse())
 }

@@ -43,6 +43,7 @@ pub mod render;
 pub mod scene;
 mod step;
 mod text_file;
+pub mod threads;
 pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource};

@@ -265,6 +265,9 @@ pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 /// [`RunError`] with what went wrong: a bad option or recording, no GPU
 /// adapter, a failed step, a file that exists (without `--force`).
 pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // Parallel steps from this thread then allocate nothing. An existing
+    // pool (the game used rayon first) is fine: steps run on it.
+    let _ = crate::threads::join_thread_pool();
     // Where the recording goes is checked before the run: a run that failed
     // to save at its end lost all the input it had taken.
     if let Some(path) = &options.record {

@@ -1,0 +1,110 @@
+//! Steady-state steps allocate nothing on any thread, rayon's workers
+//! included, at 1k particles (one lane) and at 100k and 1M (two lanes).
+//! Its own test binary with one test: the counter is the process's, so no
+//! other test may allocate while it counts.
+
+use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator; the counter is an atomic.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { SystemAllocator.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { SystemAllocator.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+use glam::Vec3;
+use tickwork_engine::{FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
+
+fn world(n: usize, method: &str) -> World {
+    let mut w = World::new(WorldConfig {
+        integrator: method.into(),
+        // Two lanes from 100k (on two or more cores).
+        parallel_threshold: 50_000,
+        ..WorldConfig::default()
+    })
+    .expect("known");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_collider(Plane::floor(0.0, Material::default()));
+    for i in 0..n {
+        let p = Particle {
+            position: Vec3::new((i % 1000) as f32 * 0.01, 0.5 + (i / 1000) as f32 * 0.001, 0.0),
+            velocity: Vec3::new(0.0, (i % 7) as f32, 0.0),
+            radius: 0.004,
+            // Some mortal particles, so expiry's bookkeeping runs too.
+            lifetime: (i % 10 == 0).then_some(1e6),
+            ..Particle::default()
+        };
+        w.spawn(p).expect("spawn");
+    }
+    w
+}
+
+#[test]
+fn steady_steps_allocate_nothing_on_any_thread_at_1k_100k_and_1m() {
+    // The stepping thread is one of the pool's two: its joins go to its own
+    // deque (reused), not to the pool's injector, whose queue allocates a
+    // block every 63 jobs sent from outside the pool.
+    tickwork_engine::threads::join_thread_pool().expect("the global pool, once");
+    let dt = 1.0 / 60.0;
+    let mut failures = Vec::new();
+    let threads = rayon::current_num_threads();
+    assert!(
+        threads >= 2,
+        "two lanes need two cores; this machine gives rayon {threads}"
+    );
+    for (n, lanes) in [(1_000, 1), (100_000, threads), (1_000_000, threads)] {
+        // Methods with per-particle state (cached accelerations, history)
+        // step whole slices, on no lane (0).
+        for (method, splits) in [
+            ("semi_implicit_euler", true),
+            ("rk4", true),
+            ("velocity_verlet", false),
+            ("adams_bashforth3", false),
+        ] {
+            let lanes = if splits { lanes as u32 } else { 0 };
+            let mut w = world(n, method);
+            let step = |w: &mut World, tick: u64| {
+                w.step(FixedStep {
+                    tick,
+                    time: tick as f64 * dt,
+                    dt,
+                })
+                .expect("step")
+            };
+            // Warm: buffers grow, history methods start, the pool's queues fill.
+            for tick in 0..8 {
+                step(&mut w, tick);
+            }
+            let before = ALLOCATIONS.load(Ordering::Relaxed);
+            let mut used = 0;
+            for tick in 8..40 {
+                let report = step(&mut w, tick);
+                used = report.lanes;
+            }
+            let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
+            if allocated != 0 || used != lanes {
+                failures.push(format!(
+                    "{n} particles, {method}: {allocated} allocations in 32 steps on {used} lanes (expected {lanes})"
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
