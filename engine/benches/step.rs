@@ -1,8 +1,11 @@
 //! A full fixed step of the engine (forces, integration, a ground plane,
 //! ageing, bookkeeping) at 1k, 100k and 1M particles, on one thread and on
 //! rayon's threads, beside a memory-bandwidth baseline over the same bytes
-//! measured in the same run; and 10k particles with the collision grid, of
-//! one size and with one big ball among them.
+//! and a hand-written loop of the same physics (what a user would write
+//! instead), measured in the same run; 10k particles with the collision
+//! grid, of one size and with one big ball among them; and 100k particles
+//! resting on a floor for minutes, whose drag-decayed velocities are
+//! subnormal numbers, against the hand loop on the same state.
 //!
 //! Run: `cargo bench -p tickwork-engine --bench step`, then
 //! `scripts/bench-report engine` for the README table.
@@ -119,6 +122,92 @@ fn touch(x: &mut [Vec3A], v: &mut [Vec3A], p: &mut [Vec3A], age: &mut [f32], w: 
     }
 }
 
+/// The physics of [`rain`] written by hand over `Vec3A` columns, as a user
+/// without an engine would: semi-implicit Euler under gravity and linear
+/// drag, the floor contact (projection, restitution, Coulomb friction) and
+/// ageing, in one loop.
+#[allow(clippy::too_many_arguments)]
+fn hand(x: &mut [Vec3A], v: &mut [Vec3A], p: &mut [Vec3A], age: &mut [f32], r: &[f32], e: f32, mu: f32, dt: f32) {
+    let g = Vec3A::new(0.0, -9.81, 0.0);
+    for i in 0..x.len() {
+        p[i] = x[i];
+        v[i] += dt * (g - 0.1 * v[i]);
+        x[i] += dt * v[i];
+        age[i] += dt;
+        if x[i].y < r[i] {
+            x[i].y = r[i];
+            let vn = v[i].y.min(0.0);
+            let dvn = -(1.0 + e) * vn;
+            let tangential = Vec3A::new(v[i].x, 0.0, v[i].z);
+            let speed = tangential.length();
+            let keep = if mu * dvn >= speed {
+                0.0
+            } else {
+                1.0 - mu * dvn / speed.max(f32::MIN_POSITIVE)
+            };
+            v[i] = tangential * keep + Vec3A::new(0.0, v[i].y + dvn, 0.0);
+        }
+    }
+}
+
+/// [`hand`] on `threads` (1 or 2) threads, halves by `rayon::join`.
+fn hand_step(threads: usize, c: &mut Columns, e: f32, mu: f32) {
+    let dt = 1.0 / 60.0;
+    if threads == 1 {
+        hand(&mut c.x, &mut c.v, &mut c.previous, &mut c.age, &c.radius, e, mu, dt);
+        return;
+    }
+    let half = c.x.len() / 2;
+    let (x0, x1) = c.x.split_at_mut(half);
+    let (v0, v1) = c.v.split_at_mut(half);
+    let (p0, p1) = c.previous.split_at_mut(half);
+    let (a0, a1) = c.age.split_at_mut(half);
+    let (r0, r1) = c.radius.split_at(half);
+    rayon::join(
+        || hand(x0, v0, p0, a0, r0, e, mu, dt),
+        || hand(x1, v1, p1, a1, r1, e, mu, dt),
+    );
+}
+
+/// The hand loop's columns holding `world`'s state (the same start).
+fn columns_of(world: &World) -> Columns {
+    let p = world.particles();
+    Columns {
+        x: p.position.clone(),
+        v: p.velocity.clone(),
+        previous: p.previous_position.clone(),
+        age: p.age.clone(),
+        inverse_mass: p.inverse_mass.clone(),
+        radius: p.radius.clone(),
+        lifetime: p.lifetime.clone(),
+    }
+}
+
+/// 100k particles resting on a frictionless floor, sliding at `speed`
+/// along x: after 15 minutes of drag at 0.1/s, `1e-40` m/s, a subnormal.
+fn resting(speed: f32) -> World {
+    let mut w = World::new(WorldConfig::default()).expect("registered");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+    ));
+    for i in 0..100_000 {
+        w.spawn(Particle {
+            position: Vec3::new((i % 316) as f32 * 0.05, 0.02, (i / 316) as f32 * 0.05),
+            velocity: Vec3::new(speed, 0.0, 0.0),
+            radius: 0.02,
+            ..Particle::default()
+        })
+        .expect("valid");
+    }
+    w
+}
+
 fn baseline(threads: usize, c: &mut Columns) {
     let n = c.x.len();
     if threads == 1 {
@@ -181,6 +270,18 @@ fn engine_step(c: &mut Criterion) {
                     })
                 });
             });
+            let mut hand_columns = columns_of(&rain(n, "semi_implicit_euler", false));
+            group.bench_function(format!("hand_{name}"), |b| {
+                b.iter_custom(|iters| {
+                    pool.install(|| {
+                        let start = Instant::now();
+                        for _ in 0..iters {
+                            hand_step(pool.current_num_threads(), black_box(&mut hand_columns), 0.5, 0.1);
+                        }
+                        start.elapsed()
+                    })
+                });
+            });
             for method in ["semi_implicit_euler", "rk4", "velocity_verlet"] {
                 if n == 1_000_000 && method == "velocity_verlet" && *name == "2t" {
                     continue; // history methods step the whole slice on one thread
@@ -223,5 +324,37 @@ fn engine_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, engine_step);
+/// Resting for minutes: the engine flushes subnormal velocities every 64
+/// steps; a hand loop keeps multiplying them, about 100 times slower per
+/// operation. Both beside the same state sliding at a normal 1 mm/s.
+fn resting_minutes(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
+    let mut group = c.benchmark_group("engine_resting_100000");
+    group.throughput(Throughput::Elements(100_000));
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(3));
+    for (name, speed) in [("sliding", 1e-3_f32), ("minutes", 1e-40)] {
+        let make = move || resting(speed);
+        let mut world = make();
+        group.bench_function(format!("semi_implicit_euler_{name}_1t"), |b| {
+            b.iter_custom(|iters| timed_steps(&pool, &mut world, &make, iters));
+        });
+        let mut columns = columns_of(&make());
+        group.bench_function(format!("hand_{name}_1t"), |b| {
+            b.iter_custom(|iters| {
+                // The hand loop's state never leaves the subnormal range:
+                // `1e-40 (1 - b h)` rounds back to a subnormal.
+                let start = Instant::now();
+                for _ in 0..iters {
+                    hand_step(1, black_box(&mut columns), 0.5, 0.0);
+                }
+                start.elapsed()
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, engine_step, resting_minutes);
 criterion_main!(benches);

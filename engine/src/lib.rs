@@ -57,6 +57,6 @@ pub use glam;
 pub use headless::{HeadlessError, RunSummary, TraceWriter, run_headless};
 pub use input::{InputLog, InputQueue};
 pub use scene::{Scene, SceneError};
-pub use step::{CHUNK, NonFiniteCause, SimulationError, StepReport};
+pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
 pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};
