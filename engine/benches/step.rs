@@ -22,9 +22,14 @@ use tickwork_engine::{
 
 /// Particles on a lattice above a floor, falling, under gravity and drag.
 fn rain(n: usize, integrator: &str, collisions: bool) -> World {
+    rain_with(n, integrator, collisions, WorldConfig::default().parallel_threshold)
+}
+
+/// [`rain`] with lanes from `parallel_threshold` particles.
+fn rain_with(n: usize, integrator: &str, collisions: bool, parallel_threshold: usize) -> World {
     let config = WorldConfig {
         integrator: integrator.into(),
-        parallel_threshold: 65_536,
+        parallel_threshold,
         ..WorldConfig::default()
     };
     let mut w = World::new(config).expect("registered");
@@ -356,5 +361,27 @@ fn resting_minutes(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, engine_step, resting_minutes);
+/// Where two lanes start to pay: the same step on a two-thread pool with
+/// one lane and with two, from 4k to 64k particles (`parallel_threshold`
+/// is the smallest count at which two win).
+fn lanes(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("pool");
+    for n in [4_096usize, 16_384, 32_768, 65_536] {
+        let mut group = c.benchmark_group(format!("engine_lanes_{n}"));
+        group.throughput(Throughput::Elements(n as u64));
+        group.sample_size(20);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(2));
+        for (name, threshold) in [("1_lane", usize::MAX), ("2_lanes", 0)] {
+            let make = move || rain_with(n, "semi_implicit_euler", false, threshold);
+            let mut world = make();
+            group.bench_function(name, |b| {
+                b.iter_custom(|iters| timed_steps(&pool, &mut world, &make, iters));
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, engine_step, resting_minutes, lanes);
 criterion_main!(benches);
