@@ -383,5 +383,29 @@ fn lanes(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, engine_step, resting_minutes, lanes);
+/// The `crowd` scene: 100k spheres settling in a box, every one touching
+/// several others (the sphere grid's worst honest case), 1 and 2 threads.
+fn crowd(c: &mut Criterion) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/crowd.ron");
+    let scene = tickwork_engine::Scene::load(&path).expect("the crowd scene");
+    let mut group = c.benchmark_group("engine_crowd_100000");
+    group.throughput(Throughput::Elements(100_000));
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(5));
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let make = || scene.build().expect("builds").0;
+        let mut world = make();
+        group.bench_function(format!("{threads}t"), |b| {
+            b.iter_custom(|iters| timed_steps(&pool, &mut world, &make, iters));
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, engine_step, resting_minutes, lanes, crowd);
 criterion_main!(benches);
