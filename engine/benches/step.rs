@@ -25,13 +25,9 @@ fn rain(n: usize, integrator: &str, collisions: bool) -> World {
     rain_with(n, integrator, collisions, WorldConfig::default().parallel_threshold)
 }
 
-/// [`rain`] with lanes from `parallel_threshold` particles.
-fn rain_with(n: usize, integrator: &str, collisions: bool, parallel_threshold: usize) -> World {
-    let config = WorldConfig {
-        integrator: integrator.into(),
-        parallel_threshold,
-        ..WorldConfig::default()
-    };
+/// An empty world under gravity and linear drag (0.1/s) over a floor of
+/// restitution 0.5 and Coulomb `friction`.
+fn floor_world(config: WorldConfig, friction: f32) -> World {
     let mut w = World::new(config).expect("registered");
     w.add_force(Gravity::EARTH);
     w.add_force(LinearDrag { rate: 0.1 });
@@ -39,9 +35,20 @@ fn rain_with(n: usize, integrator: &str, collisions: bool, parallel_threshold: u
         0.0,
         Material {
             restitution: 0.5,
-            friction: 0.1,
+            friction,
         },
     ));
+    w
+}
+
+/// [`rain`] with lanes from `parallel_threshold` particles.
+fn rain_with(n: usize, integrator: &str, collisions: bool, parallel_threshold: usize) -> World {
+    let config = WorldConfig {
+        integrator: integrator.into(),
+        parallel_threshold,
+        ..WorldConfig::default()
+    };
+    let mut w = floor_world(config, 0.1);
     let side = (n as f64).cbrt().ceil() as usize;
     let spacing = if collisions { 0.05 } else { 0.02 };
     for i in 0..n {
@@ -191,16 +198,7 @@ fn columns_of(world: &World) -> Columns {
 /// 100k particles resting on a frictionless floor, sliding at `speed`
 /// along x: after 15 minutes of drag at 0.1/s, `1e-40` m/s, a subnormal.
 fn resting(speed: f32) -> World {
-    let mut w = World::new(WorldConfig::default()).expect("registered");
-    w.add_force(Gravity::EARTH);
-    w.add_force(LinearDrag { rate: 0.1 });
-    w.add_collider(Plane::floor(
-        0.0,
-        Material {
-            restitution: 0.5,
-            friction: 0.0,
-        },
-    ));
+    let mut w = floor_world(WorldConfig::default(), 0.0);
     for i in 0..100_000 {
         w.spawn(Particle {
             position: Vec3::new((i % 316) as f32 * 0.05, 0.02, (i / 316) as f32 * 0.05),

@@ -10,6 +10,17 @@ use tickwork_fuzz::{Campaign, LimitedAlloc};
 #[global_allocator]
 static ALLOC: LimitedAlloc = LimitedAlloc;
 
+/// Fails with every defect's case, what went wrong and its minimised input.
+fn assert_no_defect(report: &tickwork_fuzz::Report) {
+    println!("{}", report.summary());
+    let defects: Vec<String> = report
+        .defects
+        .iter()
+        .map(|d| format!("case {}: {}\nminimised:\n{}", d.case, d.what, d.minimised))
+        .collect();
+    assert!(defects.is_empty(), "{}", defects.join("\n\n"));
+}
+
 /// Campaigns share the panic hook and the allocator's counters.
 static ONE_CAMPAIGN: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
@@ -27,13 +38,7 @@ fn a_fixed_seed_campaign_over_every_shipped_scene_finds_no_defect() {
         ..Campaign::default()
     }
     .run();
-    println!("{}", report.summary());
-    let defects: Vec<String> = report
-        .defects
-        .iter()
-        .map(|d| format!("case {}: {}\nminimised:\n{}", d.case, d.what, d.minimised))
-        .collect();
-    assert!(defects.is_empty(), "{}", defects.join("\n\n"));
+    assert_no_defect(&report);
     assert_eq!(report.cases, 20_000);
     // The mutations reach every stage: a campaign refused only by the
     // parser would test nothing past it.
@@ -57,12 +62,6 @@ fn a_fixed_seed_campaign_over_the_shipped_recordings_finds_no_defect() {
         ..Campaign::default()
     }
     .run();
-    println!("{}", report.summary());
-    let defects: Vec<String> = report
-        .defects
-        .iter()
-        .map(|d| format!("case {}: {}\nminimised:\n{}", d.case, d.what, d.minimised))
-        .collect();
-    assert!(defects.is_empty(), "{}", defects.join("\n\n"));
+    assert_no_defect(&report);
     assert!(report.refused[0] > 0 && report.stepped > 0, "{}", report.summary());
 }
