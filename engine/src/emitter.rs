@@ -140,10 +140,14 @@ impl Emitter {
     /// The particles due in a step of `dt`: `rate * dt` plus what was owed,
     /// rounded down; the remainder is owed to the next step.
     pub(crate) fn due(&mut self, dt: f32) -> f32 {
-        let total = self.owed + self.rate * dt;
-        let whole = total.floor();
-        self.owed = total - whole;
+        let whole = self.peek_due(dt);
+        self.owed = (self.owed + self.rate * dt) - whole;
         whole
+    }
+
+    /// The whole particles [`due`](Self::due) would give, without taking them.
+    pub(crate) fn peek_due(&self, dt: f32) -> f32 {
+        (self.owed + self.rate * dt).floor()
     }
 
     /// One particle with a random direction in the cone (uniform over the

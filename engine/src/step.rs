@@ -311,13 +311,13 @@ fn first_non_finite(x: &[Vec3A], v: &[Vec3A], first_row: usize) -> Option<usize>
 pub const SUBNORMAL_FLUSH_EVERY: u64 = 64;
 
 /// Sets velocity components of magnitude below `f32::MIN_POSITIVE`
-/// (1.2e-38 m/s, subnormal numbers) to zero, as a processor's flush-to-zero
-/// mode would, but the same on every platform. Why: under drag `v (1 - b h)^n`
+/// (1.2e-38 m/s, subnormal numbers) to +0, as a processor's flush-to-zero
+/// mode would (it keeps the sign: -0), but the same on every platform. Why: under drag `v (1 - b h)^n`
 /// reaches the subnormal range after about 15 minutes of rest (b = 0.1, 60
 /// Hz) and then sticks at the smallest subnormal, where each operation is
 /// about 100 times slower. Run every [`SUBNORMAL_FLUSH_EVERY`] ticks (a pass
-/// over the velocities every 64 steps costs nothing measurable); zeros keep
-/// their sign, and no normal number changes.
+/// over the velocities every 64 steps costs nothing measurable); zeros and
+/// normal numbers are left as they are.
 fn flush_subnormals(velocity: &mut [Vec3A]) {
     let smallest = Vec3A::splat(f32::MIN_POSITIVE);
     for v in velocity {
@@ -335,7 +335,10 @@ impl World {
     /// [`SimulationError`] when the integrator fails (the particles are then
     /// unchanged by it) or a position or velocity became non-finite (the
     /// world is left as the step made it, to inspect; restore a snapshot to
-    /// go on).
+    /// go on). An invalid emitter, or one due more than
+    /// `max_spawns_per_step`, is refused before the step changes anything;
+    /// one past `max_particles` is found after expiry has made room, and
+    /// leaves the world as the step made it.
     pub fn step(&mut self, step: FixedStep) -> Result<StepReport, SimulationError> {
         self.step_with(step, |_, _| {})
     }
@@ -360,6 +363,7 @@ impl World {
             });
         }
         let (t, dt) = (step.time as f32, step.dt as f32);
+        self.check_emitters(dt, tick)?;
         let mut report = StepReport::default();
         for force in &mut self.forces {
             force.prepare(&self.entities);
@@ -617,13 +621,15 @@ impl World {
         }
     }
 
-    fn emit(&mut self, dt: f32, tick: u64) -> Result<(), SimulationError> {
-        for k in 0..self.emitters.len() {
-            // Checked here too: `emitters_mut` lets a game change settings.
-            self.emitters[k]
+    /// Emitter settings and the spawns they are due this step, checked
+    /// before the step changes anything (`emitters_mut` lets a game change
+    /// settings between steps); `due` is computed as [`Emitter::due`] will.
+    fn check_emitters(&self, dt: f32, tick: u64) -> Result<(), SimulationError> {
+        for (k, emitter) in self.emitters.iter().enumerate() {
+            emitter
                 .validate()
                 .map_err(|error| SimulationError::Emitter { tick, index: k, error })?;
-            let due = self.emitters[k].due(dt);
+            let due = emitter.peek_due(dt);
             let limit = self.config.max_spawns_per_step;
             if due.is_nan() || due > limit as f32 {
                 return Err(SimulationError::SpawnLimit {
@@ -633,6 +639,15 @@ impl World {
                     limit,
                 });
             }
+        }
+        Ok(())
+    }
+
+    fn emit(&mut self, dt: f32, tick: u64) -> Result<(), SimulationError> {
+        for k in 0..self.emitters.len() {
+            let due = self.emitters[k].due(dt);
+            // Known only now, after expiry has made room: past the limit,
+            // the world is left as the step made it (as for `NonFinite`).
             if self.check_room(due as usize).is_err() {
                 return Err(SimulationError::ParticleLimit {
                     tick,

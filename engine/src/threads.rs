@@ -18,5 +18,25 @@
 /// first): steps still run in parallel, each then sending its job through
 /// the pool's injector.
 pub fn join_thread_pool() -> Result<(), rayon::ThreadPoolBuildError> {
-    rayon::ThreadPoolBuilder::new().use_current_thread().build_global()
+    // Thread 0 runs jobs only while it waits inside rayon itself: a pool of
+    // one (one core, or RAYON_NUM_THREADS=1, read as rayon reads it) would
+    // leave work sent from any other thread to no one. Then the default
+    // pool, and no parallel lanes.
+    let threads = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|n| n.parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    if threads < 2 {
+        return Ok(());
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .use_current_thread()
+        .build_global()?;
+    // Every thread runs one job now, so the per-thread state its first
+    // steal allocates (crossbeam's epoch handle) is not allocated by a
+    // step later, whenever a loaded machine first lets that thread steal.
+    rayon::broadcast(|_| ());
+    Ok(())
 }

@@ -150,6 +150,12 @@ fn emitters_refuse_a_zero_direction_and_an_infinite_speed() {
 #[test]
 fn an_emitter_past_the_spawn_limit_is_an_error_naming_the_limit() {
     let mut w = world("semi_implicit_euler");
+    let falling = w
+        .spawn(Particle {
+            velocity: Vec3::new(0.0, -1.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("a particle");
     w.add_emitter(Emitter {
         rate: 1e12,
         ..Emitter::default()
@@ -161,7 +167,9 @@ fn an_emitter_past_the_spawn_limit_is_an_error_naming_the_limit() {
         "step 0: emitter 0 is due 1.6666667e10 particles in one step, past the limit of 1000000 \
          (WorldConfig::max_spawns_per_step); lower its rate or raise the limit"
     );
-    assert_eq!(w.particles().len(), 0, "nothing was spawned");
+    assert_eq!(w.particles().len(), 1, "nothing was spawned");
+    // Refused before the step changed anything.
+    assert_eq!((w.tick(), w.position(falling).expect("live")), (0, Vec3::ZERO));
 }
 
 #[test]

@@ -70,7 +70,7 @@ pub struct Report {
     pub stepped: u64,
     /// Defects, in the order found.
     pub defects: Vec<Defect>,
-    /// The largest live-heap peak of a case, bytes.
+    /// The largest heap peak of a case above what was live before it, bytes.
     pub peak_bytes: usize,
 }
 
@@ -128,7 +128,8 @@ enum Verdict {
     Defect(String),
 }
 
-fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, memory_limit: usize) -> Verdict {
+/// Runs a case; also returns its heap's peak above what was live before it.
+fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, memory_limit: usize) -> (Verdict, usize) {
     if let Ok(mut slot) = PANIC_MESSAGE.lock() {
         *slot = None;
     }
@@ -136,7 +137,7 @@ fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, mem
     begin_case(case);
     let result = catch_unwind(AssertUnwindSafe(|| target(text)));
     let peak = peak_bytes().saturating_sub(base);
-    match result {
+    let verdict = match result {
         Err(_) => {
             let message = PANIC_MESSAGE.lock().ok().and_then(|m| m.clone()).unwrap_or_default();
             Verdict::Defect(format!("panicked: {message}"))
@@ -146,7 +147,8 @@ fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, mem
             "memory: the case's heap peaked at {peak} bytes, past the limit of {memory_limit}"
         )),
         Ok(Ok(outcome)) => Verdict::Fine(outcome),
-    }
+    };
+    (verdict, peak)
 }
 
 /// The kind of a defect (`panicked`, `memory`, or the message up to its
@@ -183,8 +185,8 @@ impl Campaign {
             }
             let text = mutator.mutate(&self.seeds);
             watchdog.begin(case, &text);
-            let verdict = judge(self.target, case, &text, self.memory_limit);
-            report.peak_bytes = report.peak_bytes.max(peak_bytes());
+            let (verdict, peak) = judge(self.target, case, &text, self.memory_limit);
+            report.peak_bytes = report.peak_bytes.max(peak);
             report.cases += 1;
             match verdict {
                 Verdict::Fine(Outcome::Stepped) => report.stepped += 1,
@@ -197,9 +199,14 @@ impl Campaign {
                 }
                 Verdict::Defect(what) => {
                     let wanted = kind(&what).to_owned();
+                    // Each try is a case of its own to the watchdog: the
+                    // minimising as a whole may take longer than one case.
                     let minimised = minimise(
                         &text,
-                        &mut |t| matches!(judge(self.target, case, t, self.memory_limit), Verdict::Defect(w) if kind(&w) == wanted),
+                        &mut |t| {
+                            watchdog.begin(case, t);
+                            matches!(judge(self.target, case, t, self.memory_limit).0, Verdict::Defect(w) if kind(&w) == wanted)
+                        },
                         2000,
                     );
                     report.defects.push(Defect {

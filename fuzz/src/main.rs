@@ -22,7 +22,7 @@ static ALLOC: LimitedAlloc = LimitedAlloc;
 #[command(name = "tickwork-fuzz")]
 struct Args {
     /// Minutes to run (default: until --cases are done).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     minutes: Option<f64>,
     /// Most cases to run.
     #[arg(long, default_value_t = u64::MAX)]
@@ -44,8 +44,17 @@ struct Args {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    let minutes = args.minutes.filter(|m| m.is_finite() && *m > 0.0);
-    if minutes.is_none() && args.cases == u64::MAX {
+    let duration = match args.minutes {
+        Some(m) => match Duration::try_from_secs_f64(m * 60.0) {
+            Ok(d) if !d.is_zero() => Some(d),
+            _ => {
+                eprintln!("error: --minutes: {m} is not a positive, finite number of minutes");
+                return ExitCode::from(2);
+            }
+        },
+        None => None,
+    };
+    if duration.is_none() && args.cases == u64::MAX {
         eprintln!("error: give --minutes or --cases");
         return ExitCode::from(2);
     }
@@ -70,7 +79,7 @@ fn main() -> ExitCode {
     let campaign = Campaign {
         seed: args.seed,
         cases: args.cases,
-        duration: minutes.map(|m| Duration::from_secs_f64(m * 60.0)),
+        duration,
         seeds,
         target,
         ..Campaign::default()

@@ -100,19 +100,7 @@ impl<'g> OffscreenRun<'g> {
         output: &FrameOutput,
         progress: &mut dyn FnMut(u64),
     ) -> Result<OffscreenSummary, RunError> {
-        if frames > super::MAX_OFFSCREEN_FRAMES {
-            return Err(RunError::Limit(format!(
-                "--frames {frames} is past the limit of {} off-screen frames (MAX_OFFSCREEN_FRAMES); \
-                 draw a shorter run",
-                super::MAX_OFFSCREEN_FRAMES
-            )));
-        }
-        if let Some(dir) = output.dir.as_deref().filter(|dir| dir.exists() && !dir.is_dir()) {
-            return Err(RunError::Io {
-                path: dir.to_path_buf(),
-                message: "is a file; name a directory for the frames".into(),
-            });
-        }
+        check_output(frames, output.dir.as_deref())?;
         let png = |k: u64| output.dir.as_ref().map(|dir| dir.join(format!("frame_{k:05}.png")));
         if !output.overwrite {
             for path in (0..frames).filter_map(png).chain(output.gif.clone()) {
@@ -167,6 +155,26 @@ impl<'g> OffscreenRun<'g> {
         summary.steps = source.ticks() - steps_before;
         Ok(summary)
     }
+}
+
+/// Refuses more than [`MAX_OFFSCREEN_FRAMES`](super::MAX_OFFSCREEN_FRAMES)
+/// frames, and a frames' directory that is a file; [`OffscreenRun::run`]
+/// checks, and [`run`](super::run) before a session starts.
+pub(crate) fn check_output(frames: u64, dir: Option<&Path>) -> Result<(), RunError> {
+    if frames > super::MAX_OFFSCREEN_FRAMES {
+        return Err(RunError::Limit(format!(
+            "--frames {frames} is past the limit of {} off-screen frames (MAX_OFFSCREEN_FRAMES); \
+             draw a shorter run",
+            super::MAX_OFFSCREEN_FRAMES
+        )));
+    }
+    if let Some(dir) = dir.filter(|dir| dir.exists() && !dir.is_dir()) {
+        return Err(RunError::Io {
+            path: dir.to_path_buf(),
+            message: "is a file; name a directory for the frames".into(),
+        });
+    }
+    Ok(())
 }
 
 impl RunError {

@@ -159,9 +159,11 @@ pub const MAX_DISPLAY_HZ: f64 = 1e6;
 pub fn display_hz(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(v) if (MIN_DISPLAY_HZ..=MAX_DISPLAY_HZ).contains(&v) => Ok(v),
-        _ => Err(format!(
-            "{text:?} is outside the accepted range, from 1/3600 to 1e6 frames per second"
+        Ok(_) => Err(format!(
+            "{text:?} is outside the accepted range, from 1/3600 (MIN_DISPLAY_HZ) to 1e6 (MAX_DISPLAY_HZ) \
+             frames per second"
         )),
+        Err(_) => Err(format!("{text:?} is not a number of frames per second")),
     }
 }
 
@@ -273,10 +275,13 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     if let Some(path) = &options.record {
         check_output_file(path, options.force)?;
     }
-    // So is the GIF (the frames' directory is checked by the runner, before
-    // a frame is drawn).
+    // So are the GIF, the frames' directory and their count.
     if let Some(path) = &options.gif {
         check_output_file(path, options.force)?;
+    }
+    let windowed = !options.headless && display_available();
+    if !windowed {
+        crate::app::offscreen::check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
@@ -296,7 +301,7 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     )?;
     let title = session.game().title().to_owned();
     let mut summary = RunSummary {
-        windowed: !options.headless && display_available(),
+        windowed,
         frames: 0,
         ticks: 0,
         out: None,
@@ -353,7 +358,6 @@ fn show<G: Game>(
         let (width, height) = options.size.unwrap_or((640, 360));
         let display_hz = options.display_hz.unwrap_or(60.0);
         let frames = match (options.frames, replay_ticks) {
-            // Past MAX_OFFSCREEN_FRAMES: refused by the runner.
             (Some(frames), _) => frames,
             // Enough frames for every recorded tick: steps per frame are
             // hz * time scale / display rate.

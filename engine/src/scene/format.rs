@@ -189,7 +189,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub lattices: Vec<LatticeSpec>,
     /// Emitters (default: none).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "checked_list")]
     pub emitters: Vec<EmitterSpec>,
     /// Rigid bodies (default: none).
     #[serde(default, deserialize_with = "checked_list")]
@@ -479,11 +479,19 @@ pub const MAX_LATTICE_PARTICLES: u64 = 10_000_000;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct LatticeCount(pub u32, pub u32, pub u32);
 
+impl LatticeCount {
+    /// Particles in the lattice: in u128, since three u32 can pass u64
+    /// (494967295 x 10 x 4294967295 did).
+    #[must_use]
+    pub fn total(self) -> u128 {
+        u128::from(self.0) * u128::from(self.1) * u128::from(self.2)
+    }
+}
+
 impl<'de> Deserialize<'de> for LatticeCount {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let (x, y, z) = <(u32, u32, u32)>::deserialize(d)?;
-        // In u128: three u32 can pass u64 (494967295 x 10 x 4294967295 did).
-        let total = u128::from(x) * u128::from(y) * u128::from(z);
+        let total = Self(x, y, z).total();
         if total > u128::from(MAX_LATTICE_PARTICLES) {
             return Err(de::Error::custom(format_args!(
                 "expected at most {MAX_LATTICE_PARTICLES} particles in a lattice (MAX_LATTICE_PARTICLES), \
@@ -558,8 +566,9 @@ pub struct RigidBodySpec {
     /// rad/s, world frame (default: zero).
     #[serde(default = "origin")]
     pub angular_velocity: Vector,
-    /// Half extents of a solid box, m, none negative; the inertia follows
-    /// from them and the mass (checked: above zero and finite on every axis).
+    /// Half extents of a solid box, m, none negative and at most one zero; the
+    /// inertia follows from them and the mass (checked: above zero, finite
+    /// and of finite inverse on every axis).
     pub half_extents: Vector,
 }
 
@@ -635,6 +644,34 @@ impl CheckItem for ColliderSpec {
             }
         }
         Ok(())
+    }
+}
+
+impl EmitterSpec {
+    /// The engine's emitter with these settings.
+    #[must_use]
+    pub fn emitter(&self) -> crate::emitter::Emitter {
+        crate::emitter::Emitter {
+            position: self.position.into(),
+            direction: self.direction.into(),
+            spread: self.spread_degrees.0.to_radians(),
+            speed: self.speed.0,
+            speed_jitter: self.speed_jitter.0,
+            rate: self.rate.0,
+            lifetime: self.lifetime.0,
+            colour: self.colour.to_rgba8(),
+            radius: self.radius.0,
+            mass: self.mass.0,
+            owed: 0.0,
+        }
+    }
+}
+
+impl CheckItem for EmitterSpec {
+    fn check(&self) -> Result<(), String> {
+        // The same check as `World::add_emitter` (a jittered speed past f32,
+        // a spread past 180 degrees), here so that it has a position.
+        self.emitter().validate().map_err(|e| e.to_string())
     }
 }
 

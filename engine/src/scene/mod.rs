@@ -27,7 +27,6 @@ use format::{ColliderSpec, EndSpec, ForceSpec, PARTICLE_COUNT, ParticleSpec, Rat
 
 use crate::clock::Rate;
 use crate::colliders::{BoxCollider, Material, Plane, SphereCollisions};
-use crate::emitter::Emitter;
 use crate::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};
 use crate::world::{Entity, Particle, RigidBody, World, WorldConfig};
 
@@ -179,11 +178,7 @@ impl Scene {
         let s = &self.spec;
         // Counted before anything is allocated: two lattices under their own
         // limit can still be past the world's.
-        let lattice_particles = s
-            .lattices
-            .iter()
-            .map(|l| u128::from(l.count.0) * u128::from(l.count.1) * u128::from(l.count.2))
-            .sum::<u128>();
+        let lattice_particles = s.lattices.iter().map(|l| l.count.total()).sum::<u128>();
         let total = lattice_particles + s.particles.len() as u128 + s.rigid_bodies.len() as u128;
         if total > config.max_particles as u128 {
             return Err(self.error(
@@ -231,21 +226,8 @@ impl Scene {
                 .map_err(|e| self.error(&format!("rigid_bodies[{k}]"), e.to_string()))?;
         }
         for (k, e) in s.emitters.iter().enumerate() {
-            let emitter = Emitter {
-                position: e.position.into(),
-                direction: e.direction.into(),
-                spread: e.spread_degrees.0.to_radians(),
-                speed: e.speed.0,
-                speed_jitter: e.speed_jitter.0,
-                rate: e.rate.0,
-                lifetime: e.lifetime.0,
-                colour: e.colour.to_rgba8(),
-                radius: e.radius.0,
-                mass: e.mass.0,
-                owed: 0.0,
-            };
             world
-                .add_emitter(emitter)
+                .add_emitter(e.emitter())
                 .map_err(|e| self.error(&format!("emitters[{k}]"), e.to_string()))?;
         }
         let mut springs = Springs::default();

@@ -88,6 +88,7 @@ impl fmt::Display for SpawnError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Invalid { field, value, expected } => {
+                let value = crate::clock::Number::from(*value);
                 write!(f, "invalid particle {field}: {value} (expected {expected})")
             }
             Self::ParticleLimit { limit } => write!(
