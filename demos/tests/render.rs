@@ -140,7 +140,7 @@ fn bad_options_are_errors_that_say_what_was_wrong() {
         (&["--size", "big"], "expected WIDTHxHEIGHT, e.g. 1280x720, got \"big\""),
         (
             &["--display-hz", "-5"],
-            "invalid value '-5' for '--display-hz <DISPLAY_HZ>': \"-5\" is outside the accepted range, from 1/3600 to 1e6 frames per second",
+            "invalid value '-5' for '--display-hz <DISPLAY_HZ>': \"-5\" is outside the accepted range, from 1/3600 (MIN_DISPLAY_HZ) to 1e6 (MAX_DISPLAY_HZ) frames per second",
         ),
         (
             &["--integrator", "rk5"],
