@@ -233,6 +233,10 @@ fn every_subcommand_refuses_bad_options_and_files_without_touching_its_outputs()
             &["--trace: {dir} is a directory"],
         ),
         (
+            &["sim", "{scene}", "--trace", "{missing}/t.csv"],
+            &["--trace: {missing}/t.csv: the directory {missing} does not exist"],
+        ),
+        (
             &["sim", "{scene}", "--integrator", "eulr"],
             &["unknown integrator 'eulr'"],
         ),

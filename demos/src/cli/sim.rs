@@ -94,6 +94,13 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
             if path.exists() && !args.force {
                 return Err(format!("{}: exists; pass --force to overwrite it", path.display()));
             }
+            if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty() && !p.is_dir()) {
+                return Err(format!(
+                    "--trace: {}: the directory {} does not exist",
+                    path.display(),
+                    parent.display()
+                ));
+            }
             let file = File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
             Some(TraceWriter::new(BufWriter::new(file)).map_err(|e| format!("{}: {e}", path.display()))?)
         }
