@@ -146,10 +146,10 @@ pub fn non_negative_seconds(text: &str) -> Result<f64, String> {
 }
 
 /// The slowest simulated display: a frame an hour (the clock's longest frame).
-pub const MIN_DISPLAY_HZ: f64 = 1.0 / 3600.0;
+pub const MIN_DISPLAY_HZ: f64 = 1.0 / crate::clock::FixedClock::MAX_FRAME_TIME;
 /// The fastest simulated display: a million frames a second (a microsecond,
 /// the shortest fixed step; `1e300` once made every frame last no time).
-pub const MAX_DISPLAY_HZ: f64 = 1e6;
+pub const MAX_DISPLAY_HZ: f64 = crate::clock::Rate::MAX_HZ;
 
 /// Parses a simulated display's rate (`--display-hz`), within
 /// [`MIN_DISPLAY_HZ`] and [`MAX_DISPLAY_HZ`].
