@@ -405,5 +405,50 @@ fn crowd(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, engine_step, resting_minutes, lanes, crowd);
+/// 100k particles falling from 1 km (none lands within the 10 s a world
+/// lives here) and 1 000 resting on the floor, which projects them back
+/// every step: 1% of the particles lose their history each step. History
+/// methods restart only those with RK4, so they cost about what a
+/// one-evaluation method costs, not what RK4 does (both shown beside them).
+fn history_on_a_floor(c: &mut Criterion) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
+    let mut group = c.benchmark_group("engine_history_101000");
+    group.throughput(Throughput::Elements(101_000));
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(3));
+    for method in [
+        "semi_implicit_euler",
+        "position_verlet",
+        "beeman",
+        "adams_bashforth4",
+        "rk4",
+    ] {
+        let make = move || {
+            let config = WorldConfig {
+                integrator: method.into(),
+                ..WorldConfig::default()
+            };
+            let mut w = floor_world(config, 0.0);
+            for i in 0..101_000 {
+                let (a, b) = ((i % 317) as f32 * 0.05, (i / 317) as f32 * 0.05);
+                let y = if i % 101 == 0 { 0.02 } else { 1000.0 };
+                w.spawn(Particle {
+                    position: Vec3::new(a, y, b),
+                    radius: 0.02,
+                    ..Particle::default()
+                })
+                .expect("valid");
+            }
+            w
+        };
+        let mut world = make();
+        group.bench_function(format!("{method}_1pct_on_floor_1t"), |b| {
+            b.iter_custom(|iters| timed_steps(&pool, &mut world, &make, iters));
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, engine_step, resting_minutes, lanes, crowd, history_on_a_floor);
 criterion_main!(benches);

@@ -21,6 +21,8 @@
 //! method's state too (snapshots copy it), or the state comparison restarts
 //! the particles that changed.
 
+use core::ops::Range;
+
 use crate::integrator::fit;
 use crate::vector::Vector;
 
@@ -34,6 +36,9 @@ pub(crate) struct History<V: Vector> {
     depth: Vec<u8>,
     /// `dt` of the last step, to detect changes of spacing.
     last_dt: Option<V::Real>,
+    /// The runs of consecutive particles found short of history by the last
+    /// [`sync`](History::sync), so a restart can step only those.
+    starting: Vec<Range<usize>>,
 }
 
 impl<V: Vector> Default for History<V> {
@@ -43,6 +48,7 @@ impl<V: Vector> Default for History<V> {
             last_velocities: Vec::new(),
             depth: Vec::new(),
             last_dt: None,
+            starting: Vec::new(),
         }
     }
 }
@@ -64,13 +70,33 @@ impl<V: Vector> History<V> {
             self.depth.fill(0);
         }
         let mut short = 0;
+        self.starting.clear();
+        let mut run_start = None;
         for i in 0..n {
             if x[i] != self.last_positions[i] || v[i] != self.last_velocities[i] {
                 self.depth[i] = 0;
             }
-            short += usize::from(self.depth[i] < required);
+            let is_short = self.depth[i] < required;
+            short += usize::from(is_short);
+            match (is_short, run_start) {
+                (true, None) => run_start = Some(i),
+                (false, Some(first)) => {
+                    self.starting.push(first..i);
+                    run_start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(first) = run_start {
+            self.starting.push(first..n);
         }
         short
+    }
+
+    /// The runs of consecutive particles that the last [`sync`](History::sync)
+    /// found short of history, in order.
+    pub(crate) fn starting(&self) -> &[Range<usize>] {
+        &self.starting
     }
 
     /// Whether particle `i` has at least `required` steps of history.

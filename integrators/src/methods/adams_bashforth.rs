@@ -95,7 +95,8 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
         system.acceleration(t, x, v, &mut self.accel);
         let mut evaluations = 1;
         if starting > 0 {
-            self.bootstrap.run(t, dt, x, v, &self.accel, system);
+            self.bootstrap
+                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting());
             evaluations += 3;
         }
         let beta: [V::Real; K] = core::array::from_fn(|j| V::Real::from_f64(Self::coefficients()[j] * dt.to_f64()));

@@ -98,8 +98,9 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         let mut evaluations = 1;
         if starting > 0 {
             // `accel_end` is free until the end evaluation: use it for a(t).
-            system.acceleration(t, x, v, &mut self.accel_end);
-            self.bootstrap.run(t, dt, x, v, &self.accel_end, system);
+            let runs = self.history.starting();
+            Rk4Stages::first_stage(t, x, v, &mut self.accel_end, system, runs);
+            self.bootstrap.run_starting(t, dt, x, v, &self.accel_end, system, runs);
             evaluations += 4;
         }
         let h2_6 = dt * dt * c(1.0 / 6.0);

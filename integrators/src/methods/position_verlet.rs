@@ -88,7 +88,8 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
         system.acceleration(t, x, v, &mut self.accel);
         let mut evaluations = 1;
         if starting > 0 {
-            self.bootstrap.run(t, dt, x, v, &self.accel, system);
+            self.bootstrap
+                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting());
             evaluations += 3;
         }
         let h2 = dt * dt;

@@ -20,6 +20,8 @@
 //! The stage loop is also the bootstrap of the history methods
 //! (`Rk4Stages`): they restart a particle that has no history by one RK4 step.
 
+use core::ops::Range;
+
 use crate::chunks::for_each_chunk;
 use crate::integrator::{Integrator, MethodInfo, StepError, StepStats, check_step, fit};
 use crate::system::System;
@@ -61,7 +63,61 @@ impl<V: Vector> Rk4Stages<V> {
     /// Runs the stages from `(t, x, v)` over `h`, given the first-stage
     /// accelerations `a1 = a(t, x, v)`. Costs 3 evaluations.
     pub(crate) fn run(&mut self, t: V::Real, h: V::Real, x: &[V], v: &[V], a1: &[V], system: &mut dyn System<V>) {
-        let n = x.len();
+        self.fit(x.len());
+        self.stages(t, h, x, v, a1, system, 0..x.len(), false);
+    }
+
+    /// The bootstrap of a history method: the stages for the particles in
+    /// `runs` (those short of history) only, when the system is pointwise, so
+    /// a few bounced particles cost a few RK4 steps, not one over everyone.
+    /// `a1` need only hold the runs' accelerations then. Bit-identical to
+    /// [`run`](Self::run) for those particles: each particle's arithmetic
+    /// is the same, and a pointwise system's
+    /// [`acceleration_range`](System::acceleration_range) equals its
+    /// whole-slice acceleration. A coupled system (springs) steps everyone,
+    /// as a stage must see every particle's trial state.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn run_starting(
+        &mut self,
+        t: V::Real,
+        h: V::Real,
+        x: &[V],
+        v: &[V],
+        a1: &[V],
+        system: &mut dyn System<V>,
+        runs: &[Range<usize>],
+    ) {
+        self.fit(x.len());
+        if system.is_pointwise() {
+            for run in runs {
+                self.stages(t, h, x, v, a1, system, run.clone(), true);
+            }
+        } else {
+            self.stages(t, h, x, v, a1, system, 0..x.len(), false);
+        }
+    }
+
+    /// `out = a(t, x, v)` for what [`run_starting`](Self::run_starting)
+    /// needs as its `a1`: the runs only for a pointwise system, else everyone.
+    pub(crate) fn first_stage(
+        t: V::Real,
+        x: &[V],
+        v: &[V],
+        out: &mut [V],
+        system: &mut dyn System<V>,
+        runs: &[Range<usize>],
+    ) {
+        if system.is_pointwise() {
+            for run in runs {
+                let r = run.clone();
+                system.acceleration_range(t, r.start, &x[r.clone()], &v[r.clone()], &mut out[r]);
+            }
+        } else {
+            system.acceleration(t, x, v, out);
+        }
+    }
+
+    fn fit(&mut self, n: usize) {
         for buffer in [
             &mut self.trial_x,
             &mut self.trial_v,
@@ -71,26 +127,61 @@ impl<V: Vector> Rk4Stages<V> {
         ] {
             fit(buffer, n);
         }
+    }
+
+    /// The stages for the particles in `range`; `ranged` evaluates the
+    /// system on that range alone (pointwise systems), else on all particles
+    /// (then `range` is all of them).
+    #[allow(clippy::too_many_arguments)]
+    fn stages(
+        &mut self,
+        t: V::Real,
+        h: V::Real,
+        x: &[V],
+        v: &[V],
+        a1: &[V],
+        system: &mut dyn System<V>,
+        range: Range<usize>,
+        ranged: bool,
+    ) {
+        let first = range.start;
         let half = h * c(0.5);
         let two: V::Real = c(2.0);
+        let Self {
+            trial_x,
+            trial_v,
+            accel,
+            sum_x,
+            sum_v,
+            ..
+        } = self;
         // Local slices of equal length let the compiler drop bounds checks.
-        let (x, v, a1) = (&x[..n], &v[..n], &a1[..n]);
-        {
-            let (tx, tv) = (&mut self.trial_x[..n], &mut self.trial_v[..n]);
-            let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
-            for i in 0..n {
-                sx[i] = v[i];
-                sv[i] = a1[i];
-                tx[i] = x[i] + v[i] * half;
-                tv[i] = v[i] + a1[i] * half;
+        let (x, v, a1) = (&x[range.clone()], &v[range.clone()], &a1[range.clone()]);
+        let (tx, tv, acc) = (
+            &mut trial_x[range.clone()],
+            &mut trial_v[range.clone()],
+            &mut accel[range.clone()],
+        );
+        let (sx, sv) = (&mut sum_x[range.clone()], &mut sum_v[range]);
+        let n = x.len();
+        let (tx, tv, acc, sx, sv) = (&mut tx[..n], &mut tv[..n], &mut acc[..n], &mut sx[..n], &mut sv[..n]);
+        let mut evaluate = |t: V::Real, tx: &[V], tv: &[V], acc: &mut [V]| {
+            if ranged {
+                system.acceleration_range(t, first, tx, tv, acc);
+            } else {
+                system.acceleration(t, tx, tv, acc);
             }
+        };
+        for i in 0..n {
+            sx[i] = v[i];
+            sv[i] = a1[i];
+            tx[i] = x[i] + v[i] * half;
+            tv[i] = v[i] + a1[i] * half;
         }
         // Stages 2 and 3: k_x is the trial velocity, k_v the acceleration there;
         // the next trial state moves by h/2 (stage 2) or h (stage 3) along them.
         for offset in [half, h] {
-            system.acceleration(t + half, &self.trial_x, &self.trial_v, &mut self.accel);
-            let (tx, tv, acc) = (&mut self.trial_x[..n], &mut self.trial_v[..n], &self.accel[..n]);
-            let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
+            evaluate(t + half, tx, tv, acc);
             for i in 0..n {
                 let (kx, kv) = (tv[i], acc[i]);
                 sx[i] += kx * two;
@@ -100,9 +191,7 @@ impl<V: Vector> Rk4Stages<V> {
             }
         }
         // Stage 4.
-        system.acceleration(t + h, &self.trial_x, &self.trial_v, &mut self.accel);
-        let (tv, acc) = (&self.trial_v[..n], &self.accel[..n]);
-        let (sx, sv) = (&mut self.sum_x[..n], &mut self.sum_v[..n]);
+        evaluate(t + h, tx, tv, acc);
         for i in 0..n {
             sx[i] += tv[i];
             sv[i] += acc[i];
