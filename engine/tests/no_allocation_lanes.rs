@@ -1,5 +1,6 @@
 //! Steady-state steps allocate nothing on any thread, rayon's workers
-//! included, at 1k particles (one lane) and at 100k and 1M (two lanes).
+//! included, at 1k particles (one lane) and at 100k and 1M (two lanes), and
+//! with 20k colliding spheres (their slabs solved on two threads).
 //! Its own test binary with one test: the counter is the process's, so no
 //! other test may allocate while it counts.
 
@@ -105,6 +106,33 @@ fn steady_steps_allocate_nothing_on_any_thread_at_1k_100k_and_1m() {
                 ));
             }
         }
+    }
+    // 20 000 colliding spheres settling in a box (the crowd scene, smaller):
+    // the grid's scratch, and the slabs, gathers and write-back on rayon's
+    // threads.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/crowd.ron");
+    let text = std::fs::read_to_string(path).expect("the crowd scene");
+    let text = text.replace("count: (100, 10, 100)", "count: (40, 10, 50)");
+    let scene = tickwork_engine::Scene::parse(&text, "crowd.ron").expect("parses");
+    let mut w = scene.build().expect("builds").0;
+    let step = |w: &mut World, tick: u64| {
+        w.step(FixedStep {
+            tick,
+            time: tick as f64 * dt,
+            dt,
+        })
+        .expect("step")
+    };
+    for tick in 0..8 {
+        step(&mut w, tick);
+    }
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    for tick in 8..40 {
+        step(&mut w, tick);
+    }
+    let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    if allocated != 0 {
+        failures.push(format!("20 000 spheres: {allocated} allocations in 32 steps"));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

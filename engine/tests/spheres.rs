@@ -1,6 +1,7 @@
 //! The sphere broad phase on hostile input: particles a billion metres apart,
 //! a diverging scene, and mixed sizes (one big ball among grains), against a
-//! brute-force count of the touching pairs.
+//! brute-force count of the touching pairs; and the parallel slabs, the same
+//! on any number of threads.
 
 use glam::Vec3;
 use tickwork_engine::clock::FixedStep;
@@ -178,4 +179,85 @@ fn mixed_sizes_cost_about_as_much_as_one_size() {
     let tested = spheres(&mut mixed).pairs_tested();
     println!("{n} spheres, {tested} candidate pairs tested");
     assert!(tested < 4 * n, "{tested} candidate pairs for {n} spheres");
+}
+
+/// Runs `f` on a rayon pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool")
+        .install(f)
+}
+
+/// 3 600 isolated touching pairs (7 200 spheres, above
+/// `SphereCollisions::PARALLEL_FROM`) on a lattice dense enough for the dense grid, each
+/// pair 0.09 m apart along z so that many straddle a plane of cells, and
+/// with 88 planes, the boundaries between slabs.
+fn pairs_along_z() -> World {
+    let mut w = World::new(WorldConfig::default()).expect("default");
+    w.add_collider(SphereCollisions::new(Material {
+        restitution: 0.5,
+        friction: 0.0,
+    }));
+    for a in 0..30 {
+        for b in 0..3 {
+            for k in 0..40 {
+                let at = Vec3::new(a as f32, b as f32, k as f32) * 0.22 + Vec3::splat(0.003 * (k % 7) as f32);
+                for dz in [0.0, 0.09] {
+                    w.spawn(Particle {
+                        position: at + Vec3::Z * dz,
+                        radius: 0.05,
+                        ..Particle::default()
+                    })
+                    .expect("valid");
+                }
+            }
+        }
+    }
+    w
+}
+
+#[test]
+fn pairs_across_slab_boundaries_are_found_once_on_any_number_of_threads() {
+    let mut states = Vec::new();
+    for threads in [1, 2, 3] {
+        let mut w = pairs_along_z();
+        assert!(w.particles().len() >= SphereCollisions::PARALLEL_FROM);
+        on_threads(threads, || step(&mut w)).expect("step");
+        let s = spheres(&mut w);
+        assert_eq!(s.contacts(), 3_600, "{threads} threads: every pair once");
+        // The dense grid: a few candidates per sphere (the hashed grid and
+        // one big cell would test more), cut into slabs of two planes.
+        assert!(s.pairs_tested() < 4 * 7_200, "{}", s.pairs_tested());
+        assert!(88usize.div_ceil(2) <= SphereCollisions::SLABS);
+        states.push((s.pairs_tested(), w.state_hash()));
+    }
+    assert!(states.windows(2).all(|w| w[0] == w[1]), "{states:?}");
+}
+
+#[test]
+fn a_settling_pile_is_bit_identical_on_one_two_and_three_threads() {
+    // 20 x 18 x 20 spheres packed closer than their diameter, falling onto
+    // each other in a box: every sphere touches several, every step.
+    let pile = || {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/crowd.ron");
+        let text = std::fs::read_to_string(path).expect("the crowd scene");
+        let text = text.replace("count: (100, 10, 100)", "count: (20, 18, 20)");
+        let scene = tickwork_engine::Scene::parse(&text, "crowd.ron").expect("parses");
+        scene.build().expect("builds").0
+    };
+    let mut hashes = Vec::new();
+    for threads in [1, 2, 3] {
+        let mut w = pile();
+        on_threads(threads, || {
+            for _ in 0..60 {
+                step(&mut w).expect("step");
+            }
+        });
+        assert!(contacts(&mut w) > 7_200, "{} contacts", contacts(&mut w));
+        hashes.push(w.state_hash());
+    }
+    assert_eq!(hashes[0], hashes[1], "1 and 2 threads");
+    assert_eq!(hashes[0], hashes[2], "1 and 3 threads");
 }

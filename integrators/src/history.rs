@@ -36,9 +36,6 @@ pub(crate) struct History<V: Vector> {
     depth: Vec<u8>,
     /// `dt` of the last step, to detect changes of spacing.
     last_dt: Option<V::Real>,
-    /// The runs of consecutive particles found short of history by the last
-    /// [`sync`](History::sync), so a restart can step only those.
-    starting: Vec<Range<usize>>,
 }
 
 impl<V: Vector> Default for History<V> {
@@ -48,7 +45,6 @@ impl<V: Vector> Default for History<V> {
             last_velocities: Vec::new(),
             depth: Vec::new(),
             last_dt: None,
-            starting: Vec::new(),
         }
     }
 }
@@ -70,33 +66,30 @@ impl<V: Vector> History<V> {
             self.depth.fill(0);
         }
         let mut short = 0;
-        self.starting.clear();
-        let mut run_start = None;
         for i in 0..n {
             if x[i] != self.last_positions[i] || v[i] != self.last_velocities[i] {
                 self.depth[i] = 0;
             }
-            let is_short = self.depth[i] < required;
-            short += usize::from(is_short);
-            match (is_short, run_start) {
-                (true, None) => run_start = Some(i),
-                (false, Some(first)) => {
-                    self.starting.push(first..i);
-                    run_start = None;
-                }
-                _ => {}
-            }
-        }
-        if let Some(first) = run_start {
-            self.starting.push(first..n);
+            short += usize::from(self.depth[i] < required);
         }
         short
     }
 
-    /// The runs of consecutive particles that the last [`sync`](History::sync)
-    /// found short of history, in order.
-    pub(crate) fn starting(&self) -> &[Range<usize>] {
-        &self.starting
+    /// The runs of consecutive particles with less than `required` steps of
+    /// history, in order (found by a scan of the depths, so nothing is stored
+    /// and nothing allocated however many runs there are).
+    pub(crate) fn starting(&self, required: u8) -> impl Iterator<Item = Range<usize>> + '_ {
+        let depth = &self.depth;
+        let mut next = 0;
+        core::iter::from_fn(move || {
+            let first = next + depth[next..].iter().position(|&d| d < required)?;
+            let end = depth[first..]
+                .iter()
+                .position(|&d| d >= required)
+                .map_or(depth.len(), |k| first + k);
+            next = end;
+            Some(first..end)
+        })
     }
 
     /// Whether particle `i` has at least `required` steps of history.

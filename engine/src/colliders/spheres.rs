@@ -26,12 +26,19 @@
 //! spheres times the number of levels.
 //!
 //! Pairs are resolved one at a time in that order (Gauss-Seidel), then
-//! scattered back to the rows. The same state always gives the same result.
+//! scattered back to the rows. The same state always gives the same result,
+//! on any number of threads: on the dense grid a particle's partners are in
+//! its own z plane of cells or the next, so the planes are cut into at most
+//! [`SLABS`](SphereCollisions::SLABS) slabs (by the grid alone, never by the thread count), and the
+//! even slabs, which touch only themselves and the first plane of the slab
+//! after, are solved in parallel, then the odd ones. The order is that
+//! colouring on one thread too, so the result does not depend on threads.
 //! Cell coordinates are 64-bit and saturate, so particles a billion metres
 //! apart need no special case; a state with a non-finite position is not
 //! solved at all (the step reports it as non-finite right after).
 
 use glam::{I64Vec3, Vec3A};
+use rayon::prelude::*;
 
 use super::contact::Material;
 use super::{Collider, ContactColumns};
@@ -58,12 +65,16 @@ pub struct SphereCollisions {
     sorted_level: Vec<u8>,
     key: Vec<u32>,
     sorted: Vec<u32>,
+    /// Each row's place in the sorted order (the inverse of `sorted`).
+    rank: Vec<u32>,
     starts: Vec<u32>,
     position: Vec<Vec3A>,
     velocity: Vec<Vec3A>,
     radius: Vec<f32>,
     inverse_mass: Vec<f32>,
     sorted_cell: Vec<I64Vec3>,
+    /// Where each slab of z planes starts in sorted order, then `n`.
+    slab_starts: Vec<u32>,
     /// Number of contacts resolved in the last step.
     contacts: usize,
     /// Candidate pairs the broad phase handed to the narrow phase.
@@ -71,6 +82,15 @@ pub struct SphereCollisions {
 }
 
 impl SphereCollisions {
+    /// Most slabs the dense grid's z planes are cut into: enough to keep two
+    /// or more threads busy when piles make slabs unequal, few enough that a
+    /// slab holds thousands of particles.
+    pub const SLABS: usize = 64;
+
+    /// Spheres from which the slabs of one colour, the gather and the write
+    /// back run on rayon's threads (below it on one; the result is the same).
+    pub const PARALLEL_FROM: usize = 4_096;
+
     /// Collisions with `material`.
     #[must_use]
     pub fn new(material: Material) -> Self {
@@ -107,10 +127,13 @@ impl SphereCollisions {
         }
         self.sorted.clear();
         self.sorted.resize(n, 0);
+        self.rank.clear();
+        self.rank.resize(n, 0);
         // Fill using the starts as cursors, then shift them back.
         for (row, &k) in self.key.iter().enumerate() {
             let slot = &mut self.starts[k as usize];
             self.sorted[*slot as usize] = row as u32;
+            self.rank[row] = *slot;
             *slot += 1;
         }
         for i in (1..=keys).rev() {
@@ -118,35 +141,114 @@ impl SphereCollisions {
         }
         self.starts[0] = 0;
         let rows = &self.sorted;
-        self.position.clear();
-        self.position.extend(rows.iter().map(|&r| c.position[r as usize]));
-        self.velocity.clear();
-        self.velocity.extend(rows.iter().map(|&r| c.velocity[r as usize]));
-        self.radius.clear();
-        self.radius.extend(rows.iter().map(|&r| c.radius[r as usize]));
-        self.inverse_mass.clear();
-        self.inverse_mass
-            .extend(rows.iter().map(|&r| c.inverse_mass[r as usize]));
-        self.sorted_cell.clear();
-        self.sorted_cell.extend(rows.iter().map(|&r| self.cell[r as usize]));
-        self.sorted_level.clear();
-        if !self.level.is_empty() {
-            self.sorted_level.extend(rows.iter().map(|&r| self.level[r as usize]));
+        gather(&mut self.position, rows, c.position);
+        gather(&mut self.velocity, rows, c.velocity);
+        gather(&mut self.radius, rows, c.radius);
+        gather(&mut self.inverse_mass, rows, c.inverse_mass);
+        gather(&mut self.sorted_cell, rows, &self.cell);
+        if self.level.is_empty() {
+            self.sorted_level.clear();
+        } else {
+            gather(&mut self.sorted_level, rows, &self.level);
         }
+    }
+
+    /// Writes the solved positions and velocities back to their rows: a
+    /// gather through each row's rank in the sorted order, so it runs on
+    /// rayon's threads like [`gather`].
+    fn write_back(&self, c: ContactColumns<'_>) {
+        let (position, velocity) = (&self.position, &self.velocity);
+        c.position
+            .par_iter_mut()
+            .zip(c.velocity.par_iter_mut())
+            .zip(self.rank.par_iter())
+            .with_min_len(SphereCollisions::PARALLEL_FROM)
+            .for_each(|((x, v), &k)| {
+                *x = position[k as usize];
+                *v = velocity[k as usize];
+            });
+    }
+
+    /// The gathered columns as one window, from sorted index 0.
+    fn window(&mut self) -> Window<'_> {
+        Window {
+            base: 0,
+            position: &mut self.position,
+            velocity: &mut self.velocity,
+            radius: &self.radius,
+            inverse_mass: &self.inverse_mass,
+            restitution: self.material.restitution,
+            tested: 0,
+            contacts: 0,
+        }
+    }
+}
+
+/// The gathered positions and velocities of sorted particles `base ..`, which
+/// one slab (or the whole grid) resolves; radii and inverse masses are all
+/// of them, read only.
+struct Window<'a> {
+    base: usize,
+    position: &'a mut [Vec3A],
+    velocity: &'a mut [Vec3A],
+    radius: &'a [f32],
+    inverse_mass: &'a [f32],
+    restitution: f32,
+    tested: usize,
+    contacts: usize,
+}
+
+/// One sphere's state while its partners are visited, held in registers:
+/// only its own pairs write it, and they are all resolved in a row.
+#[derive(Clone, Copy)]
+struct Sphere {
+    position: Vec3A,
+    velocity: Vec3A,
+    radius: f32,
+    inverse_mass: f32,
+}
+
+impl Window<'_> {
+    /// Sorted particle `i`, to visit its partners with.
+    #[inline]
+    fn take(&self, i: usize) -> Sphere {
+        Sphere {
+            position: self.position[i - self.base],
+            velocity: self.velocity[i - self.base],
+            radius: self.radius[i],
+            inverse_mass: self.inverse_mass[i],
+        }
+    }
+
+    /// Writes sorted particle `i` back after its partners were visited.
+    #[inline]
+    fn put(&mut self, i: usize, a: Sphere) {
+        self.position[i - self.base] = a.position;
+        self.velocity[i - self.base] = a.velocity;
     }
 
     /// Resolves the contact of sorted particles `i` and `j`, if they touch.
     #[inline]
     fn pair(&mut self, i: usize, j: usize) {
+        let mut a = self.take(i);
+        self.pair_with(&mut a, j);
+        self.put(i, a);
+    }
+
+    /// Resolves the contact of sphere `a` (taken from the window) with
+    /// sorted particle `j`, if they touch.
+    #[inline]
+    fn pair_with(&mut self, a: &mut Sphere, j: usize) {
         self.tested += 1;
-        let d = self.position[j] - self.position[i];
-        let reach = self.radius[i] + self.radius[j];
+        let lj = j - self.base;
+        let d = self.position[lj] - a.position;
+        let reach = a.radius + self.radius[j];
         let dist2 = d.length_squared();
         // A NaN distance is no contact either.
         if dist2.is_nan() || dist2 >= reach * reach || dist2 == 0.0 {
             return;
         }
-        let (wi, wj) = (self.inverse_mass[i], self.inverse_mass[j]);
+        let (wi, wj) = (a.inverse_mass, self.inverse_mass[j]);
         let w = wi + wj;
         if w == 0.0 {
             return;
@@ -155,15 +257,128 @@ impl SphereCollisions {
         let dist = dist2.sqrt();
         let normal = d / dist;
         let push = normal * ((reach - dist) / w);
-        self.position[i] -= push * wi;
-        self.position[j] += push * wj;
-        let vn = (self.velocity[j] - self.velocity[i]).dot(normal);
+        a.position -= push * wi;
+        self.position[lj] += push * wj;
+        let vn = (self.velocity[lj] - a.velocity).dot(normal);
         if vn < 0.0 {
-            let impulse = normal * (-(1.0 + self.material.restitution) * vn / w);
-            self.velocity[i] -= impulse * wi;
-            self.velocity[j] += impulse * wj;
+            let impulse = normal * (-(1.0 + self.restitution) * vn / w);
+            a.velocity -= impulse * wi;
+            self.velocity[lj] += impulse * wj;
         }
     }
+
+    /// Splits at sorted index `at` into the windows before and from it.
+    fn split(self, at: usize) -> (Self, Self) {
+        let (p0, p1) = self.position.split_at_mut(at - self.base);
+        let (v0, v1) = self.velocity.split_at_mut(at - self.base);
+        let left = Window {
+            base: self.base,
+            position: p0,
+            velocity: v0,
+            tested: 0,
+            contacts: 0,
+            ..self
+        };
+        let right = Window {
+            base: at,
+            position: p1,
+            velocity: v1,
+            ..left
+        };
+        (left, right)
+    }
+}
+
+/// The dense grid of cells `lo ..= lo + size - 1`, numbered `x + nx (y + ny z)`.
+struct DenseGrid<'a> {
+    lo: I64Vec3,
+    size: I64Vec3,
+    /// Sorted index of each key's first particle, then `n`.
+    starts: &'a [u32],
+    sorted_cell: &'a [I64Vec3],
+}
+
+impl DenseGrid<'_> {
+    /// The key of a cell of the grid. In range: `size.x * size.y * size.z
+    /// <= DENSE_CELLS n` fits a u32.
+    #[inline]
+    fn index(&self, cell: I64Vec3) -> u32 {
+        let r = cell - self.lo;
+        ((r.z * self.size.y + r.y) * self.size.x + r.x) as u32
+    }
+
+    /// Resolves the pairs of sorted particles `rows` with their partners
+    /// later in key order: the rest of their row of cells, the row above
+    /// (y + 1) and the three rows of the next z plane. Cells of earlier keys
+    /// hold earlier particles, whose pairs with these were resolved already.
+    fn solve(&self, rows: core::ops::Range<usize>, w: &mut Window<'_>) {
+        // `lo + size - 1` is the highest cell.
+        let hi = self.lo + (self.size - I64Vec3::ONE);
+        for i in rows {
+            let home = self.sorted_cell[i];
+            // Saturating: a cell at the edge of i64 (a particle 1e18 m out)
+            // has no neighbour past it.
+            let (x0, x1) = (
+                home.x.saturating_sub(1).max(self.lo.x),
+                home.x.saturating_add(1).min(hi.x),
+            );
+            let mut a = w.take(i);
+            for (dy, dz) in [(0, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                let (y, z) = (home.y.saturating_add(dy), home.z.saturating_add(dz));
+                let saturated = (dz != 0 && z == home.z) || (dy != 0 && y == home.y);
+                if saturated || y < self.lo.y || y > hi.y || z > hi.z {
+                    continue;
+                }
+                // Cells x0..=x1 of this row are consecutive keys.
+                let first = self.starts[self.index(I64Vec3::new(x0, y, z)) as usize] as usize;
+                let end = self.starts[self.index(I64Vec3::new(x1, y, z)) as usize + 1] as usize;
+                for j in first.max(i + 1)..end {
+                    w.pair_with(&mut a, j);
+                }
+            }
+            w.put(i, a);
+        }
+    }
+
+    /// Solves `count` slabs of one colour, `first`, `first + 2`, ..., whose
+    /// sorted ranges `slabs` bounds; `w` starts at the first of them and
+    /// holds every slab up to the end. Halves of the list are disjoint
+    /// windows (a slab's pairs reach only the slab after it, which the next
+    /// of the colour does not touch), solved on two threads when `parallel`.
+    /// Returns candidate pairs tested and contacts resolved.
+    fn solve_slabs(
+        &self,
+        slabs: &[u32],
+        first: usize,
+        count: usize,
+        parallel: bool,
+        mut w: Window<'_>,
+    ) -> (usize, usize) {
+        if count > 1 && parallel {
+            let half = count / 2;
+            let middle = first + 2 * half;
+            let (left, right) = w.split(slabs[middle] as usize);
+            let (a, b) = rayon::join(
+                || self.solve_slabs(slabs, first, half, parallel, left),
+                || self.solve_slabs(slabs, middle, count - half, parallel, right),
+            );
+            return (a.0 + b.0, a.1 + b.1);
+        }
+        for k in (first..first + 2 * count).step_by(2) {
+            self.solve(slabs[k] as usize..slabs[k + 1] as usize, &mut w);
+        }
+        (w.tested, w.contacts)
+    }
+}
+
+/// `out[k] = from[rows[k]]`, on rayon's threads in runs of at least
+/// [`PARALLEL_FROM`](SphereCollisions::PARALLEL_FROM) (plain copies: the same on any number of threads).
+fn gather<T: Copy + Default + Send + Sync>(out: &mut Vec<T>, rows: &[u32], from: &[T]) {
+    out.resize(rows.len(), T::default());
+    out.par_iter_mut()
+        .zip(rows.par_iter())
+        .with_min_len(SphereCollisions::PARALLEL_FROM)
+        .for_each(|(out, &row)| *out = from[row as usize]);
 }
 
 /// The 27 cells around and including a cell.
@@ -241,10 +456,7 @@ impl Collider for SphereCollisions {
         } else {
             self.resolve_levels(&c, max_radius);
         }
-        for (k, &row) in self.sorted.iter().enumerate() {
-            c.position[row as usize] = self.position[k];
-            c.velocity[row as usize] = self.velocity[k];
-        }
+        self.write_back(c);
     }
 }
 
@@ -276,40 +488,52 @@ impl SphereCollisions {
     }
 
     fn resolve_dense(&mut self, c: &ContactColumns<'_>, lo: I64Vec3, size: I64Vec3) {
-        // In range: size.x * size.y * size.z <= DENSE_CELLS n fits a u32 index.
-        let index = |cell: I64Vec3| {
-            let r = cell - lo;
-            ((r.z * size.y + r.y) * size.x + r.x) as u32
+        let grid = DenseGrid {
+            lo,
+            size,
+            starts: &[],
+            sorted_cell: &[],
         };
         self.key.clear();
-        self.key.extend(self.cell.iter().map(|cell| index(*cell)));
+        self.key.extend(self.cell.iter().map(|cell| grid.index(*cell)));
         let keys = (size.x * size.y * size.z) as usize;
         self.sort_and_gather(keys, c);
-        for i in 0..self.position.len() {
-            let home = self.sorted_cell[i];
-            // Saturating: a cell at the edge of i64 (a particle 1e18 m out)
-            // has no neighbour past it. `lo + size - 1` is the highest cell.
-            let hi = lo + (size - I64Vec3::ONE);
-            let (x0, x1) = (home.x.saturating_sub(1).max(lo.x), home.x.saturating_add(1).min(hi.x));
-            for dz in -1..=1 {
-                let z = home.z.saturating_add(dz);
-                if z < lo.z || z > hi.z || (dz != 0 && z == home.z) {
-                    continue;
-                }
-                for dy in -1..=1 {
-                    let y = home.y.saturating_add(dy);
-                    if y < lo.y || y > hi.y || (dy != 0 && y == home.y) {
-                        continue;
-                    }
-                    // Cells x0..=x1 of this row are consecutive keys.
-                    let first = self.starts[index(I64Vec3::new(x0, y, z)) as usize] as usize;
-                    let end = self.starts[index(I64Vec3::new(x1, y, z)) as usize + 1] as usize;
-                    for j in first.max(i + 1)..end {
-                        self.pair(i, j);
-                    }
-                }
-            }
+        let n = self.position.len();
+        // Slabs of `thickness` z planes, each starting at its first cell's key.
+        let planes = size.z as usize;
+        let thickness = planes.div_ceil(Self::SLABS);
+        self.slab_starts.clear();
+        for z in (0..planes).step_by(thickness) {
+            let first = grid.index(I64Vec3::new(lo.x, lo.y, lo.z + z as i64));
+            self.slab_starts.push(self.starts[first as usize]);
         }
+        self.slab_starts.push(n as u32);
+        let slabs = self.slab_starts.len() - 1;
+        let parallel = n >= SphereCollisions::PARALLEL_FROM && rayon::current_num_threads() > 1;
+        let (slab_starts, starts, sorted_cell) = (
+            core::mem::take(&mut self.slab_starts),
+            core::mem::take(&mut self.starts),
+            core::mem::take(&mut self.sorted_cell),
+        );
+        let grid = DenseGrid {
+            starts: &starts,
+            sorted_cell: &sorted_cell,
+            ..grid
+        };
+        for colour in [0, 1] {
+            let count = (slabs + 1 - colour) / 2;
+            if count == 0 {
+                continue;
+            }
+            let mut w = self.window();
+            if colour == 1 {
+                w = w.split(slab_starts[1] as usize).1;
+            }
+            let (tested, contacts) = grid.solve_slabs(&slab_starts, colour, count, parallel, w);
+            self.tested += tested;
+            self.contacts += contacts;
+        }
+        (self.slab_starts, self.starts, self.sorted_cell) = (slab_starts, starts, sorted_cell);
     }
 
     fn resolve_hashed(&mut self, c: &ContactColumns<'_>) {
@@ -319,24 +543,31 @@ impl SphereCollisions {
         self.key.clear();
         self.key.extend(self.cell.iter().map(|cell| hash(*cell, 0, mask)));
         self.sort_and_gather(buckets, c);
+        let (sorted_cell, starts) = (
+            core::mem::take(&mut self.sorted_cell),
+            core::mem::take(&mut self.starts),
+        );
+        let mut w = self.window();
         for i in 0..n {
-            let home = self.sorted_cell[i];
+            let home = sorted_cell[i];
             for offset in NEIGHBOURS {
                 let Some(cell) = neighbour(home, offset) else {
                     continue;
                 };
                 let b = hash(cell, 0, mask) as usize;
-                let (first, end) = (self.starts[b] as usize, self.starts[b + 1] as usize);
+                let (first, end) = (starts[b] as usize, starts[b + 1] as usize);
                 for j in first.max(i + 1)..end {
                     // Other cells share the bucket (hash collisions); and a
                     // bucket shared by two neighbouring cells is visited
                     // twice, but each partner belongs to one cell only.
-                    if self.sorted_cell[j] == cell {
-                        self.pair(i, j);
+                    if sorted_cell[j] == cell {
+                        w.pair(i, j);
                     }
                 }
             }
         }
+        (self.tested, self.contacts) = (w.tested, w.contacts);
+        (self.sorted_cell, self.starts) = (sorted_cell, starts);
     }
 
     /// Mixed sizes: the hierarchical grid of the module documentation.
@@ -368,26 +599,34 @@ impl SphereCollisions {
         self.key
             .extend(self.cell.iter().zip(&self.level).map(|(cell, &l)| hash(*cell, l, mask)));
         self.sort_and_gather(buckets, c);
+        let (sorted_cell, starts) = (
+            core::mem::take(&mut self.sorted_cell),
+            core::mem::take(&mut self.starts),
+        );
+        let sorted_level = core::mem::take(&mut self.sorted_level);
+        let mut w = self.window();
         for i in 0..n {
-            let own = self.sorted_level[i];
+            let own = sorted_level[i];
             // Own level, then every coarser non-empty one, whose cells are
             // 2^(own - level) of this level's: the cell there is a shift.
             for level in (0..=own).rev().filter(|l| used & (1 << l) != 0) {
-                let home = self.sorted_cell[i] >> i64::from(own - level);
+                let home = sorted_cell[i] >> i64::from(own - level);
                 for offset in NEIGHBOURS {
                     let Some(cell) = neighbour(home, offset) else {
                         continue;
                     };
                     let b = hash(cell, level, mask) as usize;
-                    let (first, end) = (self.starts[b] as usize, self.starts[b + 1] as usize);
+                    let (first, end) = (starts[b] as usize, starts[b + 1] as usize);
                     let first = if level == own { first.max(i + 1) } else { first };
                     for j in first..end {
-                        if self.sorted_level[j] == level && self.sorted_cell[j] == cell {
-                            self.pair(i, j);
+                        if sorted_level[j] == level && sorted_cell[j] == cell {
+                            w.pair(i, j);
                         }
                     }
                 }
             }
         }
+        (self.tested, self.contacts) = (w.tested, w.contacts);
+        (self.sorted_cell, self.starts, self.sorted_level) = (sorted_cell, starts, sorted_level);
     }
 }

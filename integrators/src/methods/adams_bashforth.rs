@@ -96,7 +96,7 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
         let mut evaluations = 1;
         if starting > 0 {
             self.bootstrap
-                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting());
+                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting(required));
             evaluations += 3;
         }
         let beta: [V::Real; K] = core::array::from_fn(|j| V::Real::from_f64(Self::coefficients()[j] * dt.to_f64()));

@@ -98,8 +98,8 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         let mut evaluations = 1;
         if starting > 0 {
             // `accel_end` is free until the end evaluation: use it for a(t).
-            let runs = self.history.starting();
-            Rk4Stages::first_stage(t, x, v, &mut self.accel_end, system, runs);
+            Rk4Stages::first_stage(t, x, v, &mut self.accel_end, system, self.history.starting(1));
+            let runs = self.history.starting(1);
             self.bootstrap.run_starting(t, dt, x, v, &self.accel_end, system, runs);
             evaluations += 4;
         }

@@ -89,7 +89,7 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
         let mut evaluations = 1;
         if starting > 0 {
             self.bootstrap
-                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting());
+                .run_starting(t, dt, x, v, &self.accel, system, self.history.starting(1));
             evaluations += 3;
         }
         let h2 = dt * dt;

@@ -85,12 +85,12 @@ impl<V: Vector> Rk4Stages<V> {
         v: &[V],
         a1: &[V],
         system: &mut dyn System<V>,
-        runs: &[Range<usize>],
+        runs: impl Iterator<Item = Range<usize>>,
     ) {
         self.fit(x.len());
         if system.is_pointwise() {
             for run in runs {
-                self.stages(t, h, x, v, a1, system, run.clone(), true);
+                self.stages(t, h, x, v, a1, system, run, true);
             }
         } else {
             self.stages(t, h, x, v, a1, system, 0..x.len(), false);
@@ -105,11 +105,10 @@ impl<V: Vector> Rk4Stages<V> {
         v: &[V],
         out: &mut [V],
         system: &mut dyn System<V>,
-        runs: &[Range<usize>],
+        runs: impl Iterator<Item = Range<usize>>,
     ) {
         if system.is_pointwise() {
-            for run in runs {
-                let r = run.clone();
+            for r in runs {
                 system.acceleration_range(t, r.start, &x[r.clone()], &v[r.clone()], &mut out[r]);
             }
         } else {
