@@ -53,7 +53,12 @@ pub const LEVELS: u32 = 24;
 
 /// Sphere-sphere collisions with restitution, positions separated in
 /// proportion to inverse mass and an impulse along the line of centres.
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// Its state is the material and the counts of the last step; the grid's
+/// buffers are scratch, rebuilt every step from the particles, so a copy (a
+/// snapshot, [`clone_from`](Clone::clone_from) into an earlier one) leaves
+/// them out and allocates nothing, and equality and `Debug` ignore them.
+#[derive(Default)]
 pub struct SphereCollisions {
     /// Bounce between particles (friction is not used between particles).
     pub material: Material,
@@ -79,6 +84,39 @@ pub struct SphereCollisions {
     contacts: usize,
     /// Candidate pairs the broad phase handed to the narrow phase.
     tested: usize,
+}
+
+impl Clone for SphereCollisions {
+    fn clone(&self) -> Self {
+        Self {
+            material: self.material,
+            contacts: self.contacts,
+            tested: self.tested,
+            ..Self::default()
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.material = source.material;
+        self.contacts = source.contacts;
+        self.tested = source.tested;
+    }
+}
+
+impl PartialEq for SphereCollisions {
+    fn eq(&self, other: &Self) -> bool {
+        (self.material, self.contacts, self.tested) == (other.material, other.contacts, other.tested)
+    }
+}
+
+impl core::fmt::Debug for SphereCollisions {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SphereCollisions")
+            .field("material", &self.material)
+            .field("contacts", &self.contacts)
+            .field("tested", &self.tested)
+            .finish_non_exhaustive()
+    }
 }
 
 impl SphereCollisions {
