@@ -9,9 +9,11 @@
 //! bounding box holds at most [`DENSE_CELLS`] cells per particle the grid is
 //! dense: cells are numbered `x + nx (y + ny z)`, so the three cells along x
 //! of each neighbouring row are one contiguous range, and a particle's
-//! neighbourhood is nine ranges. Otherwise (a few particles spread far apart)
-//! the cells are hashed into `2^k >= 2 n` buckets and the 27 neighbouring
-//! buckets are checked cell by cell.
+//! neighbourhood is nine ranges, of which the five later in key order hold
+//! its partners (the earlier four hold particles that paired with it
+//! already). Otherwise (a few particles spread far apart) the cells are
+//! hashed into `2^k >= 2 n` buckets and the 27 neighbouring buckets are
+//! checked cell by cell.
 //!
 //! **Mixed sizes**: one cell size for all would be set by the largest sphere,
 //! and a single radius-20 ball among radius-0.05 grains put thousands of
@@ -26,13 +28,13 @@
 //! spheres times the number of levels.
 //!
 //! Pairs are resolved one at a time in that order (Gauss-Seidel), then
-//! scattered back to the rows. The same state always gives the same result,
-//! on any number of threads: on the dense grid a particle's partners are in
-//! its own z plane of cells or the next, so the planes are cut into at most
-//! [`SLABS`](SphereCollisions::SLABS) slabs (by the grid alone, never by the thread count), and the
-//! even slabs, which touch only themselves and the first plane of the slab
-//! after, are solved in parallel, then the odd ones. The order is that
-//! colouring on one thread too, so the result does not depend on threads.
+//! written back to the rows. The same state always gives the same result, on
+//! any number of threads: on the dense grid a particle's partners are in its
+//! own z plane of cells or the next, so the planes are cut into at most
+//! [`SLABS`](SphereCollisions::SLABS) slabs (by the grid alone, never by the
+//! thread count), and the even slabs, which touch only themselves and the
+//! first plane of the slab after, are solved in parallel, then the odd ones.
+//! One thread keeps that order too, so the result does not depend on threads.
 //! Cell coordinates are 64-bit and saturate, so particles a billion metres
 //! apart need no special case; a state with a non-finite position is not
 //! solved at all (the step reports it as non-finite right after).
