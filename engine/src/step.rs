@@ -247,6 +247,7 @@ fn step_lane(
                 velocity: v,
                 radius: &c.radius[r.clone()],
                 inverse_mass: &c.inverse_mass[r.clone()],
+                parallel: false,
             });
         }
         age_and_collect_expired(&mut c.age[r.clone()], &c.lifetime[r], dt, offset + start, expired);
@@ -516,6 +517,7 @@ impl World {
                     velocity: &mut p.velocity,
                     radius: &p.radius,
                     inverse_mass: &p.inverse_mass,
+                    parallel: n >= self.config.parallel_threshold,
                 });
             }
             age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);

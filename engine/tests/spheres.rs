@@ -191,7 +191,7 @@ fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 }
 
 /// 3 600 isolated touching pairs (7 200 spheres, above
-/// `SphereCollisions::PARALLEL_FROM`) on a lattice dense enough for the dense grid, each
+/// the default `parallel_threshold`) on a lattice dense enough for the dense grid, each
 /// pair 0.09 m apart along z so that many straddle a plane of cells, and
 /// with 88 planes, the boundaries between slabs.
 fn pairs_along_z() -> World {
@@ -223,14 +223,13 @@ fn pairs_across_slab_boundaries_are_found_once_on_any_number_of_threads() {
     let mut states = Vec::new();
     for threads in [1, 2, 3] {
         let mut w = pairs_along_z();
-        assert!(w.particles().len() >= SphereCollisions::PARALLEL_FROM);
+        assert!(w.particles().len() >= WorldConfig::default().parallel_threshold);
         on_threads(threads, || step(&mut w)).expect("step");
         let s = spheres(&mut w);
         assert_eq!(s.contacts(), 3_600, "{threads} threads: every pair once");
-        // The dense grid: a few candidates per sphere (the hashed grid and
-        // one big cell would test more), cut into slabs of two planes.
-        assert!(s.pairs_tested() < 4 * 7_200, "{}", s.pairs_tested());
-        assert!(88usize.div_ceil(2) <= SphereCollisions::SLABS);
+        // The dense grid, 87 planes of cells in slabs of two.
+        assert_eq!(s.slabs(), 44, "slabs");
+        assert!(s.slabs() <= SphereCollisions::SLABS);
         states.push((s.pairs_tested(), w.state_hash()));
     }
     assert!(states.windows(2).all(|w| w[0] == w[1]), "{states:?}");
@@ -240,16 +239,21 @@ fn pairs_across_slab_boundaries_are_found_once_on_any_number_of_threads() {
 fn a_settling_pile_is_bit_identical_on_one_two_and_three_threads() {
     // 20 x 18 x 20 spheres packed closer than their diameter, falling onto
     // each other in a box: every sphere touches several, every step.
-    let pile = || {
+    // Also on two threads with the world kept to one (`parallel_threshold`).
+    let pile = |parallel_threshold| {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes/crowd.ron");
         let text = std::fs::read_to_string(path).expect("the crowd scene");
         let text = text.replace("count: (100, 10, 100)", "count: (20, 18, 20)");
         let scene = tickwork_engine::Scene::parse(&text, "crowd.ron").expect("parses");
-        scene.build().expect("builds").0
+        let config = WorldConfig {
+            parallel_threshold,
+            ..scene.world_config()
+        };
+        scene.build_with(config).expect("builds").0
     };
     let mut hashes = Vec::new();
-    for threads in [1, 2, 3] {
-        let mut w = pile();
+    for (threads, threshold) in [(1, 4_096), (2, 4_096), (3, 4_096), (2, usize::MAX)] {
+        let mut w = pile(threshold);
         on_threads(threads, || {
             for _ in 0..60 {
                 step(&mut w).expect("step");
@@ -260,4 +264,5 @@ fn a_settling_pile_is_bit_identical_on_one_two_and_three_threads() {
     }
     assert_eq!(hashes[0], hashes[1], "1 and 2 threads");
     assert_eq!(hashes[0], hashes[2], "1 and 3 threads");
+    assert_eq!(hashes[0], hashes[3], "2 threads, the world on one");
 }

@@ -42,6 +42,11 @@ impl<V: Vector> System<V> for Range<'_, V> {
     fn affine_range(&self, first: usize, count: usize) -> Option<(V, V::Real)> {
         self.system.affine_range(self.first + first, count)
     }
+
+    fn acceleration_range(&mut self, t: V::Real, first: usize, positions: &[V], velocities: &[V], out: &mut [V]) {
+        self.system
+            .acceleration_range(t, self.first + first, positions, velocities, out);
+    }
 }
 
 /// [`for_each_chunk`] for [`Integrator::step_from`](crate::Integrator::step_from):

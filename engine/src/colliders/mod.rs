@@ -36,6 +36,11 @@ pub struct ContactColumns<'a> {
     pub radius: &'a [f32],
     /// Inverse masses (0 = immovable, never moved).
     pub inverse_mass: &'a [f32],
+    /// Whether the collider may spread its work over rayon's threads: the
+    /// world holds at least
+    /// [`WorldConfig::parallel_threshold`](crate::world::WorldConfig)
+    /// particles. False for a chunk of a lane, already one thread's share.
+    pub parallel: bool,
 }
 
 impl ContactColumns<'_> {

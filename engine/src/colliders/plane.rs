@@ -110,6 +110,7 @@ impl Plane {
             velocity: &mut c.velocity[whole..],
             radius: &c.radius[whole..],
             inverse_mass: &c.inverse_mass[whole..],
+            parallel: false,
         };
         for (x, v, r, w) in tail.rows() {
             let gap = x[AXIS] * sign - self.offset - r;
@@ -243,6 +244,7 @@ mod tests {
                 velocity: &mut v,
                 radius: &radius,
                 inverse_mass: &inverse_mass,
+                parallel: false,
             };
             assert_eq!(axis_of(normal).map(|a| a.0), Some(axis));
             plane.resolve_range(columns);
@@ -278,6 +280,7 @@ mod tests {
             velocity: &mut vb,
             radius: &radius,
             inverse_mass: &inverse_mass,
+            parallel: false,
         });
         for k in 0..8 {
             let (mut xt, mut vt) = ([x[k]], [v[k]]);
@@ -286,6 +289,7 @@ mod tests {
                 velocity: &mut vt,
                 radius: &radius[k..=k],
                 inverse_mass: &inverse_mass[k..=k],
+                parallel: false,
             });
             let bits = |a: Vec3A| a.to_array().map(f32::to_bits);
             assert_eq!(bits(xb[k]), bits(xt[0]), "position {k}");

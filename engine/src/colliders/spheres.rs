@@ -27,8 +27,8 @@
 //! touching pair is found once, and the cost stays linear in the number of
 //! spheres times the number of levels.
 //!
-//! Pairs are resolved one at a time in that order (Gauss-Seidel), then
-//! written back to the rows. The same state always gives the same result, on
+//! Pairs are resolved one at a time (Gauss-Seidel) in that order, by slabs
+//! on the dense grid (below), then written back to the rows. The same state always gives the same result, on
 //! any number of threads: on the dense grid a particle's partners are in its
 //! own z plane of cells or the next, so the planes are cut into at most
 //! [`SLABS`](SphereCollisions::SLABS) slabs (by the grid alone, never by the
@@ -86,6 +86,8 @@ pub struct SphereCollisions {
     contacts: usize,
     /// Candidate pairs the broad phase handed to the narrow phase.
     tested: usize,
+    /// Slabs the dense grid was cut into in the last step (0: another grid).
+    slabs: usize,
 }
 
 impl Clone for SphereCollisions {
@@ -94,6 +96,7 @@ impl Clone for SphereCollisions {
             material: self.material,
             contacts: self.contacts,
             tested: self.tested,
+            slabs: self.slabs,
             ..Self::default()
         }
     }
@@ -102,12 +105,14 @@ impl Clone for SphereCollisions {
         self.material = source.material;
         self.contacts = source.contacts;
         self.tested = source.tested;
+        self.slabs = source.slabs;
     }
 }
 
 impl PartialEq for SphereCollisions {
     fn eq(&self, other: &Self) -> bool {
-        (self.material, self.contacts, self.tested) == (other.material, other.contacts, other.tested)
+        let state = |s: &Self| (s.material, s.contacts, s.tested, s.slabs);
+        state(self) == state(other)
     }
 }
 
@@ -117,6 +122,7 @@ impl core::fmt::Debug for SphereCollisions {
             .field("material", &self.material)
             .field("contacts", &self.contacts)
             .field("tested", &self.tested)
+            .field("slabs", &self.slabs)
             .finish_non_exhaustive()
     }
 }
@@ -127,9 +133,8 @@ impl SphereCollisions {
     /// slab holds thousands of particles.
     pub const SLABS: usize = 64;
 
-    /// Spheres from which the slabs of one colour, the gather and the write
-    /// back run on rayon's threads (below it on one; the result is the same).
-    pub const PARALLEL_FROM: usize = 4_096;
+    /// Fewest spheres a thread is given in the gathers and the write-back.
+    const GATHER_JOB: usize = 4_096;
 
     /// Collisions with `material`.
     #[must_use]
@@ -151,6 +156,14 @@ impl SphereCollisions {
     #[must_use]
     pub fn pairs_tested(&self) -> usize {
         self.tested
+    }
+
+    /// Slabs of z planes the dense grid was cut into in the last step, to be
+    /// solved two colours at a time (0 when the grid was hashed or
+    /// hierarchical, which are solved whole).
+    #[must_use]
+    pub fn slabs(&self) -> usize {
+        self.slabs
     }
 
     /// Counting sort of the rows by `key` (stable: equal keys keep row order),
@@ -181,32 +194,42 @@ impl SphereCollisions {
         }
         self.starts[0] = 0;
         let rows = &self.sorted;
-        gather(&mut self.position, rows, c.position);
-        gather(&mut self.velocity, rows, c.velocity);
-        gather(&mut self.radius, rows, c.radius);
-        gather(&mut self.inverse_mass, rows, c.inverse_mass);
-        gather(&mut self.sorted_cell, rows, &self.cell);
+        let parallel = c.parallel;
+        gather(&mut self.position, rows, c.position, parallel);
+        gather(&mut self.velocity, rows, c.velocity, parallel);
+        gather(&mut self.radius, rows, c.radius, parallel);
+        gather(&mut self.inverse_mass, rows, c.inverse_mass, parallel);
+        gather(&mut self.sorted_cell, rows, &self.cell, parallel);
         if self.level.is_empty() {
             self.sorted_level.clear();
         } else {
-            gather(&mut self.sorted_level, rows, &self.level);
+            gather(&mut self.sorted_level, rows, &self.level, parallel);
         }
     }
 
     /// Writes the solved positions and velocities back to their rows: a
     /// gather through each row's rank in the sorted order, so it runs on
-    /// rayon's threads like [`gather`].
+    /// rayon's threads like [`gather`] when the world allows it.
     fn write_back(&self, c: ContactColumns<'_>) {
         let (position, velocity) = (&self.position, &self.velocity);
-        c.position
-            .par_iter_mut()
-            .zip(c.velocity.par_iter_mut())
-            .zip(self.rank.par_iter())
-            .with_min_len(SphereCollisions::PARALLEL_FROM)
-            .for_each(|((x, v), &k)| {
-                *x = position[k as usize];
-                *v = velocity[k as usize];
-            });
+        let copy = |((x, v), &k): ((&mut Vec3A, &mut Vec3A), &u32)| {
+            *x = position[k as usize];
+            *v = velocity[k as usize];
+        };
+        if c.parallel {
+            c.position
+                .par_iter_mut()
+                .zip(c.velocity.par_iter_mut())
+                .zip(self.rank.par_iter())
+                .with_min_len(Self::GATHER_JOB)
+                .for_each(copy);
+        } else {
+            c.position
+                .iter_mut()
+                .zip(c.velocity.iter_mut())
+                .zip(&self.rank)
+                .for_each(copy);
+        }
     }
 
     /// The gathered columns as one window, from sorted index 0.
@@ -411,14 +434,20 @@ impl DenseGrid<'_> {
     }
 }
 
-/// `out[k] = from[rows[k]]`, on rayon's threads in runs of at least
-/// [`PARALLEL_FROM`](SphereCollisions::PARALLEL_FROM) (plain copies: the same on any number of threads).
-fn gather<T: Copy + Default + Send + Sync>(out: &mut Vec<T>, rows: &[u32], from: &[T]) {
+/// `out[k] = from[rows[k]]`, on rayon's threads if `parallel` (plain
+/// copies: the same on any number of threads).
+fn gather<T: Copy + Default + Send + Sync>(out: &mut Vec<T>, rows: &[u32], from: &[T], parallel: bool) {
     out.resize(rows.len(), T::default());
-    out.par_iter_mut()
-        .zip(rows.par_iter())
-        .with_min_len(SphereCollisions::PARALLEL_FROM)
-        .for_each(|(out, &row)| *out = from[row as usize]);
+    if parallel {
+        out.par_iter_mut()
+            .zip(rows.par_iter())
+            .with_min_len(SphereCollisions::GATHER_JOB)
+            .for_each(|(out, &row)| *out = from[row as usize]);
+    } else {
+        for (out, &row) in out.iter_mut().zip(rows) {
+            *out = from[row as usize];
+        }
+    }
 }
 
 /// The 27 cells around and including a cell.
@@ -484,6 +513,7 @@ impl Collider for SphereCollisions {
     fn resolve_world(&mut self, c: ContactColumns<'_>) {
         self.contacts = 0;
         self.tested = 0;
+        self.slabs = 0;
         let n = c.position.len();
         let max_radius = c.radius.iter().copied().fold(0.0f32, f32::max);
         if n < 2 || max_radius <= 0.0 || !all_finite(c.position) {
@@ -549,7 +579,8 @@ impl SphereCollisions {
         }
         self.slab_starts.push(n as u32);
         let slabs = self.slab_starts.len() - 1;
-        let parallel = n >= SphereCollisions::PARALLEL_FROM && rayon::current_num_threads() > 1;
+        self.slabs = slabs;
+        let parallel = c.parallel && rayon::current_num_threads() > 1;
         let (slab_starts, starts, sorted_cell) = (
             core::mem::take(&mut self.slab_starts),
             core::mem::take(&mut self.starts),

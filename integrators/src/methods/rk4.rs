@@ -45,8 +45,10 @@ pub const INFO: MethodInfo = MethodInfo {
 };
 
 /// The four stages of RK4 with their scratch buffers, computed for all
-/// particles; the result is applied to all of them ([`Rk4Stages::apply_all`])
-/// or to chosen ones ([`Rk4Stages::apply`], the bootstrap of history methods).
+/// particles ([`Rk4Stages::run`]) or for runs of them
+/// ([`Rk4Stages::run_starting`], the restart of history methods); the result
+/// is applied to all ([`Rk4Stages::apply_all`]) or read per particle
+/// ([`Rk4Stages::result`]).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Rk4Stages<V: Vector> {
     trial_x: Vec<V>,
