@@ -434,20 +434,29 @@ impl DenseGrid<'_> {
     }
 }
 
-/// `out[k] = from[rows[k]]`, on rayon's threads if `parallel` (plain
-/// copies: the same on any number of threads).
-fn gather<T: Copy + Default + Send + Sync>(out: &mut Vec<T>, rows: &[u32], from: &[T], parallel: bool) {
-    out.resize(rows.len(), T::default());
+/// `out[k] = f(&from[k])` for every `k`, on rayon's threads if `parallel`
+/// (each element alone: the same on any number of threads).
+fn map_into<T, U>(out: &mut Vec<T>, from: &[U], parallel: bool, f: impl Fn(&U) -> T + Sync)
+where
+    T: Copy + Default + Send,
+    U: Sync,
+{
+    out.resize(from.len(), T::default());
     if parallel {
         out.par_iter_mut()
-            .zip(rows.par_iter())
+            .zip(from.par_iter())
             .with_min_len(SphereCollisions::GATHER_JOB)
-            .for_each(|(out, &row)| *out = from[row as usize]);
+            .for_each(|(out, x)| *out = f(x));
     } else {
-        for (out, &row) in out.iter_mut().zip(rows) {
-            *out = from[row as usize];
+        for (out, x) in out.iter_mut().zip(from) {
+            *out = f(x);
         }
     }
+}
+
+/// `out[k] = from[rows[k]]`: a gather through [`map_into`].
+fn gather<T: Copy + Default + Send + Sync>(out: &mut Vec<T>, rows: &[u32], from: &[T], parallel: bool) {
+    map_into(out, rows, parallel, |&row| from[row as usize]);
 }
 
 /// The 27 cells around and including a cell.
@@ -536,8 +545,7 @@ impl SphereCollisions {
     fn resolve_one_size(&mut self, c: &ContactColumns<'_>, max_radius: f32) {
         let n = c.position.len();
         let inv_cell = 1.0 / (2.0 * max_radius);
-        self.cell.clear();
-        self.cell.extend(c.position.iter().map(|x| cell_of(*x, inv_cell)));
+        map_into(&mut self.cell, c.position, c.parallel, |x| cell_of(*x, inv_cell));
         let (lo, hi) = self
             .cell
             .iter()
@@ -564,8 +572,7 @@ impl SphereCollisions {
             starts: &[],
             sorted_cell: &[],
         };
-        self.key.clear();
-        self.key.extend(self.cell.iter().map(|cell| grid.index(*cell)));
+        map_into(&mut self.key, &self.cell, c.parallel, |cell| grid.index(*cell));
         let keys = (size.x * size.y * size.z) as usize;
         self.sort_and_gather(keys, c);
         let n = self.position.len();
@@ -611,8 +618,7 @@ impl SphereCollisions {
         let n = c.position.len();
         let buckets = (2 * n).next_power_of_two();
         let mask = (buckets - 1) as u32;
-        self.key.clear();
-        self.key.extend(self.cell.iter().map(|cell| hash(*cell, 0, mask)));
+        map_into(&mut self.key, &self.cell, c.parallel, |cell| hash(*cell, 0, mask));
         self.sort_and_gather(buckets, c);
         let (sorted_cell, starts) = (
             core::mem::take(&mut self.sorted_cell),
