@@ -57,13 +57,35 @@ fn world(n: usize, method: &str) -> World {
     w
 }
 
+/// Allocations in 32 steps after 8 warming ones (buffers grow, history
+/// methods start, the pool's queues fill), and the lanes the last step used.
+fn steady_allocations(w: &mut World) -> (usize, u32) {
+    let dt = 1.0 / 60.0;
+    let step = |w: &mut World, tick: u64| {
+        w.step(FixedStep {
+            tick,
+            time: tick as f64 * dt,
+            dt,
+        })
+        .expect("step")
+    };
+    for tick in 0..8 {
+        step(w, tick);
+    }
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut used = 0;
+    for tick in 8..40 {
+        used = step(w, tick).lanes;
+    }
+    (ALLOCATIONS.load(Ordering::Relaxed) - before, used)
+}
+
 #[test]
 fn steady_steps_allocate_nothing_on_any_thread_at_1k_100k_and_1m() {
     // The stepping thread is one of the pool's two: its joins go to its own
     // deque (reused), not to the pool's injector, whose queue allocates a
     // block every 63 jobs sent from outside the pool.
     tickwork_engine::threads::join_thread_pool().expect("the global pool, once");
-    let dt = 1.0 / 60.0;
     let mut failures = Vec::new();
     let threads = rayon::current_num_threads();
     assert!(
@@ -80,26 +102,7 @@ fn steady_steps_allocate_nothing_on_any_thread_at_1k_100k_and_1m() {
             ("adams_bashforth3", false),
         ] {
             let lanes = if splits { lanes as u32 } else { 0 };
-            let mut w = world(n, method);
-            let step = |w: &mut World, tick: u64| {
-                w.step(FixedStep {
-                    tick,
-                    time: tick as f64 * dt,
-                    dt,
-                })
-                .expect("step")
-            };
-            // Warm: buffers grow, history methods start, the pool's queues fill.
-            for tick in 0..8 {
-                step(&mut w, tick);
-            }
-            let before = ALLOCATIONS.load(Ordering::Relaxed);
-            let mut used = 0;
-            for tick in 8..40 {
-                let report = step(&mut w, tick);
-                used = report.lanes;
-            }
-            let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
+            let (allocated, used) = steady_allocations(&mut world(n, method));
             if allocated != 0 || used != lanes {
                 failures.push(format!(
                     "{n} particles, {method}: {allocated} allocations in 32 steps on {used} lanes (expected {lanes})"
@@ -114,23 +117,7 @@ fn steady_steps_allocate_nothing_on_any_thread_at_1k_100k_and_1m() {
     let text = std::fs::read_to_string(path).expect("the crowd scene");
     let text = text.replace("count: (100, 10, 100)", "count: (40, 10, 50)");
     let scene = tickwork_engine::Scene::parse(&text, "crowd.ron").expect("parses");
-    let mut w = scene.build().expect("builds").0;
-    let step = |w: &mut World, tick: u64| {
-        w.step(FixedStep {
-            tick,
-            time: tick as f64 * dt,
-            dt,
-        })
-        .expect("step")
-    };
-    for tick in 0..8 {
-        step(&mut w, tick);
-    }
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
-    for tick in 8..40 {
-        step(&mut w, tick);
-    }
-    let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    let (allocated, _) = steady_allocations(&mut scene.build().expect("builds").0);
     if allocated != 0 {
         failures.push(format!("20 000 spheres: {allocated} allocations in 32 steps"));
     }
