@@ -39,6 +39,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod angular;
+mod block;
 mod chunks;
 mod history;
 mod integrator;
@@ -48,6 +49,7 @@ mod registry;
 mod system;
 mod vector;
 
+pub use block::Vec3x4;
 pub use integrator::{Integrator, IntegratorState, MethodInfo, StepError, StepStats};
 pub use methods::adams_bashforth::AdamsBashforth;
 pub use methods::adams_bashforth2::AdamsBashforth2;
