@@ -18,7 +18,10 @@ use glam::{Vec3A, Vec4};
 
 use crate::vector::Vector;
 
-/// Four 3-vectors, one [`Vec4`] per axis. See the [module documentation](self).
+/// Four 3-vectors, one [`Vec4`] per axis: `(a + b).x = a.x + b.x` lane by
+/// lane, the operations a `Vec3A` does on each component, so a method steps
+/// four particles per operation and gives each lane the bits it gives on
+/// `Vec3A` (explicit methods; tested). The dot product sums the lanes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Vec3x4 {
     /// The four x components.
