@@ -231,20 +231,6 @@ impl SphereCollisions {
                 .for_each(copy);
         }
     }
-
-    /// The gathered columns as one window, from sorted index 0.
-    fn window(&mut self) -> Window<'_> {
-        Window {
-            base: 0,
-            position: &mut self.position,
-            velocity: &mut self.velocity,
-            radius: &self.radius,
-            inverse_mass: &self.inverse_mass,
-            restitution: self.material.restitution,
-            tested: 0,
-            contacts: 0,
-        }
-    }
 }
 
 /// The gathered positions and velocities of sorted particles `base ..`, which
@@ -271,7 +257,28 @@ struct Sphere {
     inverse_mass: f32,
 }
 
-impl Window<'_> {
+impl<'a> Window<'a> {
+    /// All the gathered columns, from sorted index 0. Takes the fields, not
+    /// the collider, so the grid's other buffers stay readable beside it.
+    fn whole(
+        position: &'a mut [Vec3A],
+        velocity: &'a mut [Vec3A],
+        radius: &'a [f32],
+        inverse_mass: &'a [f32],
+        material: Material,
+    ) -> Self {
+        Window {
+            base: 0,
+            position,
+            velocity,
+            radius,
+            inverse_mass,
+            restitution: material.restitution,
+            tested: 0,
+            contacts: 0,
+        }
+    }
+
     /// Sorted particle `i`, to visit its partners with.
     #[inline]
     fn take(&self, i: usize) -> Sphere {
@@ -588,14 +595,9 @@ impl SphereCollisions {
         let slabs = self.slab_starts.len() - 1;
         self.slabs = slabs;
         let parallel = c.parallel && rayon::current_num_threads() > 1;
-        let (slab_starts, starts, sorted_cell) = (
-            core::mem::take(&mut self.slab_starts),
-            core::mem::take(&mut self.starts),
-            core::mem::take(&mut self.sorted_cell),
-        );
         let grid = DenseGrid {
-            starts: &starts,
-            sorted_cell: &sorted_cell,
+            starts: &self.starts,
+            sorted_cell: &self.sorted_cell,
             ..grid
         };
         for colour in [0, 1] {
@@ -603,15 +605,20 @@ impl SphereCollisions {
             if count == 0 {
                 continue;
             }
-            let mut w = self.window();
+            let mut w = Window::whole(
+                &mut self.position,
+                &mut self.velocity,
+                &self.radius,
+                &self.inverse_mass,
+                self.material,
+            );
             if colour == 1 {
-                w = w.split(slab_starts[1] as usize).1;
+                w = w.split(self.slab_starts[1] as usize).1;
             }
-            let (tested, contacts) = grid.solve_slabs(&slab_starts, colour, count, parallel, w);
+            let (tested, contacts) = grid.solve_slabs(&self.slab_starts, colour, count, parallel, w);
             self.tested += tested;
             self.contacts += contacts;
         }
-        (self.slab_starts, self.starts, self.sorted_cell) = (slab_starts, starts, sorted_cell);
     }
 
     fn resolve_hashed(&mut self, c: &ContactColumns<'_>) {
@@ -620,11 +627,14 @@ impl SphereCollisions {
         let mask = (buckets - 1) as u32;
         map_into(&mut self.key, &self.cell, c.parallel, |cell| hash(*cell, 0, mask));
         self.sort_and_gather(buckets, c);
-        let (sorted_cell, starts) = (
-            core::mem::take(&mut self.sorted_cell),
-            core::mem::take(&mut self.starts),
+        let (sorted_cell, starts) = (&self.sorted_cell, &self.starts);
+        let mut w = Window::whole(
+            &mut self.position,
+            &mut self.velocity,
+            &self.radius,
+            &self.inverse_mass,
+            self.material,
         );
-        let mut w = self.window();
         for i in 0..n {
             let home = sorted_cell[i];
             for offset in NEIGHBOURS {
@@ -644,7 +654,6 @@ impl SphereCollisions {
             }
         }
         (self.tested, self.contacts) = (w.tested, w.contacts);
-        (self.sorted_cell, self.starts) = (sorted_cell, starts);
     }
 
     /// Mixed sizes: the hierarchical grid of the module documentation.
@@ -676,12 +685,14 @@ impl SphereCollisions {
         self.key
             .extend(self.cell.iter().zip(&self.level).map(|(cell, &l)| hash(*cell, l, mask)));
         self.sort_and_gather(buckets, c);
-        let (sorted_cell, starts) = (
-            core::mem::take(&mut self.sorted_cell),
-            core::mem::take(&mut self.starts),
+        let (sorted_cell, starts, sorted_level) = (&self.sorted_cell, &self.starts, &self.sorted_level);
+        let mut w = Window::whole(
+            &mut self.position,
+            &mut self.velocity,
+            &self.radius,
+            &self.inverse_mass,
+            self.material,
         );
-        let sorted_level = core::mem::take(&mut self.sorted_level);
-        let mut w = self.window();
         for i in 0..n {
             let own = sorted_level[i];
             // Own level, then every coarser non-empty one, whose cells are
@@ -704,6 +715,5 @@ impl SphereCollisions {
             }
         }
         (self.tested, self.contacts) = (w.tested, w.contacts);
-        (self.sorted_cell, self.starts, self.sorted_level) = (sorted_cell, starts, sorted_level);
     }
 }
