@@ -13,6 +13,11 @@
 //! - `hand (projects)`: the same loop with Tickwork's contact (the particle is
 //!   put on the floor, `vy += -(1 + e) min(vy, 0)`), whose state Tickwork must
 //!   reproduce bit for bit;
+//! - `per-axis blocks`: what Tickwork's planned per-axis layout reaches:
+//!   the integrator crate's semi-implicit Euler stepping `Vec3x4` blocks
+//!   (four particles per value) in chunks, with the projecting contact as
+//!   one masked operation per block; its state must equal the projecting
+//!   hand loop's bit for bit;
 //! - `hecs`, `bevy_ecs Query`, `bevy_ecs par_iter` (two threads): components
 //!   `Position`, `Velocity`, `Previous` of `Vec3A`, the reflecting loop;
 //! - `tickwork`: a `World` with `Gravity`, `LinearDrag`, a floor `Plane`,
@@ -32,8 +37,10 @@ use std::time::Instant;
 
 use bevy_ecs::prelude::{Component, World as BevyWorld};
 use bevy_ecs::query::QueryState;
+use glam::Vec4;
 use glam::{Vec3, Vec3A};
 use tickwork_engine::{FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
+use tickwork_integrators::{Integrator, SemiImplicitEuler, System, Vec3x4};
 
 const DT: f32 = (1.0f64 / 60.0) as f32;
 const G: Vec3A = Vec3A::new(0.0, -9.81, 0.0);
@@ -180,6 +187,96 @@ impl Variant for Hand {
     }
     fn projects(&self) -> bool {
         self.project
+    }
+    fn save(&mut self) {
+        self.saved = (self.p.clone(), self.v.clone());
+    }
+    fn restore(&mut self) {
+        self.p.copy_from_slice(&self.saved.0);
+        self.v.copy_from_slice(&self.saved.1);
+    }
+}
+
+/// The per-axis layout's reach: the integrator crate's semi-implicit Euler
+/// stepping four particles per value (`Vec3x4`, one `Vec4` per axis) in
+/// chunks of 128 blocks, double-buffered previous positions, then the
+/// projecting floor contact as one masked operation per block.
+struct Blocks {
+    p: Vec<Vec3x4>,
+    prev: Vec<Vec3x4>,
+    v: Vec<Vec3x4>,
+    n: usize,
+    method: SemiImplicitEuler<Vec3x4>,
+    saved: (Vec<Vec3x4>, Vec<Vec3x4>),
+}
+
+/// `a = G - b v` for every block.
+struct Falling;
+
+impl System<Vec3x4> for Falling {
+    fn acceleration(&mut self, _t: f32, _x: &[Vec3x4], v: &[Vec3x4], out: &mut [Vec3x4]) {
+        let c = Vec3x4::splat(G);
+        for (a, v) in out.iter_mut().zip(v) {
+            *a = c - *v * DRAG;
+        }
+    }
+    fn affine_range(&self, _first: usize, _count: usize) -> Option<(Vec3x4, f32)> {
+        Some((Vec3x4::splat(G), DRAG))
+    }
+    fn is_pointwise(&self) -> bool {
+        true
+    }
+}
+
+impl Blocks {
+    fn new(p: &[Vec3A], v: &[Vec3A]) -> Self {
+        let pack = |s: &[Vec3A]| {
+            s.chunks(4)
+                .map(|c| Vec3x4::from_lanes(core::array::from_fn(|k| c.get(k).copied().unwrap_or(Vec3A::ZERO))))
+                .collect::<Vec<_>>()
+        };
+        let p = pack(p);
+        Self {
+            prev: p.clone(),
+            p,
+            v: pack(v),
+            n: v.len(),
+            method: SemiImplicitEuler::new(),
+            saved: (Vec::new(), Vec::new()),
+        }
+    }
+}
+
+impl Variant for Blocks {
+    fn name(&self) -> String {
+        "per-axis blocks (integrator crate)".into()
+    }
+    fn step(&mut self) {
+        core::mem::swap(&mut self.p, &mut self.prev);
+        let lift = Vec4::splat(-(1.0 + RESTITUTION));
+        let mut bad = Vec4::ZERO;
+        for ((x, v), x0) in self
+            .p
+            .chunks_mut(128)
+            .zip(self.v.chunks_mut(128))
+            .zip(self.prev.chunks(128))
+        {
+            self.method.step_from(0.0, DT, x0, x, v, &mut Falling).expect("step");
+            for (x, v) in x.iter_mut().zip(v.iter_mut()) {
+                let below = x.y.cmplt(Vec4::ZERO);
+                v.y = Vec4::select(below, v.y + lift * v.y.min(Vec4::ZERO), v.y);
+                x.y = Vec4::select(below, x.y - x.y, x.y);
+                bad += (x.x + x.y + x.z + v.x + v.y + v.z) * 0.0;
+            }
+        }
+        black_box(bad);
+    }
+    fn state(&mut self) -> State {
+        let lanes = |s: &[Vec3x4]| s.iter().flat_map(|b| b.lanes()).take(self.n).collect::<Vec<_>>();
+        lanes(&self.p).into_iter().zip(lanes(&self.v)).collect()
+    }
+    fn projects(&self) -> bool {
+        true
     }
     fn save(&mut self) {
         self.saved = (self.p.clone(), self.v.clone());
@@ -421,6 +518,7 @@ fn variants(n: usize) -> Vec<Box<dyn Variant>> {
         }),
         Box::new(hand(false)),
         Box::new(hand(true)),
+        Box::new(Blocks::new(&p, &v)),
         Box::new(Hecs {
             world: hecs,
             order,
