@@ -185,9 +185,9 @@ fn hand_step(threads: usize, c: &mut Columns, e: f32, mu: f32) {
 fn columns_of(world: &World) -> Columns {
     let p = world.particles();
     Columns {
-        x: p.position.clone(),
-        v: p.velocity.clone(),
-        previous: p.previous_position.clone(),
+        x: p.position.iter().collect(),
+        v: p.velocity.iter().collect(),
+        previous: p.previous_position.iter().collect(),
         age: p.age.clone(),
         inverse_mass: p.inverse_mass.clone(),
         radius: p.radius.clone(),

@@ -36,7 +36,7 @@ impl World {
             .velocity
             .iter()
             .zip(&p.inverse_mass)
-            .map(|(v, &w)| 0.5 * mass_of(w) * Vec3::from(*v).as_dvec3().length_squared())
+            .map(|(v, &w)| 0.5 * mass_of(w) * Vec3::from(v).as_dvec3().length_squared())
             .sum();
         let r = &self.rigid;
         for ((q, w), inertia) in r.orientation.iter().zip(&r.angular_velocity).zip(&r.inertia) {
@@ -45,7 +45,7 @@ impl World {
         let potential = self
             .forces
             .iter()
-            .map(|f| f.potential_energy(&p.position, &p.inverse_mass))
+            .map(|f| f.potential_energy(p.position.as_slice(), &p.inverse_mass))
             .sum();
         Energy { kinetic, potential }
     }

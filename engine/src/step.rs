@@ -370,13 +370,17 @@ impl World {
             force.prepare(&self.entities);
         }
         if std::mem::take(&mut self.edited)
-            && let Some(row) = first_non_finite(&self.particles.position, &self.particles.velocity, 0)
+            && let Some(row) = first_non_finite(
+                self.particles.position.as_slice(),
+                self.particles.velocity.as_slice(),
+                0,
+            )
         {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         self.integrate(t, dt, tick, &mut report)?;
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
-            flush_subnormals(&mut self.particles.velocity);
+            flush_subnormals(self.particles.velocity.as_mut_slice());
         }
         self.step_rigid_bodies(t, dt, tick)?;
         self.expire(&mut report);
@@ -414,9 +418,9 @@ impl World {
             report.fused = true;
             report.lanes = lanes as u32;
             let columns = LaneColumns {
-                x: &mut p.position,
-                v: &mut p.velocity,
-                previous: &p.previous_position,
+                x: p.position.as_mut_slice(),
+                v: p.velocity.as_mut_slice(),
+                previous: p.previous_position.as_slice(),
                 age: &mut p.age,
                 lifetime: &p.lifetime,
                 radius: &p.radius,
@@ -489,9 +493,9 @@ impl World {
                 .step_from(
                     t,
                     dt,
-                    &p.previous_position,
-                    &mut p.position,
-                    &mut p.velocity,
+                    p.previous_position.as_slice(),
+                    p.position.as_mut_slice(),
+                    p.velocity.as_mut_slice(),
                     &mut field,
                 )
                 .map(|stats| LaneOutcome {
@@ -513,8 +517,8 @@ impl World {
         } else {
             for collider in &mut self.colliders {
                 collider.resolve_world(ContactColumns {
-                    position: &mut p.position,
-                    velocity: &mut p.velocity,
+                    position: p.position.as_mut_slice(),
+                    velocity: p.velocity.as_mut_slice(),
                     radius: &p.radius,
                     inverse_mass: &p.inverse_mass,
                     parallel: n >= self.config.parallel_threshold,
@@ -522,7 +526,7 @@ impl World {
             }
             age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
             LaneOutcome {
-                first_bad: first_non_finite(&p.position, &p.velocity, 0),
+                first_bad: first_non_finite(p.position.as_slice(), p.velocity.as_slice(), 0),
                 ..outcome
             }
         };
@@ -536,7 +540,7 @@ impl World {
     /// The error for row `row`'s non-finite position or velocity.
     fn non_finite(&self, tick: u64, row: usize, cause: NonFiniteCause) -> SimulationError {
         let p = &self.particles;
-        let (x, v) = (p.position[row], p.velocity[row]);
+        let (x, v) = (p.position.as_slice()[row], p.velocity.as_slice()[row]);
         let (field, value) = if x.is_finite() {
             ("velocity", v)
         } else {
@@ -557,12 +561,18 @@ impl World {
     /// error path, so its scratch buffer may allocate.
     fn diagnose(&self, t: f32, tick: u64) -> Option<SimulationError> {
         let p = &self.particles;
-        if let Some(row) = first_non_finite(&p.position, &p.velocity, 0) {
+        if let Some(row) = first_non_finite(p.position.as_slice(), p.velocity.as_slice(), 0) {
             return Some(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         let mut accelerations = vec![Vec3A::ZERO; p.len()];
         let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
-        tickwork_integrators::System::acceleration(&mut field, t, &p.position, &p.velocity, &mut accelerations);
+        tickwork_integrators::System::acceleration(
+            &mut field,
+            t,
+            p.position.as_slice(),
+            p.velocity.as_slice(),
+            &mut accelerations,
+        );
         let row = accelerations.iter().position(|a| !a.is_finite())?;
         Some(SimulationError::NonFinite {
             tick,

@@ -99,7 +99,9 @@ fn a_nan_written_through_particles_mut_is_blamed_on_the_write_not_the_step() {
     let mut w = world("semi_implicit_euler");
     let e = w.spawn(Particle::default()).expect("valid");
     step(&mut w).expect("a finite step");
-    w.particles_mut().velocity[0].y = f32::NAN;
+    let velocity = &mut w.particles_mut().velocity;
+    let v = velocity.get(0).expect("one row");
+    assert!(velocity.set(0, glam::Vec3A::new(v.x, f32::NAN, v.z)));
     let error = step(&mut w).expect_err("a NaN velocity");
     assert!(
         matches!(error, SimulationError::NonFinite { entity, field: "velocity", cause: NonFiniteCause::Start, .. } if entity == e),

@@ -246,7 +246,7 @@ fn sphere_grid_resolves_a_crowd_without_overlaps() {
     for tick in 0..300 {
         w.step(step_at(tick, 1.0 / 120.0)).expect("step");
     }
-    let x = &w.particles().position;
+    let x: Vec<_> = w.particles().position.iter().collect();
     let mut worst: f32 = 0.0;
     for i in 0..x.len() {
         for j in i + 1..x.len() {

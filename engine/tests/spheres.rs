@@ -157,7 +157,8 @@ fn one_big_ball_among_grains_finds_every_contact_once() {
     for i in 0..n {
         for j in i + 1..n {
             let reach = p.radius[i] + p.radius[j];
-            if (p.position[i] - p.position[j]).length_squared() < reach * reach {
+            let (a, b) = (p.position.get(i).expect("row"), p.position.get(j).expect("row"));
+            if (a - b).length_squared() < reach * reach {
                 brute += 1;
             }
         }

@@ -473,7 +473,7 @@ impl Variant for Tickwork {
     fn state(&mut self) -> State {
         let p = self.world.particles();
         // Rows stay in spawn order: nothing is despawned.
-        p.position.iter().copied().zip(p.velocity.iter().copied()).collect()
+        p.position.iter().zip(p.velocity.iter()).collect()
     }
     fn projects(&self) -> bool {
         true

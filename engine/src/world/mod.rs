@@ -22,6 +22,7 @@ macro_rules! clone_fields {
     };
 }
 
+mod column;
 mod columns;
 mod entity;
 mod particles;
@@ -35,6 +36,7 @@ use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
 use tickwork_integrators::{Integrator, UnknownMethod, build};
 
+pub use column::Vec3Column;
 pub use columns::Component;
 pub use entity::{Entities, Entity, EntityError};
 pub use particles::{Colour, Particle, Particles, SpawnError};
@@ -157,9 +159,9 @@ pub struct QueryMut<'a, T> {
     /// The entity of each row.
     pub entities: &'a [Entity],
     /// Positions.
-    pub position: &'a mut [Vec3A],
+    pub position: &'a mut Vec3Column,
     /// Velocities.
-    pub velocity: &'a mut [Vec3A],
+    pub velocity: &'a mut Vec3Column,
     /// The game's column.
     pub component: &'a mut [T],
 }
@@ -546,7 +548,7 @@ impl World {
     /// # Errors
     /// [`EntityError`] for a handle that names no live entity.
     pub fn position(&self, entity: Entity) -> Result<Vec3, EntityError> {
-        Ok(self.particles.position[self.row(entity)?].into())
+        Ok(self.particles.position.as_slice()[self.row(entity)?].into())
     }
 
     /// An entity's velocity.
@@ -554,7 +556,7 @@ impl World {
     /// # Errors
     /// [`EntityError`] for a handle that names no live entity.
     pub fn velocity(&self, entity: Entity) -> Result<Vec3, EntityError> {
-        Ok(self.particles.velocity[self.row(entity)?].into())
+        Ok(self.particles.velocity.as_slice()[self.row(entity)?].into())
     }
 
     /// A rigid body's orientation (identity for a plain particle).
@@ -578,7 +580,7 @@ impl World {
     pub fn set_velocity(&mut self, entity: Entity, velocity: Vec3) -> Result<(), WorldError> {
         let row = self.row(entity)?;
         particles::check_vector("velocity", velocity).map_err(|error| WorldError::Invalid { entity, error })?;
-        self.particles.velocity[row] = velocity.into();
+        self.particles.velocity.set(row, velocity.into());
         Ok(())
     }
 
@@ -591,8 +593,8 @@ impl World {
     pub fn teleport(&mut self, entity: Entity, position: Vec3) -> Result<(), WorldError> {
         let row = self.row(entity)?;
         particles::check_vector("position", position).map_err(|error| WorldError::Invalid { entity, error })?;
-        self.particles.position[row] = position.into();
-        self.particles.previous_position[row] = position.into();
+        self.particles.position.set(row, position.into());
+        self.particles.previous_position.set(row, position.into());
         self.particles.teleported_at[row] = self.tick;
         self.revision += 1;
         Ok(())
@@ -809,7 +811,7 @@ impl World {
         }
         let p = &self.particles;
         for column in [&p.position, &p.velocity, &p.previous_position] {
-            for x in column {
+            for x in column.iter() {
                 h.f32s(&x.to_array());
             }
         }

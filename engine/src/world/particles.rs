@@ -4,6 +4,8 @@ use core::fmt;
 
 use glam::{Vec3, Vec3A};
 
+use super::Vec3Column;
+
 /// An sRGB colour with alpha, 8 bits per channel (what the GPU reads).
 pub type Colour = [u8; 4];
 
@@ -167,15 +169,15 @@ pub(crate) fn check_vector(field: &'static str, v: Vec3) -> Result<(), SpawnErro
 /// of each belonging to the entity in row `i` of [`Entities`](super::Entities).
 ///
 /// Hot columns (read or written by every step) come first and are kept small:
-/// `Vec3A` (16 bytes, SIMD-aligned) for vectors, `f32` for scalars.
+/// a [`Vec3Column`] for vectors (read and written by row), `f32` for scalars.
 #[derive(Debug, Default, PartialEq)]
 pub struct Particles {
     /// Positions now.
-    pub position: Vec<Vec3A>,
+    pub position: Vec3Column,
     /// Velocities now.
-    pub velocity: Vec<Vec3A>,
+    pub velocity: Vec3Column,
     /// Positions at the start of the last step, for interpolation.
-    pub previous_position: Vec<Vec3A>,
+    pub previous_position: Vec3Column,
     /// `1 / mass`; 0 = immovable.
     pub inverse_mass: Vec<f32>,
     /// Radius in metres.
@@ -199,7 +201,8 @@ impl Particles {
     /// things interpolated on the CPU: springs, trails, rigid bodies).
     #[must_use]
     pub fn interpolated(&self, row: usize, t: f32) -> Vec3 {
-        self.previous_position[row].lerp(self.position[row], t).into()
+        let (from, to) = (self.previous_position.as_slice()[row], self.position.as_slice()[row]);
+        from.lerp(to, t).into()
     }
 
     /// Number of rows.
