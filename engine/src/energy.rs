@@ -32,6 +32,7 @@ impl World {
             force.prepare(&self.entities);
         }
         let p = &self.particles;
+        p.position.gather_into(&mut self.gathered.x);
         let mut kinetic: f64 = p
             .velocity
             .iter()
@@ -45,7 +46,7 @@ impl World {
         let potential = self
             .forces
             .iter()
-            .map(|f| f.potential_energy(p.position.as_slice(), &p.inverse_mass))
+            .map(|f| f.potential_energy(&self.gathered.x, &p.inverse_mass))
             .sum();
         Energy { kinetic, potential }
     }

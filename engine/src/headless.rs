@@ -35,7 +35,7 @@ impl<W: Write> TraceWriter<W> {
         let p = world.particles();
         let r = world.rigid_bodies();
         for (row, entity) in world.entities().rows().iter().enumerate() {
-            let (x, v) = (p.position.as_slice()[row], p.velocity.as_slice()[row]);
+            let (x, v) = (p.position.row(row), p.velocity.row(row));
             write!(
                 self.out,
                 "{},{},{},{},{},{},{},{},{},{}",

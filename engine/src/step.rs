@@ -24,15 +24,16 @@
 
 use core::fmt;
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 use tickwork_integrators::angular::{Bodies, TorqueFree};
-use tickwork_integrators::{Integrator, StepError};
+use tickwork_integrators::{StepError, Vec3x4, build};
 
 use crate::clock::FixedStep;
-use crate::colliders::{Collider, ContactColumns};
-use crate::forces::{Force, ForceField};
-use crate::world::{Entity, Lane, World};
+use crate::colliders::{BlockColumns, Collider, ContactColumns};
+use crate::forces::{BlockField, Force, ForceField};
+use crate::world::column::{LANES, gather, scatter};
+use crate::world::{Entity, Lane, Rows, Vec3Column, World};
 
 /// Particles integrated together in the fused step: 512 `Vec3A` positions and
 /// velocities are 16 KiB, half of a 32 KiB L1 data cache (measured best among
@@ -191,11 +192,13 @@ impl fmt::Display for SimulationError {
 impl std::error::Error for SimulationError {}
 
 /// The particle columns one lane steps: `previous` holds the positions at
-/// the start of the step (read), `x` receives the new ones.
+/// the start of the step (read), `x` receives the new ones; the vectors in
+/// blocks of four particles per axis, the scalars one per particle (`rows`
+/// real particles; the last block may hold padding lanes).
 struct LaneColumns<'a> {
-    x: &'a mut [Vec3A],
-    v: &'a mut [Vec3A],
-    previous: &'a [Vec3A],
+    x: &'a mut [Vec3x4],
+    v: &'a mut [Vec3x4],
+    previous: &'a [Vec3x4],
     age: &'a mut [f32],
     lifetime: &'a [f32],
     radius: &'a [f32],
@@ -219,44 +222,87 @@ fn merge(a: Result<LaneOutcome, StepError>, b: Result<LaneOutcome, StepError>) -
     })
 }
 
-/// Integrate (from `previous` into `x`), collide and age one lane, chunk by chunk.
+/// Integrate (from `previous` into `x`), collide and age one lane, chunk by
+/// chunk of [`CHUNK`] particles ([`CHUNK`] / 4 blocks).
 #[allow(clippy::too_many_arguments)]
 fn step_lane(
-    method: &mut dyn Integrator<Vec3A>,
+    lane: &mut Lane,
     forces: &[Box<dyn Force>],
     colliders: &[Box<dyn Collider>],
     t: f32,
     dt: f32,
     offset: usize,
     c: LaneColumns<'_>,
-    expired: &mut Vec<u32>,
 ) -> Result<LaneOutcome, StepError> {
     let mut outcome = LaneOutcome::default();
-    let n = c.x.len();
+    let n = c.age.len();
     let mut start = 0;
     while start < n {
         let end = (start + CHUNK).min(n);
-        let r = start..end;
-        let (x, v) = (&mut c.x[r.clone()], &mut c.v[r.clone()]);
-        let mut field = ForceField::new(forces, &c.inverse_mass[r.clone()], offset + start);
-        let stats = method.step_from(t, dt, &c.previous[r.clone()], x, v, &mut field)?;
+        let (rows, blocks) = (start..end, start / LANES..end.div_ceil(LANES));
+        let (x, v) = (&mut c.x[blocks.clone()], &mut c.v[blocks.clone()]);
+        let mut field = BlockField {
+            field: ForceField::new(forces, &c.inverse_mass[rows.clone()], offset + start),
+            rows: end - start,
+            scratch: &mut lane.rows,
+        };
+        let stats = lane.method.step_from(t, dt, &c.previous[blocks], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
         for collider in colliders {
-            collider.resolve_range(ContactColumns {
+            let blocks = BlockColumns {
                 position: x,
                 velocity: v,
-                radius: &c.radius[r.clone()],
-                inverse_mass: &c.inverse_mass[r.clone()],
-                parallel: false,
-            });
+                radius: &c.radius[rows.clone()],
+                inverse_mass: &c.inverse_mass[rows.clone()],
+                rows: end - start,
+            };
+            if !collider.resolve_blocks(blocks) {
+                resolve_rows(
+                    collider.as_ref(),
+                    x,
+                    v,
+                    &c.radius[rows.clone()],
+                    &c.inverse_mass[rows.clone()],
+                    &mut lane.rows,
+                );
+            }
         }
-        age_and_collect_expired(&mut c.age[r.clone()], &c.lifetime[r], dt, offset + start, expired);
+        age_and_collect_expired(
+            &mut c.age[rows.clone()],
+            &c.lifetime[rows],
+            dt,
+            offset + start,
+            &mut lane.expired,
+        );
         if outcome.first_bad.is_none() {
-            outcome.first_bad = first_non_finite(x, v, offset + start);
+            outcome.first_bad = Vec3Column::first_non_finite(x, v, end - start, offset + start);
         }
         start = end;
     }
     Ok(outcome)
+}
+
+/// A collider without a block kernel, on a chunk's rows: gathered into
+/// scratch, resolved, written back.
+fn resolve_rows(
+    collider: &dyn Collider,
+    x: &mut [Vec3x4],
+    v: &mut [Vec3x4],
+    radius: &[f32],
+    inverse_mass: &[f32],
+    scratch: &mut Rows,
+) {
+    gather(x, radius.len(), &mut scratch.x);
+    gather(v, radius.len(), &mut scratch.v);
+    collider.resolve_range(ContactColumns {
+        position: &mut scratch.x,
+        velocity: &mut scratch.v,
+        radius,
+        inverse_mass,
+        parallel: false,
+    });
+    scatter(&scratch.x, x);
+    scatter(&scratch.v, v);
 }
 
 /// `age += dt` for every particle, then the rows (numbered from `first_row`)
@@ -319,11 +365,11 @@ pub const SUBNORMAL_FLUSH_EVERY: u64 = 64;
 /// about 100 times slower. Run every [`SUBNORMAL_FLUSH_EVERY`] ticks (a pass
 /// over the velocities every 64 steps costs nothing measurable); zeros and
 /// normal numbers are left as they are.
-fn flush_subnormals(velocity: &mut [Vec3A]) {
-    let smallest = Vec3A::splat(f32::MIN_POSITIVE);
+fn flush_subnormals(velocity: &mut [Vec3x4]) {
+    let smallest = Vec4::splat(f32::MIN_POSITIVE);
+    let flush = |v: Vec4| Vec4::select(v.abs().cmplt(smallest) & v.cmpne(Vec4::ZERO), Vec4::ZERO, v);
     for v in velocity {
-        let subnormal = v.abs().cmplt(smallest) & v.cmpne(Vec3A::ZERO);
-        *v = Vec3A::select(subnormal, Vec3A::ZERO, *v);
+        (v.x, v.y, v.z) = (flush(v.x), flush(v.y), flush(v.z));
     }
 }
 
@@ -370,9 +416,10 @@ impl World {
             force.prepare(&self.entities);
         }
         if std::mem::take(&mut self.edited)
-            && let Some(row) = first_non_finite(
-                self.particles.position.as_slice(),
-                self.particles.velocity.as_slice(),
+            && let Some(row) = Vec3Column::first_non_finite(
+                self.particles.position.blocks(),
+                self.particles.velocity.blocks(),
+                self.particles.len(),
                 0,
             )
         {
@@ -380,7 +427,7 @@ impl World {
         }
         self.integrate(t, dt, tick, &mut report)?;
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
-            flush_subnormals(self.particles.velocity.as_mut_slice());
+            flush_subnormals(self.particles.velocity.blocks_mut());
         }
         self.step_rigid_bodies(t, dt, tick)?;
         self.expire(&mut report);
@@ -400,134 +447,27 @@ impl World {
         let fused = self.integrator.splits_pointwise()
             && self.forces.iter().all(|f| f.is_pointwise())
             && self.colliders.iter().all(|c| c.is_pointwise());
-        let integrator_error = |error| SimulationError::Integrator { tick, error };
         self.expired_rows.clear();
-        let p = &mut self.particles;
-        let n = p.position.len();
         // Double buffering: the positions at the start of the step become
         // the previous positions (for interpolation) by a swap, and the step
         // writes the new positions into the other buffer; nothing is copied.
+        let p = &mut self.particles;
         core::mem::swap(&mut p.position, &mut p.previous_position);
         let outcome = if fused {
-            let threads = rayon::current_num_threads();
-            let lanes = if n >= self.config.parallel_threshold {
-                threads.min(n.div_ceil(CHUNK)).max(1)
-            } else {
-                1
-            };
-            report.fused = true;
-            report.lanes = lanes as u32;
-            let columns = LaneColumns {
-                x: p.position.as_mut_slice(),
-                v: p.velocity.as_mut_slice(),
-                previous: p.previous_position.as_slice(),
-                age: &mut p.age,
-                lifetime: &p.lifetime,
-                radius: &p.radius,
-                inverse_mass: &p.inverse_mass,
-            };
-            let (forces, colliders) = (&self.forces[..], &self.colliders[..]);
-            if lanes == 1 {
-                step_lane(
-                    self.integrator.as_mut(),
-                    forces,
-                    colliders,
-                    t,
-                    dt,
-                    0,
-                    columns,
-                    &mut self.expired_rows,
-                )
-            } else {
-                while self.lanes.len() < lanes {
-                    self.lanes.push(Lane {
-                        method: self.integrator.clone_boxed(),
-                        expired: Vec::new(),
-                    });
-                }
-                let len = n.div_ceil(lanes).div_ceil(CHUNK) * CHUNK;
-                let outcome = columns
-                    .x
-                    .par_chunks_mut(len)
-                    .zip(columns.v.par_chunks_mut(len))
-                    .zip(columns.previous.par_chunks(len))
-                    .zip(columns.age.par_chunks_mut(len))
-                    .zip(columns.lifetime.par_chunks(len))
-                    .zip(columns.radius.par_chunks(len))
-                    .zip(columns.inverse_mass.par_chunks(len))
-                    .zip(self.lanes.par_iter_mut())
-                    .enumerate()
-                    .map(
-                        |(k, (((((((x, v), previous), age), lifetime), radius), inverse_mass), lane))| {
-                            lane.expired.clear();
-                            let c = LaneColumns {
-                                x,
-                                v,
-                                previous,
-                                age,
-                                lifetime,
-                                radius,
-                                inverse_mass,
-                            };
-                            step_lane(
-                                lane.method.as_mut(),
-                                forces,
-                                colliders,
-                                t,
-                                dt,
-                                k * len,
-                                c,
-                                &mut lane.expired,
-                            )
-                        },
-                    )
-                    .reduce(|| Ok(LaneOutcome::default()), merge);
-                for lane in &self.lanes[..lanes] {
-                    self.expired_rows.extend_from_slice(&lane.expired);
-                }
-                outcome
-            }
+            self.integrate_fused(t, dt, report)
         } else {
-            let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
-            self.integrator
-                .step_from(
-                    t,
-                    dt,
-                    p.previous_position.as_slice(),
-                    p.position.as_mut_slice(),
-                    p.velocity.as_mut_slice(),
-                    &mut field,
-                )
-                .map(|stats| LaneOutcome {
-                    evaluations: stats.evaluations,
-                    first_bad: None,
-                })
+            self.integrate_rows(t, dt)
         };
         let outcome = match outcome {
             Ok(outcome) => outcome,
             Err(error) => {
                 // The method left the state as it was: put the buffers back.
+                let p = &mut self.particles;
                 core::mem::swap(&mut p.position, &mut p.previous_position);
                 // A solve that failed on a non-finite value says which.
-                return Err(self.diagnose(t, tick).unwrap_or_else(|| integrator_error(error)));
-            }
-        };
-        let outcome = if fused {
-            outcome
-        } else {
-            for collider in &mut self.colliders {
-                collider.resolve_world(ContactColumns {
-                    position: p.position.as_mut_slice(),
-                    velocity: p.velocity.as_mut_slice(),
-                    radius: &p.radius,
-                    inverse_mass: &p.inverse_mass,
-                    parallel: n >= self.config.parallel_threshold,
-                });
-            }
-            age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
-            LaneOutcome {
-                first_bad: first_non_finite(p.position.as_slice(), p.velocity.as_slice(), 0),
-                ..outcome
+                return Err(self
+                    .diagnose(t, tick)
+                    .unwrap_or(SimulationError::Integrator { tick, error }));
             }
         };
         report.evaluations = outcome.evaluations;
@@ -537,10 +477,123 @@ impl World {
         Ok(())
     }
 
+    /// The fused step on the blocks: integration, colliders, ageing and the
+    /// finiteness check chunk by chunk, in lanes above the threshold.
+    fn integrate_fused(&mut self, t: f32, dt: f32, report: &mut StepReport) -> Result<LaneOutcome, StepError> {
+        let p = &mut self.particles;
+        let n = p.len();
+        let threads = rayon::current_num_threads();
+        let lanes = if n >= self.config.parallel_threshold {
+            threads.min(n.div_ceil(CHUNK)).max(1)
+        } else {
+            1
+        };
+        report.fused = true;
+        report.lanes = lanes as u32;
+        // Stateless methods only (they split pointwise): each lane builds
+        // its own copy, stepping blocks, by the world's method's name.
+        let name = self.integrator.info().name;
+        while self.lanes.len() < lanes {
+            let Ok(method) = build::<Vec3x4>(name) else {
+                unreachable!("{name} is registered: it is the world's own method")
+            };
+            self.lanes.push(Lane {
+                method,
+                expired: Vec::new(),
+                rows: Rows::default(),
+            });
+        }
+        let columns = LaneColumns {
+            x: p.position.blocks_mut(),
+            v: p.velocity.blocks_mut(),
+            previous: p.previous_position.blocks(),
+            age: &mut p.age,
+            lifetime: &p.lifetime,
+            radius: &p.radius,
+            inverse_mass: &p.inverse_mass,
+        };
+        let (forces, colliders) = (&self.forces[..], &self.colliders[..]);
+        if lanes == 1 {
+            let lane = &mut self.lanes[0];
+            lane.expired.clear();
+            let outcome = step_lane(lane, forces, colliders, t, dt, 0, columns);
+            self.expired_rows.extend_from_slice(&lane.expired);
+            return outcome;
+        }
+        // Rows per lane: whole chunks, so the split is fixed by particle
+        // index (never by thread count) and no block straddles two lanes.
+        let len = n.div_ceil(lanes).div_ceil(CHUNK) * CHUNK;
+        let outcome = columns
+            .x
+            .par_chunks_mut(len / LANES)
+            .zip(columns.v.par_chunks_mut(len / LANES))
+            .zip(columns.previous.par_chunks(len / LANES))
+            .zip(columns.age.par_chunks_mut(len))
+            .zip(columns.lifetime.par_chunks(len))
+            .zip(columns.radius.par_chunks(len))
+            .zip(columns.inverse_mass.par_chunks(len))
+            .zip(self.lanes.par_iter_mut())
+            .enumerate()
+            .map(
+                |(k, (((((((x, v), previous), age), lifetime), radius), inverse_mass), lane))| {
+                    lane.expired.clear();
+                    let c = LaneColumns {
+                        x,
+                        v,
+                        previous,
+                        age,
+                        lifetime,
+                        radius,
+                        inverse_mass,
+                    };
+                    step_lane(lane, forces, colliders, t, dt, k * len, c)
+                },
+            )
+            .reduce(|| Ok(LaneOutcome::default()), merge);
+        for lane in &self.lanes[..lanes] {
+            self.expired_rows.extend_from_slice(&lane.expired);
+        }
+        outcome
+    }
+
+    /// The plain step, on rows gathered from the blocks (methods with
+    /// history, implicit and adaptive ones, coupled forces, sphere
+    /// collisions): the method steps the whole world at once, then each
+    /// collider; the rows go back into the blocks.
+    fn integrate_rows(&mut self, t: f32, dt: f32) -> Result<LaneOutcome, StepError> {
+        let p = &mut self.particles;
+        let g = &mut self.gathered;
+        let n = p.len();
+        p.previous_position.gather_into(&mut g.other);
+        p.velocity.gather_into(&mut g.v);
+        g.x.clear();
+        g.x.resize(n, Vec3A::ZERO);
+        let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
+        let stats = self
+            .integrator
+            .step_from(t, dt, &g.other, &mut g.x, &mut g.v, &mut field)?;
+        for collider in &mut self.colliders {
+            collider.resolve_world(ContactColumns {
+                position: &mut g.x,
+                velocity: &mut g.v,
+                radius: &p.radius,
+                inverse_mass: &p.inverse_mass,
+                parallel: n >= self.config.parallel_threshold,
+            });
+        }
+        age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
+        p.position.scatter_from(&g.x);
+        p.velocity.scatter_from(&g.v);
+        Ok(LaneOutcome {
+            evaluations: stats.evaluations,
+            first_bad: first_non_finite(&g.x, &g.v, 0),
+        })
+    }
+
     /// The error for row `row`'s non-finite position or velocity.
     fn non_finite(&self, tick: u64, row: usize, cause: NonFiniteCause) -> SimulationError {
         let p = &self.particles;
-        let (x, v) = (p.position.as_slice()[row], p.velocity.as_slice()[row]);
+        let (x, v) = (p.position.row(row), p.velocity.row(row));
         let (field, value) = if x.is_finite() {
             ("velocity", v)
         } else {
@@ -561,18 +614,15 @@ impl World {
     /// error path, so its scratch buffer may allocate.
     fn diagnose(&self, t: f32, tick: u64) -> Option<SimulationError> {
         let p = &self.particles;
-        if let Some(row) = first_non_finite(p.position.as_slice(), p.velocity.as_slice(), 0) {
+        if let Some(row) = Vec3Column::first_non_finite(p.position.blocks(), p.velocity.blocks(), p.len(), 0) {
             return Some(self.non_finite(tick, row, NonFiniteCause::Start));
         }
+        let (mut x, mut v) = (Vec::new(), Vec::new());
+        p.position.gather_into(&mut x);
+        p.velocity.gather_into(&mut v);
         let mut accelerations = vec![Vec3A::ZERO; p.len()];
         let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
-        tickwork_integrators::System::acceleration(
-            &mut field,
-            t,
-            p.position.as_slice(),
-            p.velocity.as_slice(),
-            &mut accelerations,
-        );
+        tickwork_integrators::System::acceleration(&mut field, t, &x, &v, &mut accelerations);
         let row = accelerations.iter().position(|a| !a.is_finite())?;
         Some(SimulationError::NonFinite {
             tick,

@@ -60,6 +60,21 @@ impl Vec3x4 {
         }
     }
 
+    /// Lane `k`'s vector (`k < 4`).
+    #[inline]
+    #[must_use]
+    pub fn lane(&self, k: usize) -> Vec3A {
+        Vec3A::new(self.x[k], self.y[k], self.z[k])
+    }
+
+    /// Sets lane `k`'s vector (`k < 4`), leaving the other lanes as they are.
+    #[inline]
+    pub fn set_lane(&mut self, k: usize, v: Vec3A) {
+        self.x[k] = v.x;
+        self.y[k] = v.y;
+        self.z[k] = v.z;
+    }
+
     /// The four vectors, lane by lane.
     #[must_use]
     pub fn lanes(self) -> [Vec3A; 4] {

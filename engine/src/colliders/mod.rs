@@ -18,7 +18,8 @@ mod spheres;
 use core::any::Any;
 use core::fmt;
 
-use glam::Vec3A;
+use glam::{Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
 
 pub use aabb::BoxCollider;
 pub use contact::Material;
@@ -56,6 +57,46 @@ impl ContactColumns<'_> {
     }
 }
 
+/// A chunk of the world as the fused step holds it: positions and
+/// velocities in blocks of four particles per axis
+/// ([`Vec3x4`]: `x0 x1 x2 x3, y0 .., z0 ..`), for colliders with a block
+/// kernel ([`Collider::resolve_blocks`]).
+#[derive(Debug)]
+pub struct BlockColumns<'a> {
+    /// Positions, four particles per block (moved out of contact).
+    pub position: &'a mut [Vec3x4],
+    /// Velocities, four particles per block.
+    pub velocity: &'a mut [Vec3x4],
+    /// Radii, one per real particle (`rows` of them).
+    pub radius: &'a [f32],
+    /// Inverse masses, one per real particle (0 = immovable, never moved).
+    pub inverse_mass: &'a [f32],
+    /// Real particles: the last block's lanes past `rows` are padding,
+    /// to be left unchanged or changed harmlessly (give them `inverse_mass`
+    /// 0, as [`BlockColumns::block_scalars`] does).
+    pub rows: usize,
+}
+
+impl BlockColumns<'_> {
+    /// Block `k`'s radii and inverse masses as lanes; padding lanes get
+    /// radius 0 and inverse mass 0 (immovable: no contact moves them).
+    #[must_use]
+    pub fn block_scalars(&self, k: usize) -> (Vec4, Vec4) {
+        let first = k * 4;
+        if first + 4 <= self.rows {
+            return (
+                Vec4::from_slice(&self.radius[first..first + 4]),
+                Vec4::from_slice(&self.inverse_mass[first..first + 4]),
+            );
+        }
+        let (mut r, mut w) = ([0.0; 4], [0.0; 4]);
+        let tail = self.rows - first;
+        r[..tail].copy_from_slice(&self.radius[first..self.rows]);
+        w[..tail].copy_from_slice(&self.inverse_mass[first..self.rows]);
+        (Vec4::from_array(r), Vec4::from_array(w))
+    }
+}
+
 /// A collider.
 pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// Short name for diagnostics and scene files (`"plane"`).
@@ -72,6 +113,18 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// Resolves contacts of the particles in `columns` (a chunk of the world).
     fn resolve_range(&self, columns: ContactColumns<'_>) {
         let _ = columns;
+    }
+
+    /// Resolves contacts of the particles of a chunk held in blocks of four
+    /// per axis, as [`resolve_range`](Self::resolve_range) would on their
+    /// rows (the same bits), and returns true; or returns false (the
+    /// default) to have the engine hand `resolve_range` the chunk's rows.
+    /// For pointwise colliders whose contact is per-axis arithmetic
+    /// (axis-aligned planes), which then costs one vector operation per
+    /// four particles.
+    fn resolve_blocks(&self, columns: BlockColumns<'_>) -> bool {
+        let _ = columns;
+        false
     }
 
     /// Resolves contacts over the whole world (default: `resolve_range`).

@@ -3,7 +3,7 @@
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 
 use super::contact::{Material, resolve};
-use super::{Collider, ContactColumns};
+use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
 /// the plane when `n . x - offset - r < 0`.
@@ -129,6 +129,19 @@ impl Plane {
             [t.x_axis, t.y_axis, t.z_axis]
         };
         let (mut xc, mut vc) = (lanes(x), lanes(v));
+        self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+        let back = |c: [Vec4; 3], p: &mut [Vec3A; 4]| {
+            let t = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
+            *p = [t.x_axis, t.y_axis, t.z_axis, t.w_axis].map(Vec3A::from_vec4);
+        };
+        back(xc, x);
+        back(vc, v);
+    }
+
+    /// [`resolve`] for four particles held per axis (`xc[AXIS]` = their
+    /// normal coordinates), the normal `sign * e_AXIS`.
+    #[inline(always)]
+    fn contact_lanes<const AXIS: usize>(&self, xc: &mut [Vec4; 3], vc: &mut [Vec4; 3], r: Vec4, w: Vec4, sign: f32) {
         let s = Vec4::splat(sign);
         let gap = xc[AXIS] * s - Vec4::splat(self.offset) - r;
         let vn = vc[AXIS] * s;
@@ -153,18 +166,51 @@ impl Plane {
         vc[t2] = Vec4::select(hit, vc[t2] * keep, vc[t2]);
         vc[AXIS] = Vec4::select(hit, (vn + dvn) * s, vc[AXIS]);
         xc[AXIS] = Vec4::select(hit, xc[AXIS] - gap * s, xc[AXIS]);
-        let back = |c: [Vec4; 3], p: &mut [Vec3A; 4]| {
-            let t = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
-            *p = [t.x_axis, t.y_axis, t.z_axis, t.w_axis].map(Vec3A::from_vec4);
-        };
-        back(xc, x);
-        back(vc, v);
+    }
+
+    /// The axis-aligned contact on blocks of four particles per axis: the
+    /// arithmetic of [`resolve_axis`](Self::resolve_axis) and
+    /// [`resolve_axis_frictionless`](Self::resolve_axis_frictionless), lane
+    /// for lane, with no transposition (the blocks are already per axis).
+    fn resolve_axis_blocks<const AXIS: usize>(&self, c: BlockColumns<'_>, sign: f32) {
+        let frictionless = self.material.friction == 0.0;
+        let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
+        let bounce = Vec4::splat(-(1.0 + self.material.restitution));
+        for k in 0..c.position.len() {
+            let (r, w) = c.block_scalars(k);
+            let (x, v) = (&mut c.position[k], &mut c.velocity[k]);
+            let mut xc = [x.x, x.y, x.z];
+            let mut vc = [v.x, v.y, v.z];
+            if frictionless {
+                let (xa, va) = (xc[AXIS], vc[AXIS]);
+                let gap = xa * s - offset - r;
+                let vn = va * s;
+                let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
+                let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+                vc[AXIS] = Vec4::select(hit, (vn + dvn) * s, va);
+                xc[AXIS] = Vec4::select(hit, xa - gap * s, xa);
+            } else {
+                self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+            }
+            [x.x, x.y, x.z] = xc;
+            [v.x, v.y, v.z] = vc;
+        }
     }
 }
 
 impl Collider for Plane {
     fn name(&self) -> &'static str {
         "plane"
+    }
+
+    fn resolve_blocks(&self, c: BlockColumns<'_>) -> bool {
+        match axis_of(self.normal) {
+            Some((0, sign)) => self.resolve_axis_blocks::<0>(c, sign),
+            Some((1, sign)) => self.resolve_axis_blocks::<1>(c, sign),
+            Some((_, sign)) => self.resolve_axis_blocks::<2>(c, sign),
+            None => return false,
+        }
+        true
     }
 
     fn resolve_range(&self, c: ContactColumns<'_>) {

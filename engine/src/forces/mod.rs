@@ -20,7 +20,7 @@ use core::any::Any;
 use core::fmt;
 
 use glam::Vec3A;
-use tickwork_integrators::System;
+use tickwork_integrators::{System, Vec3x4};
 
 pub use attractor::Attractor;
 pub use drag::{LinearDrag, QuadraticDrag};
@@ -29,7 +29,8 @@ pub use nbody::NBody;
 pub use springs::{Spring, SpringEnd, Springs};
 pub use wind::Wind;
 
-use crate::world::Entities;
+use crate::world::column::{LANES, gather, scatter};
+use crate::world::{Entities, Rows};
 
 /// A force generator. Accelerations are in m/s^2; a force that is physically a
 /// force (springs) divides by mass with the inverse masses it is given.
@@ -190,6 +191,66 @@ impl System<Vec3A> for ForceField<'_> {
 
     fn is_pointwise(&self) -> bool {
         self.pointwise
+    }
+}
+
+/// The force field over blocks of four particles (per-axis rows, as the
+/// world stores them), for the fused step: the affine sum `c - b v` is one
+/// vector operation per axis and block; any other pointwise force is given
+/// its rows through scratch (`Vec3A` per particle), so it sees exactly the
+/// arguments, and gives exactly the bits, of the row-by-row [`ForceField`].
+pub(crate) struct BlockField<'a> {
+    pub field: ForceField<'a>,
+    /// Real rows among the blocks (the last block may be padding in part).
+    pub rows: usize,
+    pub scratch: &'a mut Rows,
+}
+
+impl System<Vec3x4> for BlockField<'_> {
+    fn acceleration(&mut self, t: f32, x: &[Vec3x4], v: &[Vec3x4], out: &mut [Vec3x4]) {
+        self.acceleration_range(t, 0, x, v, out);
+    }
+
+    fn acceleration_range(&mut self, t: f32, first: usize, x: &[Vec3x4], v: &[Vec3x4], out: &mut [Vec3x4]) {
+        let (c, b) = self.field.affine;
+        let c4 = Vec3x4::splat(c);
+        for (a, v) in out.iter_mut().zip(v) {
+            *a = c4 - *v * b;
+        }
+        let rows = (first * LANES..((first + out.len()) * LANES).min(self.rows)).len();
+        let first_row = first * LANES;
+        let inverse_mass = &self.field.inverse_mass[first_row..first_row + rows];
+        if !self.field.all_affine {
+            let s = &mut *self.scratch;
+            gather(x, rows, &mut s.x);
+            gather(v, rows, &mut s.v);
+            gather(out, rows, &mut s.other);
+            for force in self.field.forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
+                force.accumulate(t, self.field.offset + first_row, &s.x, &s.v, inverse_mass, &mut s.other);
+            }
+            scatter(&s.other, out);
+        }
+        if !all_movable(inverse_mass) {
+            for (row, &w) in inverse_mass.iter().enumerate() {
+                if w <= 0.0 {
+                    out[row / LANES].set_lane(row % LANES, Vec3A::ZERO);
+                }
+            }
+        }
+    }
+
+    fn linear_drag(&self) -> f32 {
+        self.field.drag
+    }
+
+    fn affine_range(&self, first: usize, count: usize) -> Option<(Vec3x4, f32)> {
+        let rows = first * LANES..((first + count) * LANES).min(self.rows);
+        (self.field.all_affine && all_movable(&self.field.inverse_mass[rows]))
+            .then_some((Vec3x4::splat(self.field.affine.0), self.field.affine.1))
+    }
+
+    fn is_pointwise(&self) -> bool {
+        self.field.pointwise
     }
 }
 

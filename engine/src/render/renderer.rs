@@ -705,9 +705,9 @@ fn fill_instances(particles: &crate::world::Particles, out: &mut [Instance]) {
         for (k, record) in out.iter_mut().enumerate() {
             let i = first + k;
             *record = Instance {
-                previous: particles.previous_position.as_slice()[i].to_array(),
+                previous: particles.previous_position.row(i).to_array(),
                 radius: particles.radius[i],
-                current: particles.position.as_slice()[i].to_array(),
+                current: particles.position.row(i).to_array(),
                 colour: u32::from_le_bytes(particles.colour[i]),
             };
         }

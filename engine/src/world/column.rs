@@ -1,29 +1,55 @@
-//! A column of 3-vectors, one per particle row, read and written by row.
+//! A column of 3-vectors, one per particle row, stored per axis in blocks
+//! of four rows.
 //!
-//! Why a type and not a `Vec<Vec3A>`: the step is to store four particles
-//! per SIMD value (per axis: `x0 x1 x2 x3, y0 .., z0 ..`), which cannot hand
-//! out a `&mut Vec3A` for a row. Games, tests and the renderer read and
-//! write through [`get`](Vec3Column::get), [`set`](Vec3Column::set) and
-//! [`iter`](Vec3Column::iter), which stay the same whatever the layout.
+//! ```text
+//! rows 0..4:  x0 x1 x2 x3 | y0 y1 y2 y3 | z0 z1 z2 z3     one Vec3x4 (48 bytes)
+//! rows 4..8:  x4 ..                                        the next
+//! ```
+//!
+//! Why per axis: one SIMD operation then steps four particles (a `Vec3A`
+//! row uses three of its four lanes for one particle), and a particle costs
+//! 12 bytes, not 16. The integrators step blocks as they step vectors
+//! (`tickwork_integrators::Vec3x4`, lane for lane the same bits). The last
+//! block's unused lanes (`len` up to the next multiple of 4) are padding:
+//! zero when made, stepped along with their block by pointwise kernels,
+//! and never read as rows (not by `get`, `iter`, equality or the state hash).
+//!
+//! Games, tests and the renderer read and write rows through
+//! [`get`](Vec3Column::get), [`set`](Vec3Column::set) and
+//! [`iter`](Vec3Column::iter); the step's kernels take the blocks.
 
 use glam::Vec3A;
+use tickwork_integrators::Vec3x4;
+
+/// Rows per block.
+pub const LANES: usize = 4;
 
 /// One 3-vector per particle row (positions, velocities, previous
 /// positions): `get(row)`, `set(row, value)`, `iter()` in row order.
-#[derive(Debug, Default, PartialEq)]
+#[derive(Debug, Default)]
 pub struct Vec3Column {
-    values: Vec<Vec3A>,
+    blocks: Vec<Vec3x4>,
+    len: usize,
 }
 
 impl Clone for Vec3Column {
     fn clone(&self) -> Self {
         Self {
-            values: self.values.clone(),
+            blocks: self.blocks.clone(),
+            len: self.len,
         }
     }
     /// Reuses the buffer (world snapshots copy into their last copy).
     fn clone_from(&mut self, source: &Self) {
-        self.values.clone_from(&source.values);
+        self.blocks.clone_from(&source.blocks);
+        self.len = source.len;
+    }
+}
+
+/// Rows compare (as `f32`s); padding lanes do not.
+impl PartialEq for Vec3Column {
+    fn eq(&self, other: &Self) -> bool {
+        self.len == other.len && self.iter().eq(other.iter())
     }
 }
 
@@ -31,61 +57,141 @@ impl Vec3Column {
     /// Number of rows.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.values.len()
+        self.len
     }
 
     /// Whether there are no rows.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.values.is_empty()
+        self.len == 0
     }
 
     /// Row `row`'s vector, or `None` past the last row.
     #[must_use]
     pub fn get(&self, row: usize) -> Option<Vec3A> {
-        self.values.get(row).copied()
+        (row < self.len).then(|| self.row(row))
     }
 
     /// Sets row `row`'s vector; returns false (and changes nothing) past the
     /// last row.
     pub fn set(&mut self, row: usize, value: Vec3A) -> bool {
-        match self.values.get_mut(row) {
-            Some(slot) => {
-                *slot = value;
-                true
-            }
-            None => false,
+        if row >= self.len {
+            return false;
         }
+        self.blocks[row / LANES].set_lane(row % LANES, value);
+        true
     }
 
     /// Every row's vector, in row order.
     pub fn iter(&self) -> impl ExactSizeIterator<Item = Vec3A> + '_ {
-        self.values.iter().copied()
+        (0..self.len).map(|row| self.row(row))
     }
 
     /// Applies `f` to every row's vector, in row order, with its row.
     pub fn update(&mut self, mut f: impl FnMut(usize, Vec3A) -> Vec3A) {
-        for (row, value) in self.values.iter_mut().enumerate() {
-            *value = f(row, *value);
+        for row in 0..self.len {
+            let block = &mut self.blocks[row / LANES];
+            block.set_lane(row % LANES, f(row, block.lane(row % LANES)));
         }
     }
 
-    /// The rows as a slice, for the step's kernels.
-    pub(crate) fn as_slice(&self) -> &[Vec3A] {
-        &self.values
+    /// Row `row` (`row < len`, or a padding lane of the last block).
+    #[inline]
+    pub(crate) fn row(&self, row: usize) -> Vec3A {
+        self.blocks[row / LANES].lane(row % LANES)
     }
 
-    /// The rows as a mutable slice, for the step's kernels.
-    pub(crate) fn as_mut_slice(&mut self) -> &mut [Vec3A] {
-        &mut self.values
+    /// The blocks, padding lanes included, for the step's kernels.
+    pub(crate) fn blocks(&self) -> &[Vec3x4] {
+        &self.blocks
+    }
+
+    /// The blocks, mutable, for the step's kernels.
+    pub(crate) fn blocks_mut(&mut self) -> &mut [Vec3x4] {
+        &mut self.blocks
     }
 
     pub(crate) fn push(&mut self, value: Vec3A) {
-        self.values.push(value);
+        if self.len.is_multiple_of(LANES) {
+            self.blocks.push(Vec3x4::ZERO);
+        }
+        self.len += 1;
+        self.set(self.len - 1, value);
     }
 
-    /// `Vec::swap_remove`: the last row moves into `row`.
+    /// `Vec::swap_remove`: the last row moves into `row` (`row < len`); its
+    /// lane becomes padding (zero), and an emptied last block goes.
     pub(crate) fn swap_remove(&mut self, row: usize) {
-        self.values.swap_remove(row);
+        let last = self.len - 1;
+        let moved = self.row(last);
+        self.blocks[last / LANES].set_lane(last % LANES, Vec3A::ZERO);
+        if row != last {
+            self.blocks[row / LANES].set_lane(row % LANES, moved);
+        }
+        self.len = last;
+        self.blocks.truncate(self.len.div_ceil(LANES));
+    }
+
+    /// Copies the rows into `out` (resized to `len`; its buffer is reused),
+    /// for the parts of the step that take one `Vec3A` per row.
+    pub(crate) fn gather_into(&self, out: &mut Vec<Vec3A>) {
+        gather(&self.blocks, self.len, out);
+    }
+
+    /// Writes `rows` (one per row, `len` of them) back into the blocks.
+    pub(crate) fn scatter_from(&mut self, rows: &[Vec3A]) {
+        scatter(rows, &mut self.blocks);
+    }
+
+    /// The first row (from `first`, in order) whose vector is not finite,
+    /// among the rows of `blocks` (a window of some column starting at row
+    /// `first`, `rows` rows of it real). One pass of plain arithmetic for the
+    /// common all-finite case: `0 * c` is 0 for a finite `c` and NaN
+    /// otherwise, and a sum of zeros stays 0; the tail block's padding is
+    /// masked out.
+    pub(crate) fn first_non_finite(blocks: &[Vec3x4], other: &[Vec3x4], rows: usize, first: usize) -> Option<usize> {
+        let whole = rows / LANES;
+        let mut sums = [glam::Vec4::ZERO; 3];
+        for (a, b) in blocks[..whole].iter().zip(&other[..whole]) {
+            sums[0] += a.x * 0.0 + b.x * 0.0;
+            sums[1] += a.y * 0.0 + b.y * 0.0;
+            sums[2] += a.z * 0.0 + b.z * 0.0;
+        }
+        let sum = (sums[0] + sums[1]) + sums[2];
+        let tail_bad = (whole * LANES..rows).any(|row| {
+            let (a, b) = (
+                blocks[row / LANES].lane(row % LANES),
+                other[row / LANES].lane(row % LANES),
+            );
+            !a.is_finite() || !b.is_finite()
+        });
+        if sum.cmpeq(glam::Vec4::ZERO).all() && !tail_bad {
+            return None;
+        }
+        (0..rows)
+            .find(|&row| {
+                let (a, b) = (
+                    blocks[row / LANES].lane(row % LANES),
+                    other[row / LANES].lane(row % LANES),
+                );
+                !a.is_finite() || !b.is_finite()
+            })
+            .map(|row| first + row)
+    }
+}
+
+/// The first `rows` rows of `blocks`, one `Vec3A` each, into `out` (its
+/// buffer reused).
+pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>) {
+    out.clear();
+    out.extend(blocks.iter().flat_map(|b| b.lanes()).take(rows));
+}
+
+/// `rows` back into the lanes of `blocks` (padding lanes untouched).
+pub(crate) fn scatter(rows: &[Vec3A], blocks: &mut [Vec3x4]) {
+    for (block, rows) in blocks.iter_mut().zip(rows.chunks(LANES)) {
+        for (k, &value) in rows.iter().enumerate() {
+            block.set_lane(k, value);
+        }
     }
 }

@@ -22,7 +22,7 @@ macro_rules! clone_fields {
     };
 }
 
-mod column;
+pub(crate) mod column;
 mod columns;
 mod entity;
 mod particles;
@@ -34,7 +34,7 @@ use glam::{Quat, Vec3, Vec3A};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
-use tickwork_integrators::{Integrator, UnknownMethod, build};
+use tickwork_integrators::{Integrator, UnknownMethod, Vec3x4, build};
 
 pub use column::Vec3Column;
 pub use columns::Component;
@@ -136,11 +136,23 @@ pub(crate) enum Command {
     Despawn(Entity),
 }
 
-/// One thread's share of a parallel step: its copy of the method and its
-/// list of expired rows. Kept between steps so nothing is allocated.
+/// One thread's share of a fused step: its copy of the method (stepping
+/// blocks of four particles), its list of expired rows and its scratch
+/// rows. Kept between steps so nothing is allocated.
 pub(crate) struct Lane {
-    pub method: Box<dyn Integrator<Vec3A>>,
+    pub method: Box<dyn Integrator<Vec3x4>>,
     pub expired: Vec<u32>,
+    pub rows: Rows,
+}
+
+/// Scratch rows, one `Vec3A` per particle, for the parts of a step that take
+/// rows rather than blocks (forces and colliders without a block kernel,
+/// the methods that keep history); buffers reused from step to step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Rows {
+    pub x: Vec<Vec3A>,
+    pub v: Vec<Vec3A>,
+    pub other: Vec<Vec3A>,
 }
 
 impl Clone for Lane {
@@ -148,6 +160,7 @@ impl Clone for Lane {
         Self {
             method: self.method.clone_boxed(),
             expired: self.expired.clone(),
+            rows: Rows::default(),
         }
     }
 }
@@ -195,6 +208,8 @@ pub struct World {
     pub(crate) lanes: Vec<Lane>,
     pub(crate) expired_rows: Vec<u32>,
     pub(crate) expired: Vec<Entity>,
+    /// The rows the plain (unfused) step integrates, gathered from the blocks.
+    pub(crate) gathered: Rows,
 }
 
 impl Clone for World {
@@ -221,6 +236,7 @@ impl Clone for World {
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
+            gathered: Rows::default(),
         }
     }
 
@@ -326,6 +342,7 @@ impl World {
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
+            gathered: Rows::default(),
         })
     }
 
@@ -548,7 +565,7 @@ impl World {
     /// # Errors
     /// [`EntityError`] for a handle that names no live entity.
     pub fn position(&self, entity: Entity) -> Result<Vec3, EntityError> {
-        Ok(self.particles.position.as_slice()[self.row(entity)?].into())
+        Ok(self.particles.position.row(self.row(entity)?).into())
     }
 
     /// An entity's velocity.
@@ -556,7 +573,7 @@ impl World {
     /// # Errors
     /// [`EntityError`] for a handle that names no live entity.
     pub fn velocity(&self, entity: Entity) -> Result<Vec3, EntityError> {
-        Ok(self.particles.velocity.as_slice()[self.row(entity)?].into())
+        Ok(self.particles.velocity.row(self.row(entity)?).into())
     }
 
     /// A rigid body's orientation (identity for a plain particle).

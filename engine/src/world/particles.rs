@@ -201,7 +201,7 @@ impl Particles {
     /// things interpolated on the CPU: springs, trails, rigid bodies).
     #[must_use]
     pub fn interpolated(&self, row: usize, t: f32) -> Vec3 {
-        let (from, to) = (self.previous_position.as_slice()[row], self.position.as_slice()[row]);
+        let (from, to) = (self.previous_position.row(row), self.position.row(row));
         from.lerp(to, t).into()
     }
 
