@@ -80,6 +80,7 @@ pub struct BlockColumns<'a> {
 impl BlockColumns<'_> {
     /// Block `k`'s radii and inverse masses as lanes; padding lanes get
     /// radius 0 and inverse mass 0 (immovable: no contact moves them).
+    #[inline]
     #[must_use]
     pub fn block_scalars(&self, k: usize) -> (Vec4, Vec4) {
         let first = k * 4;

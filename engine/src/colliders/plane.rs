@@ -1,6 +1,7 @@
 //! An infinite plane: particles stay on the side its normal points to.
 
 use glam::{Mat4, Vec3, Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
 
 use super::contact::{Material, resolve};
 use super::{BlockColumns, Collider, ContactColumns};
@@ -172,29 +173,47 @@ impl Plane {
     /// arithmetic of [`resolve_axis`](Self::resolve_axis) and
     /// [`resolve_axis_frictionless`](Self::resolve_axis_frictionless), lane
     /// for lane, with no transposition (the blocks are already per axis).
+    /// Without friction only the normal axis's lanes are read and written.
     fn resolve_axis_blocks<const AXIS: usize>(&self, c: BlockColumns<'_>, sign: f32) {
-        let frictionless = self.material.friction == 0.0;
         let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
         let bounce = Vec4::splat(-(1.0 + self.material.restitution));
-        for k in 0..c.position.len() {
-            let (r, w) = c.block_scalars(k);
-            let (x, v) = (&mut c.position[k], &mut c.velocity[k]);
-            let mut xc = [x.x, x.y, x.z];
-            let mut vc = [v.x, v.y, v.z];
+        let frictionless = self.material.friction == 0.0;
+        let contact = |x: &mut Vec3x4, v: &mut Vec3x4, r: Vec4, w: Vec4| {
             if frictionless {
-                let (xa, va) = (xc[AXIS], vc[AXIS]);
-                let gap = xa * s - offset - r;
-                let vn = va * s;
+                let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
+                let gap = *xa * s - offset - r;
+                let vn = *va * s;
                 let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
                 let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-                vc[AXIS] = Vec4::select(hit, (vn + dvn) * s, va);
-                xc[AXIS] = Vec4::select(hit, xa - gap * s, xa);
+                *va = Vec4::select(hit, (vn + dvn) * s, *va);
+                *xa = Vec4::select(hit, *xa - gap * s, *xa);
             } else {
+                let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
                 self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+                [x.x, x.y, x.z] = xc;
+                [v.x, v.y, v.z] = vc;
             }
-            [x.x, x.y, x.z] = xc;
-            [v.x, v.y, v.z] = vc;
+        };
+        let whole = c.rows / 4;
+        let (x, v) = (&mut c.position[..], &mut c.velocity[..]);
+        let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
+        for ((x, v), (r, w)) in x.iter_mut().zip(v.iter_mut()).zip(scalars) {
+            contact(x, v, Vec4::from_slice(r), Vec4::from_slice(w));
         }
+        if whole * 4 < c.rows {
+            let (r, w) = c.block_scalars(whole);
+            contact(&mut c.position[whole], &mut c.velocity[whole], r, w);
+        }
+    }
+}
+
+/// The lanes of axis `AXIS` of a block.
+#[inline(always)]
+fn axis_mut<const AXIS: usize>(b: &mut Vec3x4) -> &mut Vec4 {
+    match AXIS {
+        0 => &mut b.x,
+        1 => &mut b.y,
+        _ => &mut b.z,
     }
 }
 

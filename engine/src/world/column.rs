@@ -151,13 +151,21 @@ impl Vec3Column {
     /// masked out.
     pub(crate) fn first_non_finite(blocks: &[Vec3x4], other: &[Vec3x4], rows: usize, first: usize) -> Option<usize> {
         let whole = rows / LANES;
-        let mut sums = [glam::Vec4::ZERO; 3];
-        for (a, b) in blocks[..whole].iter().zip(&other[..whole]) {
-            sums[0] += a.x * 0.0 + b.x * 0.0;
-            sums[1] += a.y * 0.0 + b.y * 0.0;
-            sums[2] += a.z * 0.0 + b.z * 0.0;
+        // `(sum of the block's twelve values) * 0`: 0 when all are finite
+        // (or NaN when a sum of finite values overflows, which only sends
+        // the check to the search below, which finds nothing). Two sums
+        // over alternate blocks keep the additions' latency off the loop.
+        let mut sums = [glam::Vec4::ZERO; 2];
+        let zero = |a: &Vec3x4, b: &Vec3x4| (((a.x + b.x) + (a.y + b.y)) + (a.z + b.z)) * 0.0;
+        let (pairs_a, pairs_b) = (blocks[..whole].chunks_exact(2), other[..whole].chunks_exact(2));
+        if let (Some(a), Some(b)) = (pairs_a.remainder().first(), pairs_b.remainder().first()) {
+            sums[0] += zero(a, b);
         }
-        let sum = (sums[0] + sums[1]) + sums[2];
+        for (a, b) in pairs_a.zip(pairs_b) {
+            sums[0] += zero(&a[0], &b[0]);
+            sums[1] += zero(&a[1], &b[1]);
+        }
+        let sum = sums[0] + sums[1];
         let tail_bad = (whole * LANES..rows).any(|row| {
             let (a, b) = (
                 blocks[row / LANES].lane(row % LANES),
@@ -193,5 +201,103 @@ pub(crate) fn scatter(rows: &[Vec3A], blocks: &mut [Vec3x4]) {
         for (k, &value) in rows.iter().enumerate() {
             block.set_lane(k, value);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn column(n: usize) -> Vec3Column {
+        let mut c = Vec3Column::default();
+        for k in 0..n {
+            c.push(Vec3A::new(k as f32, 10.0 + k as f32, -(k as f32)));
+        }
+        c
+    }
+
+    #[test]
+    fn rows_live_in_blocks_of_four_with_zero_padding() {
+        let c = column(6);
+        assert_eq!((c.len(), c.blocks().len()), (6, 2));
+        assert_eq!(c.get(5), Some(Vec3A::new(5.0, 15.0, -5.0)));
+        assert_eq!(c.get(6), None, "padding is not a row");
+        assert_eq!(c.blocks()[1].lane(2), Vec3A::ZERO);
+        assert_eq!(c.blocks()[1].x.to_array(), [4.0, 5.0, 0.0, 0.0]);
+        assert_eq!(c.iter().count(), 6);
+    }
+
+    #[test]
+    fn swap_remove_moves_the_last_row_and_drops_an_empty_block() {
+        let mut c = column(5);
+        c.swap_remove(1);
+        assert_eq!(c.iter().map(|v| v.x).collect::<Vec<_>>(), [0.0, 4.0, 2.0, 3.0]);
+        assert_eq!(c.blocks().len(), 1);
+        c.swap_remove(3);
+        assert_eq!(c.iter().map(|v| v.x).collect::<Vec<_>>(), [0.0, 4.0, 2.0]);
+        assert_eq!(c.blocks()[0].lane(3), Vec3A::ZERO, "the freed lane is zero padding");
+        let mut one = column(1);
+        one.swap_remove(0);
+        assert!(one.is_empty() && one.blocks().is_empty());
+    }
+
+    #[test]
+    fn set_past_the_last_row_changes_nothing() {
+        let mut c = column(3);
+        assert!(c.set(2, Vec3A::ONE));
+        assert!(!c.set(3, Vec3A::ONE));
+        assert_eq!(c.blocks()[0].lane(3), Vec3A::ZERO);
+        assert_eq!(c.get(2), Some(Vec3A::ONE));
+    }
+
+    #[test]
+    fn equality_ignores_padding_lanes() {
+        let (a, mut b) = (column(3), column(3));
+        b.blocks_mut()[0].set_lane(3, Vec3A::splat(f32::NAN));
+        assert_eq!(a, b);
+        b.set(0, Vec3A::ONE);
+        assert_ne!(a, b);
+    }
+
+    #[test]
+    fn gather_and_scatter_round_trip_rows() {
+        let c = column(7);
+        let mut rows = Vec::new();
+        c.gather_into(&mut rows);
+        assert_eq!(rows, c.iter().collect::<Vec<_>>());
+        let mut d = column(7);
+        rows.iter_mut().for_each(|v| *v *= 2.0);
+        d.scatter_from(&rows);
+        assert_eq!(d.iter().collect::<Vec<_>>(), rows);
+        assert_eq!(d.blocks()[1].lane(3), Vec3A::ZERO, "padding untouched");
+    }
+
+    #[test]
+    fn the_first_non_finite_row_is_found_and_padding_is_ignored() {
+        for n in [1, 4, 5, 8, 9, 13, 600] {
+            let (mut x, v) = (column(n), column(n));
+            let last = x.blocks().len() - 1;
+            // Padding (where there is any) may be anything.
+            if n % LANES != 0 {
+                x.blocks_mut()[last].set_lane(LANES - 1, Vec3A::splat(f32::NAN));
+            }
+            assert_eq!(
+                Vec3Column::first_non_finite(x.blocks(), v.blocks(), n, 100),
+                None,
+                "n = {n}"
+            );
+            for bad in [0, n / 2, n - 1] {
+                let mut v = column(n);
+                v.set(bad, Vec3A::new(0.0, f32::INFINITY, 0.0));
+                assert_eq!(
+                    Vec3Column::first_non_finite(x.blocks(), v.blocks(), n, 100),
+                    Some(100 + bad)
+                );
+            }
+        }
+        // Finite values whose sum overflows are not reported.
+        let mut big = column(8);
+        big.update(|_, _| Vec3A::splat(f32::MAX));
+        assert_eq!(Vec3Column::first_non_finite(big.blocks(), big.blocks(), 8, 0), None);
     }
 }
