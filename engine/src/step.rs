@@ -14,9 +14,11 @@
 //! When every force and collider is pointwise and the method
 //! [splits](tickwork_integrators::Integrator::splits_pointwise), the
 //! integration, the colliders, the ageing and the finiteness check run
-//! fused, one cache-sized chunk of 512 particles at a time, while the chunk
-//! sits in L1, so a million-particle step reads and writes each column about
-//! once. Above
+//! fused on the world's per-axis blocks (four particles per SIMD value), one
+//! cache-sized chunk of 512 particles at a time, while the chunk sits in L1,
+//! so a million-particle step reads and writes each column about once.
+//! Otherwise the rows are gathered from the blocks, stepped whole and
+//! written back. Above
 //! [`WorldConfig::parallel_threshold`](crate::world::WorldConfig) particles,
 //! contiguous lanes of chunks run on rayon's threads, each with its own copy
 //! of the method; results are bit-identical to the serial step because each
@@ -35,10 +37,11 @@ use crate::forces::{BlockField, Force, ForceField};
 use crate::world::column::{LANES, gather, scatter};
 use crate::world::{Entity, Lane, Rows, Vec3Column, World};
 
-/// Particles integrated together in the fused step: 512 `Vec3A` positions and
-/// velocities are 16 KiB, half of a 32 KiB L1 data cache (measured best among
-/// 256 to 4096 on the integrators' benchmark; 128 and 256 were no faster for
-/// the full engine step, and neither was prefetching the next chunk).
+/// Particles integrated together in the fused step (128 blocks of four; a
+/// multiple of 4, so chunks and lanes never split a block): their previous
+/// and current positions and velocities are 18 KiB, within a 32 KiB L1 data
+/// cache (512 was measured best among 256 to 4096 on `Vec3A` rows; 128 and
+/// 256 were no faster for the full engine step, nor was prefetching).
 pub const CHUNK: usize = 512;
 
 /// What a step did.

@@ -699,17 +699,26 @@ impl Renderer {
     }
 }
 
-/// Writes one shader record per particle (in parallel for large worlds).
+/// Writes one shader record per particle (in parallel for large worlds),
+/// a block of four at a time: the per-axis blocks are read as arrays, so
+/// the repack from blocks to records is plain moves.
 fn fill_instances(particles: &crate::world::Particles, out: &mut [Instance]) {
+    let (previous, current) = (particles.previous_position.blocks(), particles.position.blocks());
     let fill = |first: usize, out: &mut [Instance]| {
-        for (k, record) in out.iter_mut().enumerate() {
-            let i = first + k;
-            *record = Instance {
-                previous: particles.previous_position.row(i).to_array(),
-                radius: particles.radius[i],
-                current: particles.position.row(i).to_array(),
-                colour: u32::from_le_bytes(particles.colour[i]),
-            };
+        // `first` is a multiple of 4 (UPLOAD_CHUNK is).
+        for (b, records) in out.chunks_mut(4).enumerate() {
+            let block = first / 4 + b;
+            let axes = |v: &tickwork_integrators::Vec3x4| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
+            let (p, c) = (axes(&previous[block]), axes(&current[block]));
+            for (k, record) in records.iter_mut().enumerate() {
+                let i = first + 4 * b + k;
+                *record = Instance {
+                    previous: [p[0][k], p[1][k], p[2][k]],
+                    radius: particles.radius[i],
+                    current: [c[0][k], c[1][k], c[2][k]],
+                    colour: u32::from_le_bytes(particles.colour[i]),
+                };
+            }
         }
     };
     if out.len() >= 2 * UPLOAD_CHUNK {
