@@ -569,7 +569,8 @@ impl World {
         let n = p.len();
         p.previous_position.gather_into(&mut g.other);
         p.velocity.gather_into(&mut g.v);
-        g.x.clear();
+        // The method writes every end position: what the buffer held (the
+        // last plain step's positions) does not matter, so it is not cleared.
         g.x.resize(n, Vec3A::ZERO);
         let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
         let stats = self

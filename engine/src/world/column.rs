@@ -190,15 +190,38 @@ impl Vec3Column {
 
 /// The first `rows` rows of `blocks`, one `Vec3A` each, into `out` (its
 /// buffer reused).
+/// Whole blocks are transposed four rows at a time (plain moves, no lane
+/// indexing), the part-filled last block lane by lane.
 pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>) {
     out.clear();
-    out.extend(blocks.iter().flat_map(|b| b.lanes()).take(rows));
+    out.resize(rows, Vec3A::ZERO);
+    let mut four = out.chunks_exact_mut(LANES);
+    for (block, out) in blocks.iter().zip(&mut four) {
+        let (x, y, z) = (block.x.to_array(), block.y.to_array(), block.z.to_array());
+        for k in 0..LANES {
+            out[k] = Vec3A::new(x[k], y[k], z[k]);
+        }
+    }
+    let tail = four.into_remainder();
+    if let Some(block) = blocks.get(rows / LANES) {
+        for (k, out) in tail.iter_mut().enumerate() {
+            *out = block.lane(k);
+        }
+    }
 }
 
-/// `rows` back into the lanes of `blocks` (padding lanes untouched).
+/// `rows` back into the lanes of `blocks` (padding lanes untouched): whole
+/// blocks four rows at a time, the part-filled last one lane by lane.
 pub(crate) fn scatter(rows: &[Vec3A], blocks: &mut [Vec3x4]) {
-    for (block, rows) in blocks.iter_mut().zip(rows.chunks(LANES)) {
-        for (k, &value) in rows.iter().enumerate() {
+    let four = rows.chunks_exact(LANES);
+    let tail = four.remainder();
+    for (block, r) in blocks.iter_mut().zip(four) {
+        block.x = glam::Vec4::new(r[0].x, r[1].x, r[2].x, r[3].x);
+        block.y = glam::Vec4::new(r[0].y, r[1].y, r[2].y, r[3].y);
+        block.z = glam::Vec4::new(r[0].z, r[1].z, r[2].z, r[3].z);
+    }
+    if let Some(block) = blocks.get_mut(rows.len() / LANES) {
+        for (k, &value) in tail.iter().enumerate() {
             block.set_lane(k, value);
         }
     }
