@@ -525,7 +525,11 @@ impl World {
         }
         // Rows per lane: whole chunks, so the split is fixed by particle
         // index (never by thread count) and no block straddles two lanes.
+        // Whole chunks can leave fewer parts than lanes (3 lanes, 1 537
+        // rows: 2 parts): only the lanes that run report.
         let len = n.div_ceil(lanes).div_ceil(CHUNK) * CHUNK;
+        let lanes = n.div_ceil(len);
+        report.lanes = lanes as u32;
         let outcome = columns
             .x
             .par_chunks_mut(len / LANES)

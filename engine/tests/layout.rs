@@ -8,19 +8,8 @@ use tickwork_engine::{
     WorldConfig,
 };
 
-/// A collider that is not pointwise and does nothing: it sends the world
-/// down the plain path (rows gathered from the blocks, stepped whole).
-#[derive(Debug, Clone)]
-struct Nothing;
-
-impl tickwork_engine::Collider for Nothing {
-    fn name(&self) -> &'static str {
-        "nothing"
-    }
-    fn is_pointwise(&self) -> bool {
-        false
-    }
-}
+mod support;
+use support::ForcePlainPath;
 
 /// 1 003 particles (a part-filled last block), some immovable, some with
 /// lifetimes (despawns move rows between blocks), an emitter adding more;
@@ -70,7 +59,7 @@ fn scene(method: &str, threshold: usize, plain: bool) -> World {
         material: Material::default(),
     });
     if plain {
-        w.add_collider(Nothing);
+        w.add_collider(ForcePlainPath);
     }
     w.add_emitter(Emitter {
         rate: 600.0,
@@ -135,4 +124,39 @@ fn fused_blocks_and_plain_rows_agree_bit_for_bit_on_every_pointwise_kind() {
         assert_eq!(first_difference(&one), None, "{method}: one lane of blocks vs rows");
         assert_eq!(first_difference(&two), None, "{method}: two lanes of blocks vs rows");
     }
+}
+
+#[test]
+fn lanes_left_without_work_by_whole_chunks_report_nothing_stale() {
+    // 3 threads, 2 600 rows: three lanes of 1 024 rows; the third one's
+    // particles expire. Then 2 048 rows make two parts for three lanes: the
+    // idle third lane must not hand back its old expired rows.
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().expect("pool");
+    pool.install(|| {
+        let mut w = World::new(WorldConfig {
+            parallel_threshold: 512,
+            ..WorldConfig::default()
+        })
+        .expect("known method");
+        w.add_force(Gravity::EARTH);
+        for k in 0..2600 {
+            w.spawn(Particle {
+                position: Vec3::new(k as f32 * 0.01, 10.0, 0.0),
+                lifetime: (k >= 2048).then_some(0.05),
+                ..Particle::default()
+            })
+            .expect("valid");
+        }
+        let mut lanes = Vec::new();
+        for tick in 0..10 {
+            let step = FixedStep {
+                tick,
+                time: tick as f64 / 60.0,
+                dt: 1.0 / 60.0,
+            };
+            lanes.push(w.step(step).expect("a step").lanes);
+        }
+        assert_eq!(w.particles().len(), 2048, "exactly the short-lived ones expired");
+        assert_eq!((lanes[0], lanes[9]), (3, 2), "lanes that ran");
+    });
 }

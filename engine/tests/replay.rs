@@ -2,6 +2,7 @@
 //! whatever the frame timing and the number of threads, and the fused,
 //! parallel step equals the plain one.
 
+mod support;
 use glam::Vec3;
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::{
@@ -193,20 +194,10 @@ fn fused_parallel_and_plain_steps_agree_bit_for_bit() {
     // The same pointwise scene stepped by the fused path (split over lanes)
     // and by the plain whole-slice path (forced by a non-pointwise no-op
     // collider) must agree exactly.
-    #[derive(Debug, Clone)]
-    struct Nothing;
-    impl tickwork_engine::Collider for Nothing {
-        fn name(&self) -> &'static str {
-            "nothing"
-        }
-        fn is_pointwise(&self) -> bool {
-            false
-        }
-    }
     let run = |plain: bool| {
         let (mut w, _) = scene(1000);
         if plain {
-            w.add_collider(Nothing);
+            w.add_collider(support::ForcePlainPath);
         }
         let mut fused_lanes = 0;
         for tick in 0..120 {

@@ -232,7 +232,9 @@ impl System<Vec3x4> for BlockField<'_> {
         }
         if !all_movable(inverse_mass) {
             for (row, &w) in inverse_mass.iter().enumerate() {
-                if w <= 0.0 {
+                // As the row path's `w > 0` select: NaN is immovable too.
+                let movable = w > 0.0;
+                if !movable {
                     out[row / LANES].set_lane(row % LANES, Vec3A::ZERO);
                 }
             }

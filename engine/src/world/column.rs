@@ -26,7 +26,7 @@ pub const LANES: usize = 4;
 
 /// One 3-vector per particle row (positions, velocities, previous
 /// positions): `get(row)`, `set(row, value)`, `iter()` in row order.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct Vec3Column {
     blocks: Vec<Vec3x4>,
     len: usize,
@@ -43,6 +43,59 @@ impl Clone for Vec3Column {
     fn clone_from(&mut self, source: &Self) {
         self.blocks.clone_from(&source.blocks);
         self.len = source.len;
+    }
+}
+
+/// The rows (padding lanes are not shown, as they do not compare).
+impl core::fmt::Debug for Vec3Column {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+/// Write access to a column's rows that cannot change its length (which
+/// must stay the world's row count): what [`World::query_mut`](super::World::query_mut) hands out.
+#[derive(Debug)]
+pub struct RowsMut<'a> {
+    column: &'a mut Vec3Column,
+}
+
+impl<'a> RowsMut<'a> {
+    pub(crate) fn new(column: &'a mut Vec3Column) -> Self {
+        Self { column }
+    }
+
+    /// Number of rows.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.column.len()
+    }
+
+    /// Whether there are no rows.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.column.is_empty()
+    }
+
+    /// Row `row`'s vector, or `None` past the last row.
+    #[must_use]
+    pub fn get(&self, row: usize) -> Option<Vec3A> {
+        self.column.get(row)
+    }
+
+    /// Sets row `row`'s vector; false (nothing changed) past the last row.
+    pub fn set(&mut self, row: usize, value: Vec3A) -> bool {
+        self.column.set(row, value)
+    }
+
+    /// Every row's vector, in row order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = Vec3A> + '_ {
+        self.column.iter()
+    }
+
+    /// Applies `f` to every row's vector, in row order, with its row.
+    pub fn update(&mut self, f: impl FnMut(usize, Vec3A) -> Vec3A) {
+        self.column.update(f);
     }
 }
 

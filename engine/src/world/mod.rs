@@ -3,9 +3,10 @@
 //! Every entity is a particle (position, velocity, mass, radius, colour, age,
 //! lifetime); rigid bodies add an orientation in a second table; games add
 //! their own typed [`Component`] columns. Rows are dense and removal is
-//! `swap_remove`, so spawn and despawn are O(1) and every column stays a
-//! contiguous slice the integrator can step in one call. The integrator's
-//! per-particle history follows the same swap.
+//! `swap_remove`, so spawn and despawn are O(1) and every column stays dense:
+//! the vector columns in blocks of four particles per axis the fused step
+//! hands the integrator as they are ([`Vec3Column`]), the scalars as slices.
+//! The integrator's per-particle history follows the same swap.
 
 /// `Clone` with a field-wise `clone_from`, so copying into an existing value
 /// reuses every `Vec`'s buffer (`#[derive(Clone)]` reallocates them all).
@@ -36,7 +37,7 @@ use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
 use tickwork_integrators::{Integrator, UnknownMethod, Vec3x4, build};
 
-pub use column::Vec3Column;
+pub use column::{RowsMut, Vec3Column};
 pub use columns::Component;
 pub use entity::{Entities, Entity, EntityError};
 pub use particles::{Colour, Particle, Particles, SpawnError};
@@ -172,9 +173,9 @@ pub struct QueryMut<'a, T> {
     /// The entity of each row.
     pub entities: &'a [Entity],
     /// Positions.
-    pub position: &'a mut Vec3Column,
+    pub position: RowsMut<'a>,
     /// Velocities.
-    pub velocity: &'a mut Vec3Column,
+    pub velocity: RowsMut<'a>,
     /// The game's column.
     pub component: &'a mut [T],
 }
@@ -669,8 +670,8 @@ impl World {
         let component = self.columns.get_mut::<T>().ok_or_else(unregistered::<T>)?;
         Ok(QueryMut {
             entities: self.entities.rows(),
-            position: &mut self.particles.position,
-            velocity: &mut self.particles.velocity,
+            position: RowsMut::new(&mut self.particles.position),
+            velocity: RowsMut::new(&mut self.particles.velocity),
             component,
         })
     }
