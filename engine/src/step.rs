@@ -327,36 +327,6 @@ fn age_and_collect_expired(age: &mut [f32], lifetime: &[f32], dt: f32, first_row
     }
 }
 
-/// The row (numbered from `first_row`) of the first particle with a
-/// non-finite position or velocity. The common all-finite case is one pass
-/// of plain arithmetic: `0 * c` is 0 for a finite `c` and NaN for infinities
-/// and NaNs, and a sum of zeros stays 0 while a NaN poisons it. Four
-/// independent sums keep the additions' latency off the loop (a mask per
-/// particle combined with an integer AND, as before, made this pass a fifth
-/// of the whole step at 1 000 particles); the rare bad chunk is then searched
-/// for its first particle.
-fn first_non_finite(x: &[Vec3A], v: &[Vec3A], first_row: usize) -> Option<usize> {
-    let mut sums = [Vec3A::ZERO; 4];
-    let (x4, v4) = (x.chunks_exact(4), v.chunks_exact(4));
-    let (x_tail, v_tail) = (x4.remainder(), v4.remainder());
-    for (x, v) in x4.zip(v4) {
-        for k in 0..4 {
-            sums[k] += x[k] * 0.0 + v[k] * 0.0;
-        }
-    }
-    for (x, v) in x_tail.iter().zip(v_tail) {
-        sums[0] += *x * 0.0 + *v * 0.0;
-    }
-    let sum = (sums[0] + sums[1]) + (sums[2] + sums[3]);
-    if sum.cmpeq(Vec3A::ZERO).all() {
-        return None;
-    }
-    x.iter()
-        .zip(v)
-        .position(|(x, v)| !x.is_finite() || !v.is_finite())
-        .map(|i| first_row + i)
-}
-
 /// Steps between two flushes of subnormal velocities.
 pub const SUBNORMAL_FLUSH_EVERY: u64 = 64;
 
@@ -486,10 +456,20 @@ impl World {
         let p = &mut self.particles;
         let n = p.len();
         let threads = rayon::current_num_threads();
-        let lanes = if n >= self.config.parallel_threshold {
+        let wanted = if n >= self.config.parallel_threshold {
             threads.min(n.div_ceil(CHUNK)).max(1)
         } else {
             1
+        };
+        // Rows per lane: whole chunks, so the split is fixed by particle
+        // index (never by thread count) and no block straddles two lanes.
+        // Whole chunks can leave fewer parts than wanted lanes (3 lanes,
+        // 1 537 rows: 2 parts): only the parts run.
+        let (lanes, len) = if wanted > 1 {
+            let len = n.div_ceil(wanted).div_ceil(CHUNK) * CHUNK;
+            (n.div_ceil(len), len)
+        } else {
+            (1, n)
         };
         report.fused = true;
         report.lanes = lanes as u32;
@@ -523,13 +503,6 @@ impl World {
             self.expired_rows.extend_from_slice(&lane.expired);
             return outcome;
         }
-        // Rows per lane: whole chunks, so the split is fixed by particle
-        // index (never by thread count) and no block straddles two lanes.
-        // Whole chunks can leave fewer parts than lanes (3 lanes, 1 537
-        // rows: 2 parts): only the lanes that run report.
-        let len = n.div_ceil(lanes).div_ceil(CHUNK) * CHUNK;
-        let lanes = n.div_ceil(len);
-        report.lanes = lanes as u32;
         let outcome = columns
             .x
             .par_chunks_mut(len / LANES)
@@ -594,7 +567,7 @@ impl World {
         p.velocity.scatter_from(&g.v);
         Ok(LaneOutcome {
             evaluations: stats.evaluations,
-            first_bad: first_non_finite(&g.x, &g.v, 0),
+            first_bad: Vec3Column::first_non_finite(p.position.blocks(), p.velocity.blocks(), n, 0),
         })
     }
 
