@@ -188,7 +188,7 @@ fn columns_of(world: &World) -> Columns {
         x: p.position.iter().collect(),
         v: p.velocity.iter().collect(),
         previous: p.previous_position.iter().collect(),
-        age: p.age.clone(),
+        age: vec![0.0; p.len()],
         inverse_mass: p.inverse_mass.clone(),
         radius: p.radius.clone(),
         lifetime: p.lifetime.clone(),

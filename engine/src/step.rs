@@ -35,6 +35,7 @@ use crate::clock::FixedStep;
 use crate::colliders::{BlockColumns, Collider, ContactColumns};
 use crate::forces::{BlockField, Force, ForceField};
 use crate::world::column::{LANES, gather, scatter};
+use crate::world::facts::Facts;
 use crate::world::{Entity, Lane, Rows, Vec3Column, World};
 
 /// Particles integrated together in the fused step (128 blocks of four; a
@@ -197,15 +198,15 @@ impl std::error::Error for SimulationError {}
 /// The particle columns one lane steps: `previous` holds the positions at
 /// the start of the step (read), `x` receives the new ones; the vectors in
 /// blocks of four particles per axis, the scalars one per particle (`rows`
-/// real particles; the last block may hold padding lanes).
+/// real particles; the last block may hold padding lanes), and the facts of
+/// each of the lane's chunks.
 struct LaneColumns<'a> {
     x: &'a mut [Vec3x4],
     v: &'a mut [Vec3x4],
     previous: &'a [Vec3x4],
-    age: &'a mut [f32],
-    lifetime: &'a [f32],
     radius: &'a [f32],
     inverse_mass: &'a [f32],
+    facts: &'a [Facts],
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -225,8 +226,8 @@ fn merge(a: Result<LaneOutcome, StepError>, b: Result<LaneOutcome, StepError>) -
     })
 }
 
-/// Integrate (from `previous` into `x`), collide and age one lane, chunk by
-/// chunk of [`CHUNK`] particles ([`CHUNK`] / 4 blocks).
+/// Integrate (from `previous` into `x`), collide and check one lane, chunk
+/// by chunk of [`CHUNK`] particles ([`CHUNK`] / 4 blocks).
 #[allow(clippy::too_many_arguments)]
 fn step_lane(
     lane: &mut Lane,
@@ -238,15 +239,19 @@ fn step_lane(
     c: LaneColumns<'_>,
 ) -> Result<LaneOutcome, StepError> {
     let mut outcome = LaneOutcome::default();
-    let n = c.age.len();
+    let n = c.radius.len();
+    // The force sums are the same for every chunk: made once per lane.
+    let whole = ForceField::new(forces, c.inverse_mass, offset);
     let mut start = 0;
     while start < n {
         let end = (start + CHUNK).min(n);
         let (rows, blocks) = (start..end, start / LANES..end.div_ceil(LANES));
+        let facts = c.facts[start / CHUNK];
         let (x, v) = (&mut c.x[blocks.clone()], &mut c.v[blocks.clone()]);
         let mut field = BlockField {
-            field: ForceField::new(forces, &c.inverse_mass[rows.clone()], offset + start),
+            field: whole.window(start, end - start),
             rows: end - start,
+            movable: facts.movable,
             scratch: &mut lane.rows,
         };
         let stats = lane.method.step_from(t, dt, &c.previous[blocks], x, v, &mut field)?;
@@ -258,6 +263,8 @@ fn step_lane(
                 radius: &c.radius[rows.clone()],
                 inverse_mass: &c.inverse_mass[rows.clone()],
                 rows: end - start,
+                movable: facts.movable,
+                point: facts.point,
             };
             if !collider.resolve_blocks(blocks) {
                 resolve_rows(
@@ -270,13 +277,6 @@ fn step_lane(
                 );
             }
         }
-        age_and_collect_expired(
-            &mut c.age[rows.clone()],
-            &c.lifetime[rows],
-            dt,
-            offset + start,
-            &mut lane.expired,
-        );
         if outcome.first_bad.is_none() {
             outcome.first_bad = Vec3Column::first_non_finite(x, v, end - start, offset + start);
         }
@@ -306,25 +306,6 @@ fn resolve_rows(
     });
     scatter(&scratch.x, x);
     scatter(&scratch.v, v);
-}
-
-/// `age += dt` for every particle, then the rows (numbered from `first_row`)
-/// whose lifetime ran out are added to `expired`. The ageing is one
-/// branch-free pass the compiler vectorises; the rare expiry is looked for
-/// only when that pass saw one.
-fn age_and_collect_expired(age: &mut [f32], lifetime: &[f32], dt: f32, first_row: usize, expired: &mut Vec<u32>) {
-    let mut any = false;
-    for (age, &lifetime) in age.iter_mut().zip(lifetime) {
-        *age += dt;
-        any |= *age >= lifetime;
-    }
-    if any {
-        for (i, (age, &lifetime)) in age.iter().zip(lifetime).enumerate() {
-            if *age >= lifetime {
-                expired.push((first_row + i) as u32);
-            }
-        }
-    }
 }
 
 /// Steps between two flushes of subnormal velocities.
@@ -399,6 +380,8 @@ impl World {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         self.integrate(t, dt, tick, &mut report)?;
+        self.expired_rows.clear();
+        self.particles.age(step.dt, &mut self.expired_rows);
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
             flush_subnormals(self.particles.velocity.blocks_mut());
         }
@@ -420,7 +403,6 @@ impl World {
         let fused = self.integrator.splits_pointwise()
             && self.forces.iter().all(|f| f.is_pointwise())
             && self.colliders.iter().all(|c| c.is_pointwise());
-        self.expired_rows.clear();
         // Double buffering: the positions at the start of the step become
         // the previous positions (for interpolation) by a swap, and the step
         // writes the new positions into the other buffer; nothing is copied.
@@ -482,58 +464,43 @@ impl World {
             };
             self.lanes.push(Lane {
                 method,
-                expired: Vec::new(),
                 rows: Rows::default(),
             });
         }
         let columns = LaneColumns {
+            facts: p.facts.refresh(&p.radius, &p.inverse_mass),
             x: p.position.blocks_mut(),
             v: p.velocity.blocks_mut(),
             previous: p.previous_position.blocks(),
-            age: &mut p.age,
-            lifetime: &p.lifetime,
             radius: &p.radius,
             inverse_mass: &p.inverse_mass,
         };
         let (forces, colliders) = (&self.forces[..], &self.colliders[..]);
         if lanes == 1 {
-            let lane = &mut self.lanes[0];
-            lane.expired.clear();
-            let outcome = step_lane(lane, forces, colliders, t, dt, 0, columns);
-            self.expired_rows.extend_from_slice(&lane.expired);
-            return outcome;
+            return step_lane(&mut self.lanes[0], forces, colliders, t, dt, 0, columns);
         }
-        let outcome = columns
+        columns
             .x
             .par_chunks_mut(len / LANES)
             .zip(columns.v.par_chunks_mut(len / LANES))
             .zip(columns.previous.par_chunks(len / LANES))
-            .zip(columns.age.par_chunks_mut(len))
-            .zip(columns.lifetime.par_chunks(len))
             .zip(columns.radius.par_chunks(len))
             .zip(columns.inverse_mass.par_chunks(len))
+            .zip(columns.facts.par_chunks(len / CHUNK))
             .zip(self.lanes.par_iter_mut())
             .enumerate()
-            .map(
-                |(k, (((((((x, v), previous), age), lifetime), radius), inverse_mass), lane))| {
-                    lane.expired.clear();
-                    let c = LaneColumns {
-                        x,
-                        v,
-                        previous,
-                        age,
-                        lifetime,
-                        radius,
-                        inverse_mass,
-                    };
-                    step_lane(lane, forces, colliders, t, dt, k * len, c)
-                },
-            )
-            .reduce(|| Ok(LaneOutcome::default()), merge);
-        for lane in &self.lanes[..lanes] {
-            self.expired_rows.extend_from_slice(&lane.expired);
-        }
-        outcome
+            .map(|(k, ((((((x, v), previous), radius), inverse_mass), facts), lane))| {
+                let c = LaneColumns {
+                    x,
+                    v,
+                    previous,
+                    radius,
+                    inverse_mass,
+                    facts,
+                };
+                step_lane(lane, forces, colliders, t, dt, k * len, c)
+            })
+            .reduce(|| Ok(LaneOutcome::default()), merge)
     }
 
     /// The plain step, on rows gathered from the blocks (methods with
@@ -562,7 +529,6 @@ impl World {
                 parallel: n >= self.config.parallel_threshold,
             });
         }
-        age_and_collect_expired(&mut p.age, &p.lifetime, dt, 0, &mut self.expired_rows);
         p.position.scatter_from(&g.x);
         p.velocity.scatter_from(&g.v);
         Ok(LaneOutcome {

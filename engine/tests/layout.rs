@@ -160,3 +160,114 @@ fn lanes_left_without_work_by_whole_chunks_report_nothing_stale() {
         assert_eq!((lanes[0], lanes[9]), (3, 2), "lanes that ran");
     });
 }
+
+/// A scene whose chunks start with different facts: rows 0..512 movable
+/// points, one immovable particle in 512..1024, radii in 1024..1536, and
+/// 1536..1700 movable points again (a part-filled last block).
+fn facts_scene(threshold: usize, plain: bool) -> World {
+    let mut w = World::new(WorldConfig {
+        parallel_threshold: threshold,
+        ..WorldConfig::default()
+    })
+    .expect("known method");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_collider(Plane::floor(
+        0.5,
+        Material {
+            restitution: 0.6,
+            friction: 0.4,
+        },
+    ));
+    w.add_collider(Plane {
+        normal: Vec3::X,
+        offset: -1.0,
+        material: Material {
+            restitution: 0.8,
+            friction: 0.0,
+        },
+    });
+    if plain {
+        w.add_collider(ForcePlainPath);
+    }
+    for k in 0..1700u32 {
+        let f = k as f32;
+        w.spawn(Particle {
+            position: Vec3::new((f * 0.37).sin() * 2.0, 0.6 + (f * 0.11) % 1.0, (f * 0.23).cos()),
+            velocity: Vec3::new((f * 0.7).cos() * 3.0, (f * 0.3).sin(), (f * 0.5).sin()),
+            radius: if (1024..1536).contains(&k) { 0.05 } else { 0.0 },
+            immovable: k == 700,
+            ..Particle::default()
+        })
+        .expect("valid");
+    }
+    w
+}
+
+/// Steps the facts scene 90 times, changing what the chunks' facts say on
+/// the way: an edit through `particles_mut` makes a particle of the first
+/// chunk immovable (at rest) and gives one a radius (tick 20), a spawn puts a sphere
+/// into the all-point last chunk (tick 40), a despawn takes out the only
+/// immovable one of the second chunk (tick 60). The state hash after each.
+fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    pool.install(|| {
+        let mut w = facts_scene(threshold, plain);
+        let (mut hashes, mut lanes) = (Vec::new(), 0);
+        let (mut pinned, mut sphere) = (None, None);
+        for tick in 0..90 {
+            match tick {
+                20 => {
+                    let p = w.particles_mut();
+                    // Immovable: no force or contact moves it (and no
+                    // velocity is left to carry it).
+                    p.inverse_mass[3] = 0.0;
+                    p.velocity.set(3, glam::Vec3A::ZERO);
+                    p.radius[10] = 0.1;
+                    pinned = p.position.get(3);
+                }
+                40 => {
+                    let ball = Particle {
+                        position: Vec3::new(0.0, 0.55, 0.0),
+                        velocity: Vec3::new(0.0, -2.0, 0.0),
+                        radius: 0.2,
+                        ..Particle::default()
+                    };
+                    sphere = Some(w.spawn(ball).expect("valid"));
+                }
+                60 => {
+                    let immovable = w.entities().rows()[700];
+                    w.despawn(immovable).expect("live");
+                }
+                _ => {}
+            }
+            let step = FixedStep {
+                tick,
+                time: tick as f64 / 60.0,
+                dt: 1.0 / 60.0,
+            };
+            lanes = lanes.max(w.step(step).expect("a finite step").lanes);
+            hashes.push(w.state_hash());
+        }
+        // The edits took effect (a stale fact would have let row 3 fall
+        // and the sphere sink to the floor's plane).
+        assert_eq!(w.particles().position.get(3), pinned, "row 3 became immovable");
+        let sphere = w.position(sphere.expect("spawned")).expect("live");
+        assert!(sphere.y > 0.69, "the sphere rests on its radius: {sphere}");
+        (hashes, lanes)
+    })
+}
+
+#[test]
+fn chunk_facts_follow_spawns_despawns_and_edits() {
+    let (plain, plain_lanes) = facts_run(usize::MAX, true, 1);
+    let (one, one_lanes) = facts_run(usize::MAX, false, 1);
+    let (two, two_lanes) = facts_run(512, false, 2);
+    assert_eq!((plain_lanes, one_lanes, two_lanes), (0, 1, 2), "the paths that ran");
+    let first_difference = |a: &[u64]| a.iter().zip(&plain).position(|(a, b)| a != b);
+    assert_eq!(first_difference(&one), None, "one lane of blocks vs rows");
+    assert_eq!(first_difference(&two), None, "two lanes of blocks vs rows");
+}

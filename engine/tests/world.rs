@@ -504,3 +504,24 @@ fn rigid_bodies_follow_their_entities_through_despawns() {
         .expect("one");
     assert_eq!(w.orientation(plain_row), Ok(Quat::IDENTITY));
 }
+
+#[test]
+fn ages_count_steps_and_edited_lifetimes_are_seen() {
+    let mut w = World::default();
+    let first = w.spawn(Particle::default()).expect("spawn");
+    for tick in 0..3 {
+        w.step(step_at(tick, 1.0 / 64.0)).expect("step");
+    }
+    let second = w.spawn(Particle::default()).expect("spawn");
+    w.step(step_at(3, 1.0 / 64.0)).expect("step");
+    assert_eq!(w.age(first), Ok(4.0 / 64.0));
+    assert_eq!(w.age(second), Ok(1.0 / 64.0));
+    // Neither had a lifetime; one given through `particles_mut` is seen by
+    // the next step (the expiry bound is recomputed), measured from spawn.
+    let row = w.row(first).expect("live");
+    w.particles_mut().lifetime[row] = 5.0 / 64.0;
+    let report = w.step(step_at(4, 1.0 / 64.0)).expect("step");
+    assert_eq!(report.expired, 1);
+    assert!(!w.contains(first) && w.contains(second));
+    assert_eq!(w.age(first), Err(EntityError::Despawned { entity: first }));
+}

@@ -75,6 +75,12 @@ pub struct BlockColumns<'a> {
     /// to be left unchanged or changed harmlessly (give them `inverse_mass`
     /// 0, as [`BlockColumns::block_scalars`] does).
     pub rows: usize,
+    /// Every real row's inverse mass is above 0: a kernel may skip reading
+    /// `inverse_mass` (the padding lanes are still to be left harmless).
+    pub movable: bool,
+    /// Every real row's radius is `+0.0`: a kernel may skip reading `radius`
+    /// (and its subtraction, which changes no bits).
+    pub point: bool,
 }
 
 impl BlockColumns<'_> {

@@ -174,35 +174,48 @@ impl Plane {
     /// [`resolve_axis_frictionless`](Self::resolve_axis_frictionless), lane
     /// for lane, with no transposition (the blocks are already per axis).
     /// Without friction only the normal axis's lanes are read and written.
-    fn resolve_axis_blocks<const AXIS: usize>(&self, c: BlockColumns<'_>, sign: f32) {
-        let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
-        let bounce = Vec4::splat(-(1.0 + self.material.restitution));
-        let frictionless = self.material.friction == 0.0;
-        let contact = |x: &mut Vec3x4, v: &mut Vec3x4, r: Vec4, w: Vec4| {
-            if frictionless {
-                let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
-                let gap = *xa * s - offset - r;
-                let vn = *va * s;
-                let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
-                let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-                *va = Vec4::select(hit, (vn + dvn) * s, *va);
-                *xa = Vec4::select(hit, *xa - gap * s, *xa);
-            } else {
-                let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
-                self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
-                [x.x, x.y, x.z] = xc;
-                [v.x, v.y, v.z] = vc;
-            }
-        };
+    /// The sign is a constant (`x * 1` and `x * -1` fold away). Chunks of
+    /// movable point particles (the common case: a rain of sparks) skip the
+    /// radius and mass lanes: `gap - 0` and `w > 0` are then known, and the
+    /// same bits come out.
+    fn resolve_axis_blocks<const AXIS: usize, const NEGATIVE: bool>(&self, c: BlockColumns<'_>) {
         let whole = c.rows / 4;
-        let (x, v) = (&mut c.position[..], &mut c.velocity[..]);
-        let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
-        for ((x, v), (r, w)) in x.iter_mut().zip(v.iter_mut()).zip(scalars) {
-            contact(x, v, Vec4::from_slice(r), Vec4::from_slice(w));
+        let (x, v) = (&mut c.position[..whole], &mut c.velocity[..whole]);
+        if c.movable && c.point {
+            for (x, v) in x.iter_mut().zip(v.iter_mut()) {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::ZERO, Vec4::ONE);
+            }
+        } else {
+            let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
+            for ((x, v), (r, w)) in x.iter_mut().zip(v.iter_mut()).zip(scalars) {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::from_slice(r), Vec4::from_slice(w));
+            }
         }
         if whole * 4 < c.rows {
             let (r, w) = c.block_scalars(whole);
-            contact(&mut c.position[whole], &mut c.velocity[whole], r, w);
+            self.contact_block::<AXIS, NEGATIVE>(&mut c.position[whole], &mut c.velocity[whole], r, w);
+        }
+    }
+
+    /// One block's contact (see [`resolve_axis_blocks`](Self::resolve_axis_blocks)).
+    #[inline(always)]
+    fn contact_block<const AXIS: usize, const NEGATIVE: bool>(&self, x: &mut Vec3x4, v: &mut Vec3x4, r: Vec4, w: Vec4) {
+        let sign = if NEGATIVE { -1.0 } else { 1.0 };
+        if self.material.friction == 0.0 {
+            let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
+            let bounce = Vec4::splat(-(1.0 + self.material.restitution));
+            let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
+            let gap = *xa * s - offset - r;
+            let vn = *va * s;
+            let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
+            let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+            *va = Vec4::select(hit, (vn + dvn) * s, *va);
+            *xa = Vec4::select(hit, *xa - gap * s, *xa);
+        } else {
+            let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
+            self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+            [x.x, x.y, x.z] = xc;
+            [v.x, v.y, v.z] = vc;
         }
     }
 }
@@ -224,9 +237,12 @@ impl Collider for Plane {
 
     fn resolve_blocks(&self, c: BlockColumns<'_>) -> bool {
         match axis_of(self.normal) {
-            Some((0, sign)) => self.resolve_axis_blocks::<0>(c, sign),
-            Some((1, sign)) => self.resolve_axis_blocks::<1>(c, sign),
-            Some((_, sign)) => self.resolve_axis_blocks::<2>(c, sign),
+            Some((0, sign)) if sign < 0.0 => self.resolve_axis_blocks::<0, true>(c),
+            Some((0, _)) => self.resolve_axis_blocks::<0, false>(c),
+            Some((1, sign)) if sign < 0.0 => self.resolve_axis_blocks::<1, true>(c),
+            Some((1, _)) => self.resolve_axis_blocks::<1, false>(c),
+            Some((_, sign)) if sign < 0.0 => self.resolve_axis_blocks::<2, true>(c),
+            Some((_, _)) => self.resolve_axis_blocks::<2, false>(c),
             None => return false,
         }
         true

@@ -123,6 +123,7 @@ impl Clone for Box<dyn Force> {
 
 /// The world's forces seen as the integrator's [`System`]: the sum of every
 /// force, zeroed for immovable particles (inverse mass 0).
+#[derive(Clone, Copy)]
 pub(crate) struct ForceField<'a> {
     pub forces: &'a [Box<dyn Force>],
     /// Inverse masses of the rows the integrator is stepping.
@@ -139,6 +140,16 @@ pub(crate) struct ForceField<'a> {
 }
 
 impl<'a> ForceField<'a> {
+    /// The same field over `count` of its rows from row `first` (the sums
+    /// are not recomputed).
+    pub fn window(&self, first: usize, count: usize) -> Self {
+        Self {
+            inverse_mass: &self.inverse_mass[first..first + count],
+            offset: self.offset + first,
+            ..*self
+        }
+    }
+
     pub fn new(forces: &'a [Box<dyn Force>], inverse_mass: &'a [f32], offset: usize) -> Self {
         Self {
             forces,
@@ -203,6 +214,9 @@ pub(crate) struct BlockField<'a> {
     pub field: ForceField<'a>,
     /// Real rows among the blocks (the last block may be padding in part).
     pub rows: usize,
+    /// Every row is movable (known from the chunk's facts): no scan for
+    /// immovable ones.
+    pub movable: bool,
     pub scratch: &'a mut Rows,
 }
 
@@ -230,7 +244,7 @@ impl System<Vec3x4> for BlockField<'_> {
             }
             scatter(&s.other, out);
         }
-        if !all_movable(inverse_mass) {
+        if !(self.movable || all_movable(inverse_mass)) {
             for (row, &w) in inverse_mass.iter().enumerate() {
                 // As the row path's `w > 0` select: NaN is immovable too.
                 let movable = w > 0.0;
@@ -247,7 +261,7 @@ impl System<Vec3x4> for BlockField<'_> {
 
     fn affine_range(&self, first: usize, count: usize) -> Option<(Vec3x4, f32)> {
         let rows = first * LANES..((first + count) * LANES).min(self.rows);
-        (self.field.all_affine && all_movable(&self.field.inverse_mass[rows]))
+        (self.field.all_affine && (self.movable || all_movable(&self.field.inverse_mass[rows])))
             .then_some((Vec3x4::splat(self.field.affine.0), self.field.affine.1))
     }
 

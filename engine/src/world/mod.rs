@@ -26,6 +26,7 @@ macro_rules! clone_fields {
 pub(crate) mod column;
 mod columns;
 mod entity;
+pub(crate) mod facts;
 mod particles;
 mod rigid;
 
@@ -138,11 +139,10 @@ pub(crate) enum Command {
 }
 
 /// One thread's share of a fused step: its copy of the method (stepping
-/// blocks of four particles), its list of expired rows and its scratch
-/// rows. Kept between steps so nothing is allocated.
+/// blocks of four particles) and its scratch rows. Kept between steps so
+/// nothing is allocated.
 pub(crate) struct Lane {
     pub method: Box<dyn Integrator<Vec3x4>>,
-    pub expired: Vec<u32>,
     pub rows: Rows,
 }
 
@@ -160,7 +160,6 @@ impl Clone for Lane {
     fn clone(&self) -> Self {
         Self {
             method: self.method.clone_boxed(),
-            expired: self.expired.clone(),
             rows: Rows::default(),
         }
     }
@@ -538,6 +537,14 @@ impl World {
         &self.particles
     }
 
+    /// Seconds since `entity` spawned (the sum of the steps' `dt` since).
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn age(&self, entity: Entity) -> Result<f32, EntityError> {
+        Ok(self.particles.age_of(self.entities.row(entity)?))
+    }
+
     /// The particle columns, to change in place (a game's own fixed systems).
     /// Changing positions this way is seen as a teleport by history methods
     /// but not by interpolation; prefer [`teleport`](Self::teleport).
@@ -546,6 +553,8 @@ impl World {
         // The next step checks the state it starts from, so a NaN written
         // here is named as such, not blamed on the step.
         self.edited = true;
+        // Lifetimes, masses and radii may change: derived facts are redone.
+        self.particles.forget_derived();
         &mut self.particles
     }
 
@@ -833,8 +842,12 @@ impl World {
                 h.f32s(&x.to_array());
             }
         }
-        for column in [&p.inverse_mass, &p.radius, &p.age, &p.lifetime] {
+        for column in [&p.inverse_mass, &p.radius, &p.lifetime] {
             h.f32s(column);
+        }
+        h.u64(p.lifetimes.lived.to_bits());
+        for born in &p.born {
+            h.u64(born.to_bits());
         }
         for (q, w) in self.rigid.orientation.iter().zip(&self.rigid.angular_velocity) {
             h.f32s(&q.to_array());

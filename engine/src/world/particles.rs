@@ -5,6 +5,7 @@ use core::fmt;
 use glam::{Vec3, Vec3A};
 
 use super::Vec3Column;
+use super::facts::ChunkFacts;
 
 /// An sRGB colour with alpha, 8 bits per channel (what the GPU reads).
 pub type Colour = [u8; 4];
@@ -182,8 +183,11 @@ pub struct Particles {
     pub inverse_mass: Vec<f32>,
     /// Radius in metres.
     pub radius: Vec<f32>,
-    /// Seconds since spawn.
-    pub age: Vec<f32>,
+    /// The world's lived time (the sum of its steps, see
+    /// [`World::age`](super::World::age)) when each particle spawned: its
+    /// age is `lived - born`. A birth time rather than an age, so that a step
+    /// need not touch every particle to age it.
+    pub born: Vec<f64>,
     /// Seconds to live; `f32::INFINITY` = forever.
     pub lifetime: Vec<f32>,
     /// sRGB colour with alpha.
@@ -193,6 +197,44 @@ pub struct Particles {
     pub teleported_at: Vec<u64>,
     /// Row in the rigid-body table, or `u32::MAX` for a plain particle.
     pub(crate) rigid_row: Vec<u32>,
+    /// The lived time and the earliest death, for expiry without a pass.
+    pub(crate) lifetimes: Lifetimes,
+    /// What holds for whole chunks (all movable, all points), for the
+    /// fused step's shorter kernels.
+    pub(crate) facts: ChunkFacts,
+}
+
+/// The world's lived time and a lower bound on the next death.
+///
+/// A particle dies when `lived >= born + lifetime` (in f64, so hours of
+/// game time keep sub-microsecond ages). `next_death` is at most the
+/// smallest `born + lifetime` of the live particles: a spawn lowers it, a
+/// despawn leaves it (still a lower bound), and only a step that reaches it
+/// scans the particles (collecting the dead, recomputing the bound). Worlds
+/// without lifetimes never scan; before this, every step aged every
+/// particle (12 bytes read and written each, 10% of a step in cache).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lifetimes {
+    /// Sum of the steps' `dt` since the world began, seconds.
+    pub lived: f64,
+    /// No live particle dies before this (`-inf`: unknown, scan at the next step).
+    pub next_death: f64,
+}
+
+impl Default for Lifetimes {
+    fn default() -> Self {
+        Self {
+            lived: 0.0,
+            next_death: f64::INFINITY,
+        }
+    }
+}
+
+/// Only the lived time is state; the bound depends on the world's history.
+impl PartialEq for Lifetimes {
+    fn eq(&self, other: &Self) -> bool {
+        self.lived.to_bits() == other.lived.to_bits()
+    }
 }
 
 impl Particles {
@@ -217,6 +259,40 @@ impl Particles {
         self.position.is_empty()
     }
 
+    /// Adds `dt` to the lived time; if that reaches the next death, appends
+    /// the rows whose lifetime ran out (`lived >= born + lifetime`, rows
+    /// ascending) to `expired` and recomputes the bound from the others.
+    /// A NaN lifetime (written through `particles_mut`) never expires.
+    pub(crate) fn age(&mut self, dt: f64, expired: &mut Vec<u32>) {
+        let l = &mut self.lifetimes;
+        l.lived += dt;
+        if l.lived < l.next_death {
+            return;
+        }
+        let mut next_death = f64::INFINITY;
+        for (row, (&born, &lifetime)) in self.born.iter().zip(&self.lifetime).enumerate() {
+            let death = born + f64::from(lifetime);
+            if l.lived >= death {
+                expired.push(row as u32);
+            } else {
+                next_death = next_death.min(death);
+            }
+        }
+        l.next_death = next_death;
+    }
+
+    /// Seconds since row `row` spawned.
+    pub(crate) fn age_of(&self, row: usize) -> f32 {
+        (self.lifetimes.lived - self.born[row]) as f32
+    }
+
+    /// After an edit through `particles_mut` (lifetimes, masses, radii may
+    /// have changed): the next step rescans lifetimes and chunk facts.
+    pub(crate) fn forget_derived(&mut self) {
+        self.lifetimes.next_death = f64::NEG_INFINITY;
+        self.facts.touch(0);
+    }
+
     pub(crate) fn push(&mut self, p: &Particle) {
         let x = Vec3A::from(p.position);
         self.position.push(x);
@@ -224,8 +300,13 @@ impl Particles {
         self.previous_position.push(x);
         self.inverse_mass.push(p.inverse_mass());
         self.radius.push(p.radius);
-        self.age.push(0.0);
-        self.lifetime.push(p.lifetime.unwrap_or(f32::INFINITY));
+        let lifetime = p.lifetime.unwrap_or(f32::INFINITY);
+        let lived = self.lifetimes.lived;
+        self.facts.touch(self.born.len());
+        self.born.push(lived);
+        self.lifetime.push(lifetime);
+        let death = lived + f64::from(lifetime);
+        self.lifetimes.next_death = self.lifetimes.next_death.min(death);
         self.colour.push(p.colour);
         self.teleported_at.push(u64::MAX);
         self.rigid_row.push(u32::MAX);
@@ -237,7 +318,8 @@ impl Particles {
         self.previous_position.swap_remove(row);
         self.inverse_mass.swap_remove(row);
         self.radius.swap_remove(row);
-        self.age.swap_remove(row);
+        self.born.swap_remove(row);
+        self.facts.touch(row);
         self.lifetime.swap_remove(row);
         self.colour.swap_remove(row);
         self.teleported_at.swap_remove(row);
@@ -251,9 +333,11 @@ clone_fields!(Particles {
     previous_position,
     inverse_mass,
     radius,
-    age,
+    born,
     lifetime,
     colour,
     teleported_at,
     rigid_row,
+    lifetimes,
+    facts,
 });
