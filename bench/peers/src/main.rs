@@ -374,7 +374,6 @@ impl Variant for Bevy {
 struct Tickwork {
     world: World,
     saved: Option<tickwork_engine::world::Snapshot>,
-    pool: rayon::ThreadPool,
     threads: usize,
     layout: usize,
     /// Allocations kept alive between the world's columns (the layout).
@@ -419,14 +418,9 @@ impl Tickwork {
             };
             world.spawn(particle).expect("valid");
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("a pool");
         Self {
             world,
             saved: None,
-            pool,
             threads,
             layout,
             _spacers: spacers,
@@ -447,17 +441,18 @@ impl Variant for Tickwork {
         self.run(1);
     }
     fn run(&mut self, steps: usize) {
+        // Stepped on the caller, as a game's loop would: one thread when
+        // the world never splits (threshold usize::MAX), rayon's global pool
+        // (two threads, built in `main`) for the lanes when it does.
         let world = &mut self.world;
-        self.pool.install(|| {
-            for _ in 0..steps {
-                let step = FixedStep {
-                    tick: world.tick(),
-                    time: world.tick() as f64 / 60.0,
-                    dt: 1.0 / 60.0,
-                };
-                world.step(step).expect("step");
-            }
-        });
+        for _ in 0..steps {
+            let step = FixedStep {
+                tick: world.tick(),
+                time: world.tick() as f64 / 60.0,
+                dt: 1.0 / 60.0,
+            };
+            world.step(step).expect("step");
+        }
     }
     fn save(&mut self) {
         match &mut self.saved {
@@ -615,6 +610,10 @@ fn main() -> Result<(), String> {
         .position(|a| a == "--only")
         .and_then(|i| args.get(i + 1))
         .cloned();
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build_global()
+        .map_err(|e| format!("rayon's global pool: {e}"))?;
     bevy_tasks::ComputeTaskPool::get_or_init(|| bevy_tasks::TaskPoolBuilder::new().num_threads(2).build());
     println!("Tickwork peer benchmark: median ns per particle-step over {rounds} interleaved rounds");
     let mut rows = Vec::new();

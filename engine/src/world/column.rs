@@ -199,24 +199,25 @@ impl Vec3Column {
     /// The first row (from `first`, in order) whose vector is not finite,
     /// among the rows of `blocks` (a window of some column starting at row
     /// `first`, `rows` rows of it real). One pass of plain arithmetic for the
-    /// common all-finite case: `0 * c` is 0 for a finite `c` and NaN
-    /// otherwise, and a sum of zeros stays 0; the tail block's padding is
-    /// masked out.
+    /// common all-finite case: a sum of finite values is finite, and one
+    /// infinity or NaN among the terms makes it infinite or NaN; the tail
+    /// block's padding is left out.
     pub(crate) fn first_non_finite(blocks: &[Vec3x4], other: &[Vec3x4], rows: usize, first: usize) -> Option<usize> {
         let whole = rows / LANES;
-        // `(sum of the block's twelve values) * 0`: 0 when all are finite
-        // (or NaN when a sum of finite values overflows, which only sends
-        // the check to the search below, which finds nothing). Two sums
-        // over alternate blocks keep the additions' latency off the loop.
+        // The sum of every value, four lanes at a time: finite when all are
+        // (or infinite when finite values of over ~1e36 overflow it, which
+        // only sends the check to the search below, which finds nothing).
+        // Six additions per block; two sums over alternate blocks keep the
+        // additions' latency off the loop.
         let mut sums = [glam::Vec4::ZERO; 2];
-        let zero = |a: &Vec3x4, b: &Vec3x4| (((a.x + b.x) + (a.y + b.y)) + (a.z + b.z)) * 0.0;
+        let total = |a: &Vec3x4, b: &Vec3x4| ((a.x + b.x) + (a.y + b.y)) + (a.z + b.z);
         let (pairs_a, pairs_b) = (blocks[..whole].chunks_exact(2), other[..whole].chunks_exact(2));
         if let (Some(a), Some(b)) = (pairs_a.remainder().first(), pairs_b.remainder().first()) {
-            sums[0] += zero(a, b);
+            sums[0] += total(a, b);
         }
         for (a, b) in pairs_a.zip(pairs_b) {
-            sums[0] += zero(&a[0], &b[0]);
-            sums[1] += zero(&a[1], &b[1]);
+            sums[0] += total(&a[0], &b[0]);
+            sums[1] += total(&a[1], &b[1]);
         }
         let sum = sums[0] + sums[1];
         let tail_bad = (whole * LANES..rows).any(|row| {
@@ -226,7 +227,7 @@ impl Vec3Column {
             );
             !a.is_finite() || !b.is_finite()
         });
-        if sum.cmpeq(glam::Vec4::ZERO).all() && !tail_bad {
+        if sum.is_finite() && !tail_bad {
             return None;
         }
         (0..rows)
