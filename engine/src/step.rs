@@ -4,8 +4,9 @@
 //! check: the step's time; the state, if it was edited outside the steps
 //! previous <-> current                      (a swap of buffers, for interpolation)
 //! x, v     <- integrator(t, dt, previous, v, forces)   (into the other buffer)
-//! colliders, ageing
+//! colliders
 //! check: every position and velocity finite (a failed solve: which force)
+//! lived += dt; if it reached the next death: collect the expired rows
 //! rigid bodies: orientations and angular velocities (then the same check)
 //! expiry, emitters and queued spawns/despawns
 //! the game's fixed systems (then their queued commands)
@@ -13,7 +14,7 @@
 //!
 //! When every force and collider is pointwise and the method
 //! [splits](tickwork_integrators::Integrator::splits_pointwise), the
-//! integration, the colliders, the ageing and the finiteness check run
+//! integration, the colliders and the finiteness check run
 //! fused on the world's per-axis blocks (four particles per SIMD value), one
 //! cache-sized chunk of 512 particles at a time, while the chunk sits in L1,
 //! so a million-particle step reads and writes each column about once.
@@ -432,14 +433,13 @@ impl World {
         Ok(())
     }
 
-    /// The fused step on the blocks: integration, colliders, ageing and the
+    /// The fused step on the blocks: integration, colliders and the
     /// finiteness check chunk by chunk, in lanes above the threshold.
     fn integrate_fused(&mut self, t: f32, dt: f32, report: &mut StepReport) -> Result<LaneOutcome, StepError> {
         let p = &mut self.particles;
         let n = p.len();
-        let threads = rayon::current_num_threads();
         let wanted = if n >= self.config.parallel_threshold {
-            threads.min(n.div_ceil(CHUNK)).max(1)
+            rayon::current_num_threads().min(n.div_ceil(CHUNK)).max(1)
         } else {
             1
         };

@@ -443,7 +443,8 @@ impl Variant for Tickwork {
     fn run(&mut self, steps: usize) {
         // Stepped on the caller, as a game's loop would: one thread when
         // the world never splits (threshold usize::MAX), rayon's global pool
-        // (two threads, built in `main`) for the lanes when it does.
+        // (the caller its thread 0, as `run` sets up; see `main`) for the
+        // lanes when it does.
         let world = &mut self.world;
         for _ in 0..steps {
             let step = FixedStep {
@@ -610,10 +611,15 @@ fn main() -> Result<(), String> {
         .position(|a| a == "--only")
         .and_then(|i| args.get(i + 1))
         .cloned();
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build_global()
-        .map_err(|e| format!("rayon's global pool: {e}"))?;
+    // What a Tickwork game's `run` does: this thread (the one that steps)
+    // becomes thread 0 of rayon's global pool, of one thread per core.
+    tickwork_engine::threads::join_thread_pool().map_err(|e| format!("rayon's global pool: {e}"))?;
+    if rayon::current_num_threads() != 2 {
+        return Err(format!(
+            "the two-thread variants need a pool of 2, this machine gives {}: run with RAYON_NUM_THREADS=2",
+            rayon::current_num_threads()
+        ));
+    }
     bevy_tasks::ComputeTaskPool::get_or_init(|| bevy_tasks::TaskPoolBuilder::new().num_threads(2).build());
     println!("Tickwork peer benchmark: median ns per particle-step over {rounds} interleaved rounds");
     let mut rows = Vec::new();
