@@ -6,9 +6,9 @@
 //! x, v     <- integrator(t, dt, previous, v, forces)   (into the other buffer)
 //! colliders
 //! check: every position and velocity finite (a failed solve: which force)
-//! lived += dt; if it reached the next death: collect the expired rows
 //! rigid bodies: orientations and angular velocities (then the same check)
-//! expiry, emitters and queued spawns/despawns
+//! lived += dt; if it reached the next death: the expired rows despawned
+//! emitters and queued spawns/despawns
 //! the game's fixed systems (then their queued commands)
 //! ```
 //!
@@ -381,12 +381,14 @@ impl World {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         self.integrate(t, dt, tick, &mut report)?;
-        self.expired_rows.clear();
-        self.particles.age(step.dt, &mut self.expired_rows);
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
             flush_subnormals(self.particles.velocity.blocks_mut());
         }
         self.step_rigid_bodies(t, dt, tick)?;
+        // Aged only once the step cannot fail any more: a failed step
+        // leaves the lived time (and the dead it would find) for the next.
+        self.expired_rows.clear();
+        self.particles.age(step.dt, &mut self.expired_rows);
         self.expire(&mut report);
         self.emit(dt, tick)?;
         let (spawned, despawned) = self.apply_queued();
@@ -616,8 +618,8 @@ impl World {
         if self.expired_rows.is_empty() {
             return;
         }
-        // Rows ascend (lanes are contiguous and in order); turn them into
-        // handles first, since each despawn moves the last row.
+        // Rows ascend (one scan in row order); turn them into handles
+        // first, since each despawn moves the last row.
         self.expired.clear();
         let rows = self.entities.rows();
         self.expired

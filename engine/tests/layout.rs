@@ -161,9 +161,9 @@ fn lanes_left_without_work_by_whole_chunks_report_nothing_stale() {
     });
 }
 
-/// A scene whose chunks start with different facts: rows 0..512 movable
-/// points, one immovable particle in 512..1024, radii in 1024..1536, and
-/// 1536..1700 movable points again (a part-filled last block).
+/// A scene whose chunks start with different facts (chunks of 512 rows):
+/// chunk 0 movable points, one immovable particle in chunk 1, radii in
+/// chunk 2, chunks 3 and 4 (2 048..2 300, part-filled) movable points.
 fn facts_scene(threshold: usize, plain: bool) -> World {
     let mut w = World::new(WorldConfig {
         parallel_threshold: threshold,
@@ -190,7 +190,7 @@ fn facts_scene(threshold: usize, plain: bool) -> World {
     if plain {
         w.add_collider(ForcePlainPath);
     }
-    for k in 0..1700u32 {
+    for k in 0..2300u32 {
         let f = k as f32;
         w.spawn(Particle {
             position: Vec3::new((f * 0.37).sin() * 2.0, 0.6 + (f * 0.11) % 1.0, (f * 0.23).cos()),
@@ -204,11 +204,13 @@ fn facts_scene(threshold: usize, plain: bool) -> World {
     w
 }
 
-/// Steps the facts scene 90 times, changing what the chunks' facts say on
-/// the way: an edit through `particles_mut` makes a particle of the first
-/// chunk immovable (at rest) and gives one a radius (tick 20), a spawn puts a sphere
-/// into the all-point last chunk (tick 40), a despawn takes out the only
-/// immovable one of the second chunk (tick 60). The state hash after each.
+/// Steps the facts scene 90 times, each change on the way turning a chunk
+/// of movable points (the kernels' short path) into one that is not, so a
+/// missed update would take the short path wrongly: an edit through
+/// `particles_mut` makes row 1 600 immovable (at rest) and gives row 1 610 a
+/// radius (tick 20, chunk 3); a spawn puts a sphere into chunk 4 (tick 40);
+/// a despawn in chunk 0 moves that sphere, the last row, into it (tick 60).
+/// The state hash after each step.
 fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -221,13 +223,13 @@ fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
         for tick in 0..90 {
             match tick {
                 20 => {
-                    let p = w.particles_mut();
                     // Immovable: no force or contact moves it (and no
                     // velocity is left to carry it).
-                    p.inverse_mass[3] = 0.0;
-                    p.velocity.set(3, glam::Vec3A::ZERO);
-                    p.radius[10] = 0.1;
-                    pinned = p.position.get(3);
+                    let p = w.particles_mut();
+                    p.inverse_mass[1600] = 0.0;
+                    p.velocity.set(1600, glam::Vec3A::ZERO);
+                    p.radius[1610] = 0.1;
+                    pinned = p.position.get(1600);
                 }
                 40 => {
                     let ball = Particle {
@@ -239,8 +241,10 @@ fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
                     sphere = Some(w.spawn(ball).expect("valid"));
                 }
                 60 => {
-                    let immovable = w.entities().rows()[700];
-                    w.despawn(immovable).expect("live");
+                    let in_chunk_0 = w.entities().rows()[100];
+                    w.despawn(in_chunk_0).expect("live");
+                    let sphere = sphere.expect("spawned");
+                    assert_eq!(w.row(sphere), Ok(100), "the sphere moved into chunk 0");
                 }
                 _ => {}
             }
@@ -252,9 +256,9 @@ fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
             lanes = lanes.max(w.step(step).expect("a finite step").lanes);
             hashes.push(w.state_hash());
         }
-        // The edits took effect (a stale fact would have let row 3 fall
-        // and the sphere sink to the floor's plane).
-        assert_eq!(w.particles().position.get(3), pinned, "row 3 became immovable");
+        // The changes took effect (a stale fact would have let row 1 600
+        // fall and the sphere sink to the floor's plane).
+        assert_eq!(w.particles().position.get(1600), pinned, "row 1 600 became immovable");
         let sphere = w.position(sphere.expect("spawned")).expect("live");
         assert!(sphere.y > 0.69, "the sphere rests on its radius: {sphere}");
         (hashes, lanes)

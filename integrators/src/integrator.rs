@@ -169,7 +169,7 @@ pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
     ///
     /// True for the explicit self-starting methods, which keep no per-particle
     /// state between steps. The engine uses it to fuse its own per-particle
-    /// work (colliders, ageing) into cache-sized chunks and to spread chunks
+    /// work (colliders, the finiteness check) into cache-sized chunks and to spread chunks
     /// over threads. Default: false.
     fn splits_pointwise(&self) -> bool {
         false

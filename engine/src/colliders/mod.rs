@@ -62,6 +62,7 @@ impl ContactColumns<'_> {
 /// ([`Vec3x4`]: `x0 x1 x2 x3, y0 .., z0 ..`), for colliders with a block
 /// kernel ([`Collider::resolve_blocks`]).
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct BlockColumns<'a> {
     /// Positions, four particles per block (moved out of contact).
     pub position: &'a mut [Vec3x4],

@@ -205,7 +205,8 @@ impl Vec3Column {
     pub(crate) fn first_non_finite(blocks: &[Vec3x4], other: &[Vec3x4], rows: usize, first: usize) -> Option<usize> {
         let whole = rows / LANES;
         // The sum of every value, four lanes at a time: finite when all are
-        // (or infinite when finite values of over ~1e36 overflow it, which
+        // (or infinite when finite values overflow it: past f32::MAX, 3.4e38,
+        // over the window, e.g. values of 1e33 over 100 000 rows; that
         // only sends the check to the search below, which finds nothing).
         // Six additions per block; two sums over alternate blocks keep the
         // additions' latency off the loop.

@@ -213,6 +213,12 @@ pub struct Particles {
 /// scans the particles (collecting the dead, recomputing the bound). Worlds
 /// without lifetimes never scan; before this, every step aged every
 /// particle (12 bytes read and written each, 10% of a step in cache).
+///
+/// A lifetime of a whole number of steps (3 s at 60 Hz) ends on that step
+/// or the next, as the sums round (`born` and `lived` are sums of f64 `dt`s,
+/// so which one depends on the spawn tick); the same run always gives the
+/// same step. The old f32 age rounded too, the other way: 0.2 s lasted 12
+/// steps at 60 Hz, 13 now (0.2 as f32 is 0.20000000298).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Lifetimes {
     /// Sum of the steps' `dt` since the world began, seconds.
