@@ -133,7 +133,7 @@ impl Lander {
             seed: self.seed,
             ..WorldConfig::default()
         };
-        let mut world = World::new(config).map_err(|e| e.to_string())?;
+        let mut world = World::new(config)?;
         world.add_force(Gravity {
             acceleration: Vec3::new(0.0, -MOON, 0.0),
         });
@@ -145,15 +145,13 @@ impl Lander {
                 friction: 0.5,
             },
         ));
-        let ship = world
-            .spawn(Particle {
-                position: Vec3::new(-4.0, 8.0, 0.0),
-                velocity: Vec3::new(0.9, 0.0, 0.0),
-                radius: 0.16,
-                colour: [230, 230, 240, 255],
-                ..Particle::default()
-            })
-            .map_err(|e| e.to_string())?;
+        let ship = world.spawn(Particle {
+            position: Vec3::new(-4.0, 8.0, 0.0),
+            velocity: Vec3::new(0.9, 0.0, 0.0),
+            radius: 0.16,
+            colour: [230, 230, 240, 255],
+            ..Particle::default()
+        })?;
         if stage.worlds.is_empty() {
             stage.add_world("moon", world);
         } else {
@@ -170,10 +168,7 @@ impl Lander {
 
     /// Touch-down: landed or crashed, by the pad and the limits.
     fn touch_down(&mut self, world: &mut World, ship: Entity) -> Result<(), GameError> {
-        let (position, velocity) = (
-            world.position(ship).map_err(|e| e.to_string())?,
-            world.velocity(ship).map_err(|e| e.to_string())?,
-        );
+        let (position, velocity) = (world.position(ship)?, world.velocity(ship)?);
         let on_pad = (position.x - PAD.0).abs() <= PAD.1 - 0.2;
         self.flight = if !on_pad {
             Flight::Crashed {
@@ -194,22 +189,18 @@ impl Lander {
             self.total += score;
             Flight::Landed { score }
         };
-        world.despawn(ship).map_err(|e| e.to_string())?;
+        world.despawn(ship)?;
         self.ship = None;
         let resting = Vec3::new(position.x, ground(position.x) + FEET, 0.0);
         match self.flight {
             Flight::Landed { .. } => {
-                self.ship = Some(
-                    world
-                        .spawn(Particle {
-                            position: resting,
-                            immovable: true,
-                            radius: 0.16,
-                            colour: [120, 230, 140, 255],
-                            ..Particle::default()
-                        })
-                        .map_err(|e| e.to_string())?,
-                );
+                self.ship = Some(world.spawn(Particle {
+                    position: resting,
+                    immovable: true,
+                    radius: 0.16,
+                    colour: [120, 230, 140, 255],
+                    ..Particle::default()
+                })?);
             }
             _ => {
                 // Debris: 40 fragments thrown up and out, from the world's
@@ -217,17 +208,15 @@ impl Lander {
                 for k in 0..40 {
                     let angle = std::f32::consts::PI * (0.1 + 0.8 * k as f32 / 39.0);
                     let speed = 1.5 + 2.5 * ((k * 7919 % 40) as f32 / 40.0);
-                    world
-                        .spawn(Particle {
-                            position: resting,
-                            velocity: speed * Vec3::new(angle.cos(), angle.sin(), 0.0) + 0.3 * velocity,
-                            radius: 0.05,
-                            mass: 0.05,
-                            colour: [255, 150 + (k * 3 % 90) as u8, 60, 255],
-                            lifetime: Some(4.0),
-                            ..Particle::default()
-                        })
-                        .map_err(|e| e.to_string())?;
+                    world.spawn(Particle {
+                        position: resting,
+                        velocity: speed * Vec3::new(angle.cos(), angle.sin(), 0.0) + 0.3 * velocity,
+                        radius: 0.05,
+                        mass: 0.05,
+                        colour: [255, 150 + (k * 3 % 90) as u8, 60, 255],
+                        lifetime: Some(4.0),
+                        ..Particle::default()
+                    })?;
                 }
             }
         }
@@ -281,7 +270,7 @@ impl Game for Lander {
         if let Some(thrust) = world.force_mut::<Thrust>() {
             thrust.acceleration = if burn { ENGINE * up } else { Vec3::ZERO };
         }
-        let position = world.position(ship).map_err(|e| e.to_string())?;
+        let position = world.position(ship)?;
         if position.y - FEET <= ground(position.x) {
             self.touch_down(world, ship)?;
         } else if position.x.abs() > 12.0 || position.y > 30.0 {

@@ -28,10 +28,9 @@ impl Game for Probe {
                 integrator: name.into(),
                 seed: settings.seed,
                 ..WorldConfig::default()
-            })
-            .map_err(|e| e.to_string())?;
+            })?;
             world.add_force(Gravity::EARTH);
-            world.spawn(Particle::default()).map_err(|e| e.to_string())?;
+            world.spawn(Particle::default())?;
             let index = stage.add_world(name, world);
             stage.worlds[index].fixed_integrator = fixed;
             stage.worlds[index].on_failure = on_failure;
@@ -151,7 +150,7 @@ impl Game for Explosive {
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
         explosive(stage, self.0);
         let mut calm = World::default();
-        calm.spawn(Particle::default()).map_err(|e| e.to_string())?;
+        calm.spawn(Particle::default())?;
         stage.add_world("calm", calm);
         Ok(())
     }
@@ -220,4 +219,40 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
     )
     .expect_err("no rk5");
     assert!(unknown.to_string().contains("rk5"), "{unknown}");
+}
+
+#[test]
+fn engine_errors_convert_into_game_errors_with_their_messages() {
+    use std::error::Error as _;
+    fn build(method: &str) -> Result<World, GameError> {
+        Ok(World::new(WorldConfig {
+            integrator: method.into(),
+            ..WorldConfig::default()
+        })?)
+    }
+    fn despawn_twice() -> Result<(), GameError> {
+        let mut world = World::default();
+        let ball = world.spawn(Particle::default())?;
+        world.despawn(ball)?;
+        world.despawn(ball)?;
+        Ok(())
+    }
+    let unknown = World::new(WorldConfig {
+        integrator: "nope".into(),
+        ..WorldConfig::default()
+    })
+    .expect_err("not a method");
+    let converted = build("nope").expect_err("not a method");
+    assert!(matches!(converted, GameError::Engine(_)), "{converted:?}");
+    assert_eq!(converted.to_string(), unknown.to_string());
+    assert_eq!(
+        converted.source().map(ToString::to_string),
+        Some(unknown.to_string()),
+        "the engine error is the source"
+    );
+    let twice = despawn_twice().expect_err("gone");
+    assert!(twice.to_string().contains("despawned"), "{twice}");
+    let message: GameError = "no such level".into();
+    assert_eq!(message.to_string(), "no such level");
+    assert!(message.source().is_none());
 }

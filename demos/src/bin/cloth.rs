@@ -38,7 +38,7 @@ impl Cloth {
             seed,
             ..WorldConfig::default()
         };
-        let mut world = World::new(config).map_err(|e| e.to_string())?;
+        let mut world = World::new(config)?;
         world.add_force(Gravity::EARTH);
         world.add_force(Wind {
             velocity: Vec3::new(0.0, 0.0, 3.0),
@@ -65,7 +65,7 @@ impl Cloth {
                     },
                     ..Particle::default()
                 };
-                grid.push(world.spawn(particle).map_err(|e| e.to_string())?);
+                grid.push(world.spawn(particle)?);
             }
         }
         let k = self.stiffness();

@@ -59,7 +59,7 @@ impl Game for Fountain {
             seed: settings.seed,
             ..WorldConfig::default()
         };
-        let mut world = World::new(config).map_err(|e| e.to_string())?;
+        let mut world = World::new(config)?;
         world.add_force(Gravity::EARTH);
         // Droplets of 1 g: drag a = -c |v| v with c = 0.02 per metre.
         world.add_force(QuadraticDrag { coefficient: 0.02 });
@@ -75,7 +75,7 @@ impl Game for Fountain {
             },
         ));
         for jet in self.jets() {
-            world.add_emitter(jet).map_err(|e| e.to_string())?;
+            world.add_emitter(jet)?;
         }
         stage.add_world("fountain", world);
         stage.camera = Camera::TwoD {

@@ -54,32 +54,28 @@ impl Game for Orbits {
                 integrator: (*name).to_owned(),
                 ..WorldConfig::default()
             };
-            let mut world = World::new(config).map_err(|e| e.to_string())?;
+            let mut world = World::new(config)?;
             world.add_force(Attractor {
                 position: Vec3::ZERO,
                 gm,
                 softening: 0.0,
             });
             let colour = hue(k, names.len());
-            let planet = world
-                .spawn(Particle {
-                    position: Vec3::new(r, 0.0, 0.0),
-                    velocity: Vec3::new(0.0, v, 0.0),
-                    radius: 0.07,
-                    colour,
-                    ..Particle::default()
-                })
-                .map_err(|e| e.to_string())?;
+            let planet = world.spawn(Particle {
+                position: Vec3::new(r, 0.0, 0.0),
+                velocity: Vec3::new(0.0, v, 0.0),
+                radius: 0.07,
+                colour,
+                ..Particle::default()
+            })?;
             if k == 0 {
                 // The sun: immovable, so no force moves it and it adds no energy.
-                world
-                    .spawn(Particle {
-                        immovable: true,
-                        radius: 0.16,
-                        colour: [255, 210, 90, 255],
-                        ..Particle::default()
-                    })
-                    .map_err(|e| e.to_string())?;
+                world.spawn(Particle {
+                    immovable: true,
+                    radius: 0.16,
+                    colour: [255, 210, 90, 255],
+                    ..Particle::default()
+                })?;
             }
             let index = stage.add_world(*name, world);
             let shown = &mut stage.worlds[index];
@@ -91,7 +87,7 @@ impl Game for Orbits {
         }
         // 360 steps per orbit: coarse enough for the first-order methods to
         // show their character within a few periods.
-        stage.rate = tickwork::engine::Rate::hz(120).map_err(|e| e.to_string())?;
+        stage.rate = tickwork::engine::Rate::hz(120)?;
         stage.camera = Camera::TwoD {
             center: Vec2::new(-A * E - 1.4, 0.0),
             height: 2.0 * A * (1.0 - E * E).sqrt() * 1.9,

@@ -30,7 +30,7 @@ impl Game for Tops {
                 seed: settings.seed,
                 ..WorldConfig::default()
             };
-            let mut world = World::new(config).map_err(|e| e.to_string())?;
+            let mut world = World::new(config)?;
             // Half extents 0.6 x 0.3 x 0.1: principal moments ordered
             // I_x < I_y < I_z, so y is the intermediate axis.
             let half = Vec3::new(0.6, 0.3, 0.1);
@@ -42,12 +42,12 @@ impl Game for Tops {
                 body.particle.position = Vec3::new(x, y, 0.0);
                 body.particle.colour = colour;
                 body.angular_velocity = spin;
-                world.spawn_rigid(body).map_err(|e| e.to_string())?;
+                world.spawn_rigid(body)?;
             }
             let index = stage.add_world(method, world);
             stage.worlds[index].fixed_integrator = true;
         }
-        stage.rate = Rate::hz(120).map_err(|e| e.to_string())?;
+        stage.rate = Rate::hz(120)?;
         stage.camera = Camera::Orbit {
             target: Vec3::ZERO,
             distance: 7.5,

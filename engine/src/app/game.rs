@@ -374,7 +374,9 @@ impl Draw {
     }
 }
 
-/// Why a game stopped.
+/// Why a game stopped. Every engine error converts into it, so `?` works on
+/// any engine call inside a [`Game`]'s hooks; so do a `String` or `&str`, a
+/// game's own message.
 #[derive(Debug)]
 pub enum GameError {
     /// A world's step failed; the world's label says which.
@@ -384,32 +386,69 @@ pub enum GameError {
         /// What failed.
         error: SimulationError,
     },
+    /// An engine call failed (a spawn, a handle, a scene, a method name, a
+    /// rate): the error itself says what and where.
+    Engine(Box<dyn std::error::Error + Send + Sync + 'static>),
     /// The game's own message (a bad setting, a world that could not be built).
-    Game(String),
+    Message(String),
 }
 
 impl fmt::Display for GameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Simulation { world, error } => write!(f, "world \"{world}\": {error}"),
-            Self::Game(message) => f.write_str(message),
+            Self::Engine(error) => write!(f, "{error}"),
+            Self::Message(message) => f.write_str(message),
         }
     }
 }
 
-impl std::error::Error for GameError {}
+impl std::error::Error for GameError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Simulation { error, .. } => Some(error),
+            Self::Engine(error) => Some(error.as_ref()),
+            Self::Message(_) => None,
+        }
+    }
+}
 
 impl From<String> for GameError {
     fn from(message: String) -> Self {
-        Self::Game(message)
+        Self::Message(message)
     }
 }
 
 impl From<&str> for GameError {
     fn from(message: &str) -> Self {
-        Self::Game(message.to_owned())
+        Self::Message(message.to_owned())
     }
 }
+
+/// `From` for each engine error a game's code can meet, into
+/// [`GameError::Engine`].
+macro_rules! engine_errors {
+    ($($error:ty),* $(,)?) => {
+        $(impl From<$error> for GameError {
+            fn from(error: $error) -> Self {
+                Self::Engine(Box::new(error))
+            }
+        })*
+    };
+}
+
+engine_errors!(
+    crate::world::SpawnError,
+    crate::world::EntityError,
+    crate::world::WorldError,
+    crate::scene::SceneError,
+    crate::clock::ClockError,
+    crate::input::InputLogError,
+    crate::headless::HeadlessError,
+    tickwork_integrators::UnknownMethod,
+    tickwork_integrators::StepError,
+    SimulationError,
+);
 
 /// A game: what it builds, how it reacts to each tick's input, and what it
 /// draws. Only [`title`](Game::title) and [`setup`](Game::setup) are required.

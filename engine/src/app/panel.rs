@@ -212,7 +212,7 @@ pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -
                     shown
                         .world
                         .set_integrator(name)
-                        .map_err(|e| RunError::Game(super::GameError::Game(e.to_string())))?;
+                        .map_err(|e| RunError::Game(super::GameError::Message(e.to_string())))?;
                     shown.failure = None;
                 }
             }

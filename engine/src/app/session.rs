@@ -243,7 +243,7 @@ impl<G: Game> GameSession<G> {
     pub fn new(game: G, mut options: SessionOptions) -> Result<Self, RunError> {
         if let Some(recording) = &options.replay {
             if recording.game != game.title() {
-                return Err(RunError::Game(GameError::Game(format!(
+                return Err(RunError::Game(GameError::Message(format!(
                     "the recording is of \"{}\", not \"{}\"",
                     recording.game,
                     game.title()
@@ -262,7 +262,7 @@ impl<G: Game> GameSession<G> {
                 ),
             ];
             if let Some((flag, _)) = conflicts.iter().find(|c| c.1) {
-                return Err(RunError::Game(GameError::Game(format!(
+                return Err(RunError::Game(GameError::Message(format!(
                     "{flag} differs from the recording's (hz {}, seed {}, integrator {}); a replay runs with the \
                      recorded settings",
                     recording.hz,
@@ -282,7 +282,7 @@ impl<G: Game> GameSession<G> {
         }
         if let Some(names) = &options.settings.integrator {
             for name in names.split(',') {
-                build::<glam::Vec3A>(name.trim()).map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+                build::<glam::Vec3A>(name.trim()).map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
             }
         }
         let mode = match options.replay.take() {
@@ -330,7 +330,7 @@ impl<G: Game> GameSession<G> {
                 shown
                     .world
                     .set_integrator(name)
-                    .map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+                    .map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
             }
         }
         for shown in &mut stage.worlds {
@@ -494,7 +494,7 @@ impl<G: Game> GameSession<G> {
                 shown
                     .world
                     .set_integrator(name)
-                    .map_err(|e| RunError::Game(GameError::Game(e.to_string())))?;
+                    .map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
                 shown.failure = None;
             }
         }
@@ -567,7 +567,7 @@ impl<G: Game> FrameSource for GameSession<G> {
             })?,
             Control::Integrator(n) => {
                 let Some(info) = METHODS.get(n) else {
-                    return Err(RunError::Game(GameError::Game(
+                    return Err(RunError::Game(GameError::Message(
                         UnknownMethod::new(&format!("#{}", n + 1)).to_string(),
                     )));
                 };
