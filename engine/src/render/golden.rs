@@ -78,8 +78,9 @@ fn channel_difference(a: &Rgba<u8>, b: &Rgba<u8>) -> u8 {
         .unwrap_or(0)
 }
 
-/// Why an image did not match its golden image.
-#[derive(Debug)]
+/// Why an image did not match its golden image. Its `Debug` form is its
+/// message, so a test's `expect` or `?` prints what to do (bless with
+/// `TICKWORK_BLESS=1`, look at the diff image), not the fields.
 pub enum GoldenError {
     /// There is no golden image yet.
     Missing {
@@ -117,6 +118,12 @@ pub enum GoldenError {
         /// What went wrong.
         message: String,
     },
+}
+
+impl fmt::Debug for GoldenError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
 }
 
 impl fmt::Display for GoldenError {
@@ -284,6 +291,20 @@ fn save(path: &Path, image: &RgbaImage) -> Result<(), GoldenError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_missing_golden_image_says_how_to_bless_it_even_in_debug_form() {
+        let missing = GoldenError::Missing {
+            golden: PathBuf::from("tests/golden/ball.png"),
+            actual: PathBuf::from("target/ball.actual.png"),
+        };
+        let shown = format!("{missing:?}");
+        assert_eq!(shown, missing.to_string());
+        assert!(
+            shown.contains("tests/golden/ball.png") && shown.contains("TICKWORK_BLESS=1"),
+            "{shown}"
+        );
+    }
 
     #[test]
     fn counts_pixels_beyond_the_channel_threshold() {
