@@ -385,8 +385,9 @@ impl World {
             flush_subnormals(self.particles.velocity.blocks_mut());
         }
         self.step_rigid_bodies(t, dt, tick)?;
-        // Aged only once the step cannot fail any more: a failed step
-        // leaves the lived time (and the dead it would find) for the next.
+        // Aged once the particles and bodies have stepped (a failed step
+        // leaves the lived time, and the dead it would find, for the next),
+        // and before the emitters, for whom expiry makes room.
         self.expired_rows.clear();
         self.particles.age(step.dt, &mut self.expired_rows);
         self.expire(&mut report);
