@@ -272,7 +272,7 @@ impl System<Vec3x4> for BlockField<'_> {
 
 /// Whether no inverse mass is 0 (one branch-free, vectorised pass).
 #[inline]
-fn all_movable(inverse_mass: &[f32]) -> bool {
+pub(crate) fn all_movable(inverse_mass: &[f32]) -> bool {
     inverse_mass.iter().fold(true, |all, &w| all & (w > 0.0))
 }
 

@@ -19,6 +19,7 @@
 
 use core::fmt;
 
+use crate::forces::all_movable;
 use crate::step::CHUNK;
 
 /// The facts of one chunk.
@@ -34,7 +35,7 @@ impl Facts {
     /// The facts of one chunk's rows.
     fn of(radius: &[f32], inverse_mass: &[f32]) -> Self {
         // Branch-free folds the compiler vectorises.
-        let movable = inverse_mass.iter().fold(true, |all, &w| all & (w > 0.0));
+        let movable = all_movable(inverse_mass);
         let point = radius.iter().fold(0u32, |any, &r| any | r.to_bits()) == 0;
         Self { movable, point }
     }
