@@ -47,7 +47,9 @@ pub mod threads;
 pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource};
-pub use colliders::{BlockColumns, BoxCollider, Collider, Material, Plane, SphereCollisions};
+pub use colliders::{
+    BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, Material, Plane, SphereCollisions, Touched,
+};
 pub use emitter::Emitter;
 pub use energy::Energy;
 pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};

@@ -33,7 +33,7 @@ use tickwork_integrators::angular::{Bodies, TorqueFree};
 use tickwork_integrators::{StepError, Vec3x4, build};
 
 use crate::clock::FixedStep;
-use crate::colliders::{BlockColumns, Collider, ContactColumns};
+use crate::colliders::{BlockColumns, Collider, ContactColumns, PairTouch, RowTouch, diff_touches};
 use crate::forces::{BlockField, Force, ForceField};
 use crate::world::column::{LANES, gather, scatter};
 use crate::world::facts::Facts;
@@ -228,18 +228,21 @@ fn merge(a: Result<LaneOutcome, StepError>, b: Result<LaneOutcome, StepError>) -
 }
 
 /// Integrate (from `previous` into `x`), collide and check one lane, chunk
-/// by chunk of [`CHUNK`] particles ([`CHUNK`] / 4 blocks).
+/// by chunk of [`CHUNK`] particles ([`CHUNK`] / 4 blocks). Colliders that
+/// `report` contacts add them to the lane's list.
 #[allow(clippy::too_many_arguments)]
 fn step_lane(
     lane: &mut Lane,
     forces: &[Box<dyn Force>],
     colliders: &[Box<dyn Collider>],
+    report: &[bool],
     t: f32,
     dt: f32,
     offset: usize,
     c: LaneColumns<'_>,
 ) -> Result<LaneOutcome, StepError> {
     let mut outcome = LaneOutcome::default();
+    lane.touches.clear();
     let n = c.radius.len();
     // The force sums are the same for every chunk: made once per lane.
     let whole = ForceField::new(forces, c.inverse_mass, offset);
@@ -257,7 +260,25 @@ fn step_lane(
         };
         let stats = lane.method.step_from(t, dt, &c.previous[blocks], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
-        for collider in colliders {
+        for (k, collider) in colliders.iter().enumerate() {
+            let (radius, inverse_mass) = (&c.radius[rows.clone()], &c.inverse_mass[rows.clone()]);
+            if report[k] {
+                let touches = Reporting {
+                    collider: k as u32,
+                    first_row: offset + start,
+                    out: &mut lane.touches,
+                };
+                resolve_rows(
+                    collider.as_ref(),
+                    x,
+                    v,
+                    radius,
+                    inverse_mass,
+                    &mut lane.rows,
+                    Some(touches),
+                );
+                continue;
+            }
             let blocks = BlockColumns {
                 position: x,
                 velocity: v,
@@ -268,14 +289,7 @@ fn step_lane(
                 point: facts.point,
             };
             if !collider.resolve_blocks(blocks) {
-                resolve_rows(
-                    collider.as_ref(),
-                    x,
-                    v,
-                    &c.radius[rows.clone()],
-                    &c.inverse_mass[rows.clone()],
-                    &mut lane.rows,
-                );
+                resolve_rows(collider.as_ref(), x, v, radius, inverse_mass, &mut lane.rows, None);
             }
         }
         if outcome.first_bad.is_none() {
@@ -286,8 +300,16 @@ fn step_lane(
     Ok(outcome)
 }
 
-/// A collider without a block kernel, on a chunk's rows: gathered into
-/// scratch, resolved, written back.
+/// Where a reporting collider's contacts go: its index, the global row of
+/// the first row it is given, and the list.
+struct Reporting<'a> {
+    collider: u32,
+    first_row: usize,
+    out: &'a mut Vec<RowTouch>,
+}
+
+/// A collider without a block kernel (or one that reports contacts), on a
+/// chunk's rows: gathered into scratch, resolved, written back.
 fn resolve_rows(
     collider: &dyn Collider,
     x: &mut [Vec3x4],
@@ -295,9 +317,14 @@ fn resolve_rows(
     radius: &[f32],
     inverse_mass: &[f32],
     scratch: &mut Rows,
+    reporting: Option<Reporting<'_>>,
 ) {
     gather(x, radius.len(), &mut scratch.x);
     gather(v, radius.len(), &mut scratch.v);
+    if reporting.is_some() {
+        scratch.before_x.clone_from(&scratch.x);
+        scratch.before_v.clone_from(&scratch.v);
+    }
     collider.resolve_range(ContactColumns {
         position: &mut scratch.x,
         velocity: &mut scratch.v,
@@ -305,8 +332,83 @@ fn resolve_rows(
         inverse_mass,
         parallel: false,
     });
+    if let Some(r) = reporting {
+        let s = &*scratch;
+        diff_touches(
+            r.collider,
+            r.first_row,
+            &s.before_x,
+            &s.before_v,
+            &s.x,
+            &s.v,
+            radius,
+            inverse_mass,
+            r.out,
+        );
+    }
     scatter(&scratch.x, x);
     scatter(&scratch.v, v);
+}
+
+/// A reporting collider over the whole world: its own pair reports if it
+/// makes them, else the contacts found by comparing states.
+fn resolve_world_reporting(
+    collider: &mut dyn Collider,
+    index: u32,
+    c: ContactColumns<'_>,
+    before_x: &mut Vec<Vec3A>,
+    before_v: &mut Vec<Vec3A>,
+    out: &mut Vec<RowTouch>,
+) {
+    let (radius, inverse_mass) = (c.radius, c.inverse_mass);
+    if !collider.is_pointwise() {
+        let mut report = |pair: PairTouch| {
+            // One per pair, under the lower row, the normal towards it.
+            let (row, other, normal) = if pair.a <= pair.b {
+                (pair.a, pair.b, pair.normal)
+            } else {
+                (pair.b, pair.a, -pair.normal)
+            };
+            out.push(RowTouch {
+                collider: index,
+                row: row as u32,
+                other: other as u32,
+                point: pair.point,
+                normal,
+                impulse: pair.impulse,
+            });
+        };
+        let reborrow = ContactColumns {
+            position: &mut *c.position,
+            velocity: &mut *c.velocity,
+            radius,
+            inverse_mass,
+            parallel: false,
+        };
+        if collider.resolve_world_reporting(reborrow, &mut report) {
+            return;
+        }
+    }
+    before_x.clear();
+    before_x.extend_from_slice(c.position);
+    before_v.clear();
+    before_v.extend_from_slice(c.velocity);
+    collider.resolve_world(ContactColumns {
+        position: &mut *c.position,
+        velocity: &mut *c.velocity,
+        ..c
+    });
+    diff_touches(
+        index,
+        0,
+        before_x,
+        before_v,
+        c.position,
+        c.velocity,
+        radius,
+        inverse_mass,
+        out,
+    );
 }
 
 /// Steps between two flushes of subnormal velocities.
@@ -380,6 +482,9 @@ impl World {
         {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
+        for collider in &mut self.colliders.colliders {
+            collider.advance(dt);
+        }
         self.integrate(t, dt, tick, &mut report)?;
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
             flush_subnormals(self.particles.velocity.blocks_mut());
@@ -406,7 +511,7 @@ impl World {
     fn integrate(&mut self, t: f32, dt: f32, tick: u64, report: &mut StepReport) -> Result<(), SimulationError> {
         let fused = self.integrator.splits_pointwise()
             && self.forces.iter().all(|f| f.is_pointwise())
-            && self.colliders.iter().all(|c| c.is_pointwise());
+            && self.colliders.colliders.iter().all(|c| c.is_pointwise());
         // Double buffering: the positions at the start of the step become
         // the previous positions (for interpolation) by a swap, and the step
         // writes the new positions into the other buffer; nothing is copied.
@@ -430,6 +535,7 @@ impl World {
             }
         };
         report.evaluations = outcome.evaluations;
+        self.name_contacts(fused);
         if let Some(row) = outcome.first_bad {
             return Err(self.non_finite(tick, row, NonFiniteCause::Step));
         }
@@ -468,6 +574,7 @@ impl World {
             self.lanes.push(Lane {
                 method,
                 rows: Rows::default(),
+                touches: Vec::new(),
             });
         }
         let columns = LaneColumns {
@@ -478,9 +585,13 @@ impl World {
             radius: &p.radius,
             inverse_mass: &p.inverse_mass,
         };
-        let (forces, colliders) = (&self.forces[..], &self.colliders[..]);
+        let (forces, colliders) = (&self.forces[..], &self.colliders.colliders[..]);
+        let reports = &self.colliders.reports[..];
+        for lane in &mut self.lanes[lanes..] {
+            lane.touches.clear();
+        }
         if lanes == 1 {
-            return step_lane(&mut self.lanes[0], forces, colliders, t, dt, 0, columns);
+            return step_lane(&mut self.lanes[0], forces, colliders, reports, t, dt, 0, columns);
         }
         columns
             .x
@@ -501,7 +612,7 @@ impl World {
                     inverse_mass,
                     facts,
                 };
-                step_lane(lane, forces, colliders, t, dt, k * len, c)
+                step_lane(lane, forces, colliders, reports, t, dt, k * len, c)
             })
             .reduce(|| Ok(LaneOutcome::default()), merge)
     }
@@ -523,14 +634,28 @@ impl World {
         let stats = self
             .integrator
             .step_from(t, dt, &g.other, &mut g.x, &mut g.v, &mut field)?;
-        for collider in &mut self.colliders {
-            collider.resolve_world(ContactColumns {
+        self.touches.clear();
+        let set = &mut self.colliders;
+        for (k, collider) in set.colliders.iter_mut().enumerate() {
+            let columns = ContactColumns {
                 position: &mut g.x,
                 velocity: &mut g.v,
                 radius: &p.radius,
                 inverse_mass: &p.inverse_mass,
                 parallel: n >= self.config.parallel_threshold,
-            });
+            };
+            if set.reports[k] {
+                resolve_world_reporting(
+                    collider.as_mut(),
+                    k as u32,
+                    columns,
+                    &mut g.before_x,
+                    &mut g.before_v,
+                    &mut self.touches,
+                );
+            } else {
+                collider.resolve_world(columns);
+            }
         }
         p.position.scatter_from(&g.x);
         p.velocity.scatter_from(&g.v);
@@ -538,6 +663,40 @@ impl World {
             evaluations: stats.evaluations,
             first_bad: Vec3Column::first_non_finite(p.position.blocks(), p.velocity.blocks(), n, 0),
         })
+    }
+
+    /// The contacts the step's colliders reported, by row (from the lanes
+    /// of a fused step, in lane order, or from the plain step), sorted into
+    /// the canonical order and named by entity, while the rows are still
+    /// those the step found them at.
+    fn name_contacts(&mut self, fused: bool) {
+        self.contacts.clear();
+        if !self.colliders.any_reports() {
+            return;
+        }
+        if fused {
+            self.touches.clear();
+            for lane in &self.lanes {
+                self.touches.extend_from_slice(&lane.touches);
+            }
+        }
+        // Keys are unique (one touch per row and collider, one per pair),
+        // so an unstable sort, which allocates nothing, is deterministic.
+        self.touches.sort_unstable_by_key(RowTouch::key);
+        let rows = self.entities.rows();
+        let ids = &self.colliders.ids;
+        self.contacts
+            .extend(self.touches.iter().map(|t| crate::colliders::Contact {
+                entity: rows[t.row as usize],
+                touched: if t.other == u32::MAX {
+                    crate::colliders::Touched::Collider(ids[t.collider as usize])
+                } else {
+                    crate::colliders::Touched::Entity(rows[t.other as usize])
+                },
+                point: t.point.into(),
+                normal: t.normal.into(),
+                impulse: t.impulse,
+            }));
     }
 
     /// The error for row `row`'s non-finite position or velocity.

@@ -57,6 +57,7 @@ fn scene(method: &str, threshold: usize, plain: bool) -> World {
         max: Vec3::splat(5.0),
         inside: true,
         material: Material::default(),
+        velocity: Vec3::ZERO,
     });
     if plain {
         w.add_collider(ForcePlainPath);

@@ -134,6 +134,7 @@ fn box_container_keeps_particles_inside_and_obstacle_keeps_them_out() {
             restitution: 0.9,
             friction: 0.0,
         },
+        velocity: Vec3::ZERO,
     });
     let mut obstacle = world("semi_implicit_euler");
     obstacle.add_force(Gravity::EARTH);
@@ -142,6 +143,7 @@ fn box_container_keeps_particles_inside_and_obstacle_keeps_them_out() {
         max: Vec3::new(1.0, 0.0, 1.0),
         inside: false,
         material: Material::default(),
+        velocity: Vec3::ZERO,
     });
     let mut inside = Vec::new();
     let mut outside = Vec::new();
@@ -225,6 +227,7 @@ fn sphere_grid_resolves_a_crowd_without_overlaps() {
         max: Vec3::new(1.0, 10.0, 1.0),
         inside: true,
         material: Material::default(),
+        velocity: Vec3::ZERO,
     });
     w.add_collider(SphereCollisions::new(Material {
         restitution: 0.1,

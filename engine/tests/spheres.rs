@@ -21,9 +21,8 @@ fn step(w: &mut World) -> Result<(), SimulationError> {
 
 /// The world's sphere collider.
 fn spheres(w: &mut World) -> &SphereCollisions {
-    w.colliders_mut()
-        .iter()
-        .find_map(|c| c.as_any().downcast_ref::<SphereCollisions>())
+    w.colliders()
+        .find_map(|(_, c)| c.as_any().downcast_ref::<SphereCollisions>())
         .expect("a sphere collider")
 }
 

@@ -440,6 +440,7 @@ macro_rules! engine_errors {
 engine_errors!(
     crate::world::SpawnError,
     crate::world::EntityError,
+    crate::colliders::ColliderError,
     crate::world::WorldError,
     crate::scene::SceneError,
     crate::clock::ClockError,

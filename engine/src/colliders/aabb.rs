@@ -6,7 +6,10 @@ use glam::{Vec3, Vec3A};
 use super::contact::{Material, resolve};
 use super::{Collider, ContactColumns};
 
-/// An axis-aligned box from `min` to `max`.
+/// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
+/// by its `velocity` each step (a paddle, a lift), never by forces or
+/// contacts, and bouncing particles in its own frame, so a moving wall
+/// hands them its speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoxCollider {
     /// Lower corner.
@@ -17,9 +20,65 @@ pub struct BoxCollider {
     pub inside: bool,
     /// Bounce and friction.
     pub material: Material,
+    /// Velocity in m/s (default zero: at rest). Each step first moves the
+    /// box by `velocity dt`, then resolves contacts relative to it:
+    /// `v' = u + response(v - u)`.
+    pub velocity: Vec3,
 }
 
 impl BoxCollider {
+    /// A solid box particles stay out of (a brick, a paddle), at rest.
+    #[must_use]
+    pub fn solid(min: Vec3, max: Vec3, material: Material) -> Self {
+        Self {
+            min,
+            max,
+            inside: false,
+            material,
+            velocity: Vec3::ZERO,
+        }
+    }
+
+    /// A container particles stay inside (the walls of a room), at rest.
+    #[must_use]
+    pub fn container(min: Vec3, max: Vec3, material: Material) -> Self {
+        Self {
+            inside: true,
+            ..Self::solid(min, max, material)
+        }
+    }
+
+    /// The box's centre.
+    #[must_use]
+    pub fn centre(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Moves the box so its centre is at `centre`, keeping its size (a
+    /// teleport: the velocity is unchanged).
+    pub fn set_centre(&mut self, centre: Vec3) {
+        let half = (self.max - self.min) * 0.5;
+        (self.min, self.max) = (centre - half, centre + half);
+    }
+
+    /// The corners `(min, max)` where a frame `alpha` steps past the last
+    /// one shows a kinematic box: `velocity dt (1 - alpha)` behind its
+    /// current place, the position between its last two steps (as
+    /// particles are drawn).
+    #[must_use]
+    pub fn interpolated(&self, alpha: f32, dt: f32) -> (Vec3, Vec3) {
+        let back = self.velocity * (dt * (1.0 - alpha));
+        (self.min - back, self.max - back)
+    }
+
+    fn resolve_one(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
+        if self.inside {
+            self.contain(x, v, r, movable);
+        } else {
+            self.exclude(x, v, r, movable);
+        }
+    }
+
     fn contain(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
         // Clear of all six walls (most particles, most steps): no wall's
         // gap below is negative, so none would act. The gaps are computed
@@ -77,12 +136,28 @@ impl Collider for BoxCollider {
     }
 
     fn resolve_range(&self, mut c: ContactColumns<'_>) {
-        for (x, v, r, w) in c.rows() {
-            if self.inside {
-                self.contain(x, v, r, w > 0.0);
-            } else {
-                self.exclude(x, v, r, w > 0.0);
+        if self.velocity == Vec3::ZERO {
+            for (x, v, r, w) in c.rows() {
+                self.resolve_one(x, v, r, w > 0.0);
             }
+            return;
+        }
+        // Moving: the contact in the box's frame, where it is at rest.
+        let u = Vec3A::from(self.velocity);
+        for (x, v, r, w) in c.rows() {
+            let mut relative = *v - u;
+            let before = relative;
+            self.resolve_one(x, &mut relative, r, w > 0.0);
+            if relative != before {
+                *v = relative + u;
+            }
+        }
+    }
+
+    fn advance(&mut self, dt: f32) {
+        if self.velocity != Vec3::ZERO {
+            let d = self.velocity * dt;
+            (self.min, self.max) = (self.min + d, self.max + d);
         }
     }
 }
@@ -101,6 +176,7 @@ mod tests {
                 restitution: 0.4,
                 friction: 0.3,
             },
+            velocity: Vec3::ZERO,
         };
         // A lattice through and around the box, including points exactly a
         // radius from a wall (the boundary of the skip).

@@ -12,7 +12,9 @@
 
 mod aabb;
 mod contact;
+mod contacts;
 mod plane;
+pub(crate) mod set;
 mod spheres;
 
 use core::any::Any;
@@ -23,7 +25,10 @@ use tickwork_integrators::Vec3x4;
 
 pub use aabb::BoxCollider;
 pub use contact::Material;
+pub use contacts::{ColliderId, Contact, PairTouch, Touched};
+pub(crate) use contacts::{RowTouch, diff_touches};
 pub use plane::Plane;
+pub use set::ColliderError;
 pub use spheres::SphereCollisions;
 
 /// The particle columns a collider may read and change.
@@ -139,6 +144,23 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     fn resolve_world(&mut self, columns: ContactColumns<'_>) {
         self.resolve_range(columns);
     }
+
+    /// For colliders that resolve pairs of particles (not pointwise):
+    /// resolves as [`resolve_world`](Self::resolve_world) does, the same
+    /// bits, calling `report` for each pair that touched, and returns true;
+    /// or returns false (the default) to have the engine find the contacts
+    /// by comparing states (each then touches the collider itself). Called
+    /// only when the collider reports contacts.
+    fn resolve_world_reporting(&mut self, columns: ContactColumns<'_>, report: &mut dyn FnMut(PairTouch)) -> bool {
+        let _ = (columns, report);
+        false
+    }
+
+    /// Moves a kinematic collider by its own velocity over a step of `dt`
+    /// seconds, before the step's contacts (default: it does not move).
+    fn advance(&mut self, dt: f32) {
+        let _ = dt;
+    }
 }
 
 /// Copying a collider, for world snapshots. Implemented for every `Collider + Clone`.
@@ -147,6 +169,9 @@ pub trait ColliderState {
     fn clone_boxed(&self) -> Box<dyn Collider>;
     /// The collider as `Any`, to copy into a collider of the same type.
     fn as_any(&self) -> &dyn Any;
+    /// The collider as `Any`, to change it through its type
+    /// ([`World::collider_mut`](crate::World::collider_mut)).
+    fn as_any_mut(&mut self) -> &mut dyn Any;
     /// Overwrites `self` with `source` if they are the same type, reusing
     /// buffers; returns false otherwise.
     fn copy_state_from(&mut self, source: &dyn Collider) -> bool;
@@ -157,6 +182,9 @@ impl<T: Collider + Clone + 'static> ColliderState for T {
         Box::new(self.clone())
     }
     fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
         self
     }
     fn copy_state_from(&mut self, source: &dyn Collider) -> bool {

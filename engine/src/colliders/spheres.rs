@@ -43,7 +43,18 @@ use glam::{I64Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::contact::Material;
-use super::{Collider, ContactColumns};
+use super::{Collider, ContactColumns, PairTouch};
+
+/// A touching pair found while reporting: sorted indices, the contact
+/// point, the normal towards `i`, the impulse `i` received.
+#[derive(Clone, Copy)]
+struct SortedPair {
+    i: u32,
+    j: u32,
+    point: Vec3A,
+    normal: Vec3A,
+    impulse: f32,
+}
 
 /// Largest number of grid cells per particle for which the grid is dense.
 pub const DENSE_CELLS: usize = 8;
@@ -88,6 +99,9 @@ pub struct SphereCollisions {
     tested: usize,
     /// Slabs the dense grid was cut into in the last step (0: another grid).
     slabs: usize,
+    /// Whether this step records its pairs (contact reporting), and them.
+    recording: bool,
+    pairs: Vec<SortedPair>,
 }
 
 impl Clone for SphereCollisions {
@@ -245,6 +259,8 @@ struct Window<'a> {
     restitution: f32,
     tested: usize,
     contacts: usize,
+    /// Where touching pairs are recorded, when reporting (serial only).
+    pairs: Option<&'a mut Vec<SortedPair>>,
 }
 
 /// One sphere's state while its partners are visited, held in registers:
@@ -266,6 +282,7 @@ impl<'a> Window<'a> {
         radius: &'a [f32],
         inverse_mass: &'a [f32],
         material: Material,
+        pairs: Option<&'a mut Vec<SortedPair>>,
     ) -> Self {
         Window {
             base: 0,
@@ -276,6 +293,7 @@ impl<'a> Window<'a> {
             restitution: material.restitution,
             tested: 0,
             contacts: 0,
+            pairs,
         }
     }
 
@@ -301,14 +319,14 @@ impl<'a> Window<'a> {
     #[inline]
     fn pair(&mut self, i: usize, j: usize) {
         let mut a = self.take(i);
-        self.pair_with(&mut a, j);
+        self.pair_with(&mut a, i, j);
         self.put(i, a);
     }
 
-    /// Resolves the contact of sphere `a` (taken from the window) with
-    /// sorted particle `j`, if they touch.
+    /// Resolves the contact of sphere `a` (sorted particle `i`, taken from
+    /// the window) with sorted particle `j`, if they touch.
     #[inline]
-    fn pair_with(&mut self, a: &mut Sphere, j: usize) {
+    fn pair_with(&mut self, a: &mut Sphere, i: usize, j: usize) {
         self.tested += 1;
         let lj = j - self.base;
         let d = self.position[lj] - a.position;
@@ -330,10 +348,21 @@ impl<'a> Window<'a> {
         a.position -= push * wi;
         self.position[lj] += push * wj;
         let vn = (self.velocity[lj] - a.velocity).dot(normal);
+        let mut magnitude = 0.0;
         if vn < 0.0 {
-            let impulse = normal * (-(1.0 + self.restitution) * vn / w);
+            magnitude = -(1.0 + self.restitution) * vn / w;
+            let impulse = normal * magnitude;
             a.velocity -= impulse * wi;
             self.velocity[lj] += impulse * wj;
+        }
+        if let Some(pairs) = self.pairs.as_deref_mut() {
+            pairs.push(SortedPair {
+                i: i as u32,
+                j: j as u32,
+                point: a.position + normal * a.radius,
+                normal: -normal,
+                impulse: magnitude,
+            });
         }
     }
 
@@ -341,19 +370,38 @@ impl<'a> Window<'a> {
     fn split(self, at: usize) -> (Self, Self) {
         let (p0, p1) = self.position.split_at_mut(at - self.base);
         let (v0, v1) = self.velocity.split_at_mut(at - self.base);
+        // Pairs are recorded by one window only: the right one, which the
+        // odd slabs continue in (reporting solves serially, never splitting
+        // both halves to solve at once).
+        let Window {
+            base,
+            radius,
+            inverse_mass,
+            restitution,
+            pairs,
+            ..
+        } = self;
         let left = Window {
-            base: self.base,
+            base,
             position: p0,
             velocity: v0,
+            radius,
+            inverse_mass,
+            restitution,
             tested: 0,
             contacts: 0,
-            ..self
+            pairs: None,
         };
         let right = Window {
             base: at,
             position: p1,
             velocity: v1,
-            ..left
+            radius,
+            inverse_mass,
+            restitution,
+            tested: 0,
+            contacts: 0,
+            pairs,
         };
         (left, right)
     }
@@ -403,7 +451,7 @@ impl DenseGrid<'_> {
                 let first = self.starts[self.index(I64Vec3::new(x0, y, z)) as usize] as usize;
                 let end = self.starts[self.index(I64Vec3::new(x1, y, z)) as usize + 1] as usize;
                 for j in first.max(i + 1)..end {
-                    w.pair_with(&mut a, j);
+                    w.pair_with(&mut a, i, j);
                 }
             }
             w.put(i, a);
@@ -544,6 +592,25 @@ impl Collider for SphereCollisions {
         }
         self.write_back(c);
     }
+
+    fn resolve_world_reporting(&mut self, c: ContactColumns<'_>, report: &mut dyn FnMut(PairTouch)) -> bool {
+        // Serial, so one list records the pairs in the solve's own order
+        // (the same bits as the parallel solve: the order is the grid's).
+        self.pairs.clear();
+        self.recording = true;
+        self.resolve_world(ContactColumns { parallel: false, ..c });
+        self.recording = false;
+        for pair in &self.pairs {
+            report(PairTouch {
+                a: self.sorted[pair.i as usize] as usize,
+                b: self.sorted[pair.j as usize] as usize,
+                point: pair.point,
+                normal: pair.normal,
+                impulse: pair.impulse,
+            });
+        }
+        true
+    }
 }
 
 impl SphereCollisions {
@@ -611,6 +678,7 @@ impl SphereCollisions {
                 &self.radius,
                 &self.inverse_mass,
                 self.material,
+                self.recording.then_some(&mut self.pairs),
             );
             if colour == 1 {
                 w = w.split(self.slab_starts[1] as usize).1;
@@ -634,6 +702,7 @@ impl SphereCollisions {
             &self.radius,
             &self.inverse_mass,
             self.material,
+            self.recording.then_some(&mut self.pairs),
         );
         for i in 0..n {
             let home = sorted_cell[i];
@@ -692,6 +761,7 @@ impl SphereCollisions {
             &self.radius,
             &self.inverse_mass,
             self.material,
+            self.recording.then_some(&mut self.pairs),
         );
         for i in 0..n {
             let own = sorted_level[i];

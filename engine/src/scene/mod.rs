@@ -298,13 +298,18 @@ impl Scene {
                     max,
                     inside,
                     material,
-                } => world.add_collider(BoxCollider {
-                    min: min.into(),
-                    max: max.into(),
-                    inside,
-                    material: material_of(material),
-                }),
-                ColliderSpec::Spheres { material } => world.add_collider(SphereCollisions::new(material_of(material))),
+                } => {
+                    world.add_collider(BoxCollider {
+                        min: min.into(),
+                        max: max.into(),
+                        inside,
+                        material: material_of(material),
+                        velocity: Vec3::ZERO,
+                    });
+                }
+                ColliderSpec::Spheres { material } => {
+                    world.add_collider(SphereCollisions::new(material_of(material)));
+                }
             }
         }
         Ok((world, listed))

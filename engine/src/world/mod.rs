@@ -23,6 +23,7 @@ macro_rules! clone_fields {
     };
 }
 
+mod colliders;
 pub(crate) mod column;
 mod columns;
 mod entity;
@@ -44,7 +45,8 @@ pub use entity::{Entities, Entity, EntityError};
 pub use particles::{Colour, Particle, Particles, SpawnError};
 pub use rigid::{RigidBodies, RigidBody};
 
-use crate::colliders::Collider;
+use crate::colliders::set::ColliderSet;
+use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
 use crate::forces::Force;
 use columns::Columns;
@@ -144,6 +146,8 @@ pub(crate) enum Command {
 pub(crate) struct Lane {
     pub method: Box<dyn Integrator<Vec3x4>>,
     pub rows: Rows,
+    /// The lane's contacts, for colliders that report them.
+    pub touches: Vec<RowTouch>,
 }
 
 /// Scratch rows, one `Vec3A` per particle, for the parts of a step that take
@@ -154,6 +158,9 @@ pub(crate) struct Rows {
     pub x: Vec<Vec3A>,
     pub v: Vec<Vec3A>,
     pub other: Vec<Vec3A>,
+    /// Positions and velocities before a reporting collider ran.
+    pub before_x: Vec<Vec3A>,
+    pub before_v: Vec<Vec3A>,
 }
 
 impl Clone for Lane {
@@ -161,6 +168,7 @@ impl Clone for Lane {
         Self {
             method: self.method.clone_boxed(),
             rows: Rows::default(),
+            touches: Vec::new(),
         }
     }
 }
@@ -186,7 +194,9 @@ pub struct World {
     pub(crate) rigid: RigidBodies,
     columns: Columns,
     pub(crate) forces: Vec<Box<dyn Force>>,
-    pub(crate) colliders: Vec<Box<dyn Collider>>,
+    pub(crate) colliders: ColliderSet,
+    /// The contacts of the last step, for colliders that report them.
+    pub(crate) contacts: Vec<Contact>,
     pub(crate) emitters: Vec<Emitter>,
     pub(crate) integrator: Box<dyn Integrator<Vec3A>>,
     pub(crate) angular: Box<dyn AngularIntegrator<Quat>>,
@@ -210,6 +220,8 @@ pub struct World {
     pub(crate) expired: Vec<Entity>,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
     pub(crate) gathered: Rows,
+    /// Contacts by row, before they are sorted and named.
+    pub(crate) touches: Vec<RowTouch>,
 }
 
 impl Clone for World {
@@ -221,6 +233,7 @@ impl Clone for World {
             columns: self.columns.clone(),
             forces: self.forces.clone(),
             colliders: self.colliders.clone(),
+            contacts: self.contacts.clone(),
             emitters: self.emitters.clone(),
             integrator: self.integrator.clone_boxed(),
             angular: self.angular.clone_boxed(),
@@ -237,6 +250,7 @@ impl Clone for World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
+            touches: Vec::new(),
         }
     }
 
@@ -250,6 +264,7 @@ impl Clone for World {
         self.columns.clone_from(&source.columns);
         self.forces.clone_from(&source.forces);
         self.colliders.clone_from(&source.colliders);
+        self.contacts.clone_from(&source.contacts);
         self.emitters.clone_from(&source.emitters);
         if !self.integrator.copy_state_from(source.integrator.as_ref()) {
             self.integrator = source.integrator.clone_boxed();
@@ -283,7 +298,7 @@ impl fmt::Debug for World {
             .field("rigid_bodies", &self.rigid.len())
             .field("integrator", &self.integrator.info().name)
             .field("forces", &self.forces)
-            .field("colliders", &self.colliders)
+            .field("colliders", &self.colliders.colliders)
             .field("tick", &self.tick)
             .finish_non_exhaustive()
     }
@@ -326,7 +341,8 @@ impl World {
             rigid: RigidBodies::default(),
             columns: Columns::default(),
             forces: Vec::new(),
-            colliders: Vec::new(),
+            colliders: ColliderSet::default(),
+            contacts: Vec::new(),
             emitters: Vec::new(),
             integrator,
             angular,
@@ -343,6 +359,7 @@ impl World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
+            touches: Vec::new(),
         })
     }
 
@@ -709,16 +726,6 @@ impl World {
         self.forces.iter_mut().find_map(|f| f.as_any_mut().downcast_mut::<T>())
     }
 
-    /// Adds a collider.
-    pub fn add_collider(&mut self, collider: impl Collider + 'static) {
-        self.colliders.push(Box::new(collider));
-    }
-
-    /// The colliders, to inspect, change or remove.
-    pub fn colliders_mut(&mut self) -> &mut Vec<Box<dyn Collider>> {
-        &mut self.colliders
-    }
-
     /// Adds an emitter.
     ///
     /// # Errors
@@ -852,6 +859,16 @@ impl World {
         for (q, w) in self.rigid.orientation.iter().zip(&self.rigid.angular_velocity) {
             h.f32s(&q.to_array());
             h.f32s(&w.to_array());
+        }
+        for c in &self.contacts {
+            h.u64(c.entity.to_bits());
+            h.u64(match c.touched {
+                crate::colliders::Touched::Collider(id) => id.0,
+                crate::colliders::Touched::Entity(e) => e.to_bits() | 1 << 63,
+            });
+            h.f32s(&c.point.to_array());
+            h.f32s(&c.normal.to_array());
+            h.f32s(&[c.impulse]);
         }
         h.u64(rand::Rng::next_u64(&mut self.rng.clone()));
         h.0
