@@ -21,11 +21,13 @@ pub use tickwork_engine::app::{exit_code, run};
 pub mod prelude {
     pub use crate::glam::{Quat, Vec2, Vec3};
     pub use tickwork_engine::app::{
-        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, exit_code, run,
+        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, Viewport, WorldId,
+        exit_code, run,
     };
-    pub use tickwork_engine::render::{Camera, Line};
+    pub use tickwork_engine::render::{Anchor, Camera, Line};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material, Particle, Plane,
-        QuadraticDrag, Rate, RigidBody, Spring, SpringEnd, Springs, Wind, World, WorldConfig,
+        Attractor, BoxCollider, ColliderId, Contact, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material,
+        Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs, Touched, Wind,
+        World, WorldConfig,
     };
 }

@@ -73,6 +73,8 @@ pub enum Flight {
 /// The lander game.
 #[derive(Debug)]
 pub struct Lander {
+    /// The world, once set up.
+    moon: Option<WorldId>,
     ship: Option<Entity>,
     /// Tilt from upright, radians (positive: leaning left, engine pushes right).
     angle: f32,
@@ -88,6 +90,7 @@ pub struct Lander {
 impl Default for Lander {
     fn default() -> Self {
         Self {
+            moon: None,
             ship: None,
             angle: 0.0,
             fuel: FUEL,
@@ -152,10 +155,9 @@ impl Lander {
             colour: [230, 230, 240, 255],
             ..Particle::default()
         })?;
-        if stage.worlds.is_empty() {
-            stage.add_world("moon", world);
-        } else {
-            stage.worlds[0].world = world;
+        match self.moon {
+            Some(moon) => *stage.world_mut(moon)? = world,
+            None => self.moon = Some(stage.add_world("moon", world).id()),
         }
         self.ship = Some(ship);
         self.angle = 0.0;
@@ -253,11 +255,11 @@ impl Game for Lander {
             }
             return Ok(());
         }
-        let Some(ship) = self.ship else {
+        let (Some(moon), Some(ship)) = (self.moon, self.ship) else {
             return Ok(());
         };
         let dt = step.dt as f32;
-        let world = stage.world_mut(0);
+        let world = stage.world_mut(moon)?;
         let turn = f32::from(u8::from(input.held(Key::Left))) - f32::from(u8::from(input.held(Key::Right)));
         self.angle = (self.angle + TURN * turn * dt).clamp(-1.5, 1.5);
         let burn = [Key::Up, Key::W, Key::Space].iter().any(|&k| input.held(k)) && self.fuel > 0.0;
@@ -281,7 +283,10 @@ impl Game for Lander {
         Ok(())
     }
 
-    fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) {
+    fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        let Some(moon) = self.moon else {
+            return Ok(());
+        };
         // The ground, and the pad in green.
         let hill = |k: u32| {
             let x = -12.0 + 24.0 * k as f32 / 96.0;
@@ -298,7 +303,7 @@ impl Game for Lander {
                 [90, 230, 120, 255],
             );
         }
-        let world = stage.world(0);
+        let world = stage.world(moon)?;
         if let Some(centre) = self
             .ship
             .and_then(|ship| world.row(ship).ok())
@@ -357,6 +362,7 @@ impl Game for Lander {
                 let _ = writeln!(draw.hud, "CRASHED: {reason}. Enter to try again");
             }
         }
+        Ok(())
     }
 
     fn outcome(&self, _stage: &Stage) -> Option<String> {

@@ -203,7 +203,7 @@ fn replay(frame: impl Fn(u64) -> f64) -> (Vec<(u64, Flight)>, u64) {
         }
     }
     // The frame that crosses the recording's end may run a step or two more.
-    (seen, session.stage().world(0).state_hash())
+    (seen, session.stage().worlds[0].world.state_hash())
 }
 
 #[test]
@@ -269,8 +269,8 @@ fn a_recording_made_live_replays_to_the_same_state() {
     }
     assert_eq!(replayed.ticks(), live.ticks());
     assert_eq!(
-        replayed.stage().world(0).state_hash(),
-        live.stage().world(0).state_hash(),
+        replayed.stage().worlds[0].world.state_hash(),
+        live.stage().worlds[0].world.state_hash(),
         "the replay reaches the live run's exact state"
     );
     // Recording again to the same file is refused without --force.

@@ -4,9 +4,9 @@
 use glam::Vec3;
 use tickwork_engine::app::{
     Control, FrameSource, Game, GameError, GameSession, Key, OnFailure, Recording, RunError, SessionOptions, Settings,
-    Stage, TickInput,
+    Stage, TickInput, WorldId,
 };
-use tickwork_engine::{FixedStep, Gravity, Particle, Spring, SpringEnd, Springs, World, WorldConfig};
+use tickwork_engine::{Entity, FixedStep, Gravity, Particle, Spring, SpringEnd, Springs, World, WorldConfig};
 
 /// Logs the input of every tick; one falling ball per world.
 #[derive(Default)]
@@ -14,6 +14,8 @@ struct Probe {
     seen: Vec<(u64, TickInput)>,
     worlds: Vec<(&'static str, bool, OnFailure)>,
     setups: u32,
+    /// Each world and its ball, from the last set-up.
+    balls: Vec<(WorldId, Entity)>,
 }
 
 impl Game for Probe {
@@ -23,6 +25,8 @@ impl Game for Probe {
 
     fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
         self.setups += 1;
+        stage.switch_integrators = true;
+        self.balls.clear();
         for &(name, fixed, on_failure) in &self.worlds {
             let mut world = World::new(WorldConfig {
                 integrator: name.into(),
@@ -30,10 +34,10 @@ impl Game for Probe {
                 ..WorldConfig::default()
             })?;
             world.add_force(Gravity::EARTH);
-            world.spawn(Particle::default())?;
-            let index = stage.add_world(name, world);
-            stage.worlds[index].fixed_integrator = fixed;
-            stage.worlds[index].on_failure = on_failure;
+            let ball = world.spawn(Particle::default())?;
+            let added = stage.add_world(name, world).on_failure(on_failure);
+            let id = if fixed { added.fixed_integrator() } else { added }.id();
+            self.balls.push((id, ball));
         }
         Ok(())
     }
@@ -110,13 +114,14 @@ fn restart_sets_the_game_up_again_at_tick_zero() {
     game.control(Control::Reset).expect("restarts");
     assert_eq!(game.ticks(), 0);
     assert_eq!(game.game().setups, 2);
-    let world = game.stage().world(0);
+    let (id, ball) = game.game().balls[0];
+    let world = game.stage().world(id).expect("on the stage");
     assert_eq!(world.tick(), 0);
-    assert_eq!(world.position(world.entities().rows()[0]).ok(), Some(Vec3::ZERO));
+    assert_eq!(world.position(ball).ok(), Some(Vec3::ZERO));
 }
 
 /// A spring of 1e6 N/m on a 1 g particle: explicit Euler blows up at once.
-fn explosive(stage: &mut Stage, on_failure: OnFailure) {
+fn explosive(stage: &mut Stage, on_failure: OnFailure) -> WorldId {
     let mut world = World::new(WorldConfig {
         integrator: "explicit_euler".into(),
         ..WorldConfig::default()
@@ -136,11 +141,23 @@ fn explosive(stage: &mut Stage, on_failure: OnFailure) {
         rest_length: 0.5,
         damping: 0.0,
     }]));
-    let index = stage.add_world("explosive", world);
-    stage.worlds[index].on_failure = on_failure;
+    stage.add_world("explosive", world).on_failure(on_failure).id()
 }
 
-struct Explosive(OnFailure);
+/// An explosive world and a calm one, kept by id.
+struct Explosive {
+    on_failure: OnFailure,
+    worlds: Option<(WorldId, WorldId)>,
+}
+
+impl Explosive {
+    fn new(on_failure: OnFailure) -> Self {
+        Self {
+            on_failure,
+            worlds: None,
+        }
+    }
+}
 
 impl Game for Explosive {
     fn title(&self) -> &str {
@@ -148,17 +165,18 @@ impl Game for Explosive {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        explosive(stage, self.0);
+        stage.switch_integrators = true;
+        let explosive = explosive(stage, self.on_failure);
         let mut calm = World::default();
         calm.spawn(Particle::default())?;
-        stage.add_world("calm", calm);
+        self.worlds = Some((explosive, stage.add_world("calm", calm).id()));
         Ok(())
     }
 }
 
 #[test]
 fn a_failing_world_stops_the_run_naming_it_or_freezes_while_the_others_go_on() {
-    let mut stop = GameSession::new(Explosive(OnFailure::Stop), SessionOptions::default()).expect("a session");
+    let mut stop = GameSession::new(Explosive::new(OnFailure::Stop), SessionOptions::default()).expect("a session");
     let error = (0..600)
         .find_map(|_| stop.advance(STEP).err())
         .expect("explicit Euler blows up");
@@ -167,21 +185,22 @@ fn a_failing_world_stops_the_run_naming_it_or_freezes_while_the_others_go_on() {
     assert!(message.starts_with("world \"explosive\": step "), "{message}");
     assert!(message.contains("non-finite"), "{message}");
 
-    let mut freeze = GameSession::new(Explosive(OnFailure::Freeze), SessionOptions::default()).expect("a session");
+    let mut freeze = GameSession::new(Explosive::new(OnFailure::Freeze), SessionOptions::default()).expect("a session");
     for _ in 0..600 {
         freeze.advance(STEP).expect("a frozen world does not stop the run");
     }
-    let frozen = &freeze.stage().worlds[0];
+    let (explosive, calm) = freeze.game().worlds.expect("set up");
+    let frozen = freeze.stage().shown(explosive).expect("on the stage");
     let why = frozen.failure.as_deref().expect("it failed");
     assert!(why.starts_with("failed at t = "), "{why}");
     // Back to the last finite state, stopped there; the calm world ran on.
     let particles = frozen.world.particles();
     assert!(particles.position.iter().all(|p| p.is_finite()));
     assert!(frozen.world.tick() < 600);
-    assert_eq!(freeze.stage().world(1).tick(), 600);
+    assert_eq!(freeze.stage().world(calm).expect("on the stage").tick(), 600);
     // Switching its method resumes it.
     freeze.control(Control::Integrator(2)).expect("implicit Euler");
-    assert!(freeze.stage().worlds[0].failure.is_none());
+    assert!(freeze.stage().shown(explosive).expect("on the stage").failure.is_none());
 }
 
 #[test]

@@ -112,9 +112,10 @@ impl Game for Cloth {
     fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
         for (name, x0) in CLOTHS {
             let world = self.build(name, x0, settings.seed)?;
-            let index = stage.add_world(name, world);
-            stage.worlds[index].on_failure = OnFailure::Freeze;
+            stage.add_world(name, world).on_failure(OnFailure::Freeze);
         }
+        stage.panel = true;
+        stage.switch_integrators = true;
         stage.camera = Camera::Orbit {
             target: Vec3::new(0.0, 1.8, 0.0),
             distance: 10.5,
@@ -146,7 +147,7 @@ impl Game for Cloth {
         Ok(())
     }
 
-    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
+    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
         let k = self.stiffness();
         let omega_dt = (k / MASS).sqrt() * stage.rate.step_seconds() as f32;
         let _ = writeln!(
@@ -183,6 +184,7 @@ impl Game for Cloth {
                 ),
             };
         }
+        Ok(())
     }
 
     fn outcome(&self, stage: &Stage) -> Option<String> {

@@ -19,6 +19,8 @@ struct Fountain {
     /// Jet speed relative to the start (Up/Down).
     pressure: f32,
     wind: bool,
+    /// The fountain's world.
+    world: WorldId,
 }
 
 impl Fountain {
@@ -77,7 +79,9 @@ impl Game for Fountain {
         for jet in self.jets() {
             world.add_emitter(jet)?;
         }
-        stage.add_world("fountain", world);
+        self.world = stage.add_world("fountain", world).id();
+        stage.panel = true;
+        stage.switch_integrators = true;
         stage.camera = Camera::TwoD {
             center: Vec2::new(0.0, 3.6),
             height: 8.0,
@@ -94,7 +98,7 @@ impl Game for Fountain {
         if input.pressed(Key::W) {
             self.wind = !self.wind;
         }
-        let world = stage.world_mut(0);
+        let world = stage.world_mut(self.world)?;
         for (emitter, jet) in world.emitters_mut().iter_mut().zip(self.jets()) {
             *emitter = Emitter {
                 owed: emitter.owed,
@@ -117,7 +121,7 @@ impl Game for Fountain {
         Ok(())
     }
 
-    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
+    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
         draw.line(
             Vec3::new(-8.0, 0.0, 0.0),
             Vec3::new(8.0, 0.0, 0.0),
@@ -126,14 +130,15 @@ impl Game for Fountain {
         let _ = writeln!(
             draw.hud,
             "{} droplets  |  pressure {:.0}%  |  wind {}  (Left/Right sway, Up/Down pressure, W wind)",
-            stage.world(0).len(),
+            stage.world(self.world)?.len(),
             self.pressure * 100.0,
             if self.wind { "on" } else { "off" }
         );
+        Ok(())
     }
 
     fn outcome(&self, stage: &Stage) -> Option<String> {
-        Some(format!("{} droplets alive", stage.world(0).len()))
+        Some(format!("{} droplets alive", stage.world(self.world).ok()?.len()))
     }
 }
 

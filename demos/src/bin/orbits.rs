@@ -77,14 +77,15 @@ impl Game for Orbits {
                     ..Particle::default()
                 })?;
             }
-            let index = stage.add_world(*name, world);
-            let shown = &mut stage.worlds[index];
-            shown.colour = colour;
-            shown.fixed_integrator = true;
-            shown.on_failure = OnFailure::Freeze;
-            shown.trails = tickwork::engine::render::Trails::new(400);
-            stage.follow(index, planet, colour);
+            stage
+                .add_world(*name, world)
+                .colour(colour)
+                .fixed_integrator()
+                .on_failure(OnFailure::Freeze)
+                .trail_length(400)
+                .follow(planet, colour);
         }
+        stage.panel = true;
         // 360 steps per orbit: coarse enough for the first-order methods to
         // show their character within a few periods.
         stage.rate = tickwork::engine::Rate::hz(120)?;
@@ -95,7 +96,7 @@ impl Game for Orbits {
         Ok(())
     }
 
-    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
+    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
         let t = stage.worlds.first().map_or(0.0, |w| w.world.time());
         let _ = writeln!(
             draw.hud,
@@ -115,6 +116,7 @@ impl Game for Orbits {
                 None => writeln!(draw.hud, "{}  {:+.1e}", shown.label, shown.energy.latest()),
             };
         }
+        Ok(())
     }
 
     fn outcome(&self, stage: &Stage) -> Option<String> {

@@ -44,9 +44,9 @@ impl Game for Tops {
                 body.angular_velocity = spin;
                 world.spawn_rigid(body)?;
             }
-            let index = stage.add_world(method, world);
-            stage.worlds[index].fixed_integrator = true;
+            stage.add_world(method, world).fixed_integrator();
         }
+        stage.panel = true;
         stage.rate = Rate::hz(120)?;
         stage.camera = Camera::Orbit {
             target: Vec3::ZERO,
@@ -58,7 +58,7 @@ impl Game for Tops {
         Ok(())
     }
 
-    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) {
+    fn draw(&self, stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
         let t = stage.worlds.first().map_or(0.0, |w| w.world.time());
         let _ = writeln!(
             draw.hud,
@@ -73,6 +73,7 @@ impl Game for Tops {
                 shown.energy.latest()
             );
         }
+        Ok(())
     }
 
     fn outcome(&self, stage: &Stage) -> Option<String> {

@@ -12,10 +12,10 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::clock::{FixedStep, Frame, Rate};
-use crate::render::{Camera, Line, Trails};
+use super::draw::Draw;
+use super::stage::Stage;
+use crate::clock::{FixedStep, Frame};
 use crate::step::SimulationError;
-use crate::world::{Colour, Entity, World};
 
 /// The keys a game can read. Keys outside this set drive the runner's
 /// controls (P pause, Period step, `+`/`-` time scale, Tab and 1-9
@@ -177,203 +177,6 @@ pub struct Settings {
     pub seed: u64,
 }
 
-/// A world on the stage, with what the runner keeps for it.
-#[derive(Debug)]
-pub struct StageWorld {
-    /// Shown in the legend, the panel and error messages.
-    pub label: String,
-    /// The world.
-    pub world: World,
-    /// Its trails (none followed by default).
-    pub trails: Trails,
-    /// Its colour in the panel's energy plot and legends.
-    pub colour: Colour,
-    /// Whether the integrator belongs to the game (an integrator race), so
-    /// `--integrator`, Tab, 1-9 and the panel leave it alone (default false).
-    pub fixed_integrator: bool,
-    /// Relative energy error since set-up, sampled by the runner.
-    pub energy: EnergyTrace,
-    /// What a failed step does (default [`OnFailure::Stop`]).
-    pub on_failure: OnFailure,
-    /// Why the world stopped, under [`OnFailure::Freeze`] (`None` while it runs).
-    pub failure: Option<String>,
-    /// The state before the current step, kept under [`OnFailure::Freeze`].
-    pub(crate) last_good: Option<crate::world::Snapshot>,
-}
-
-/// What happens when a world's step fails (an explicit method blowing up
-/// on stiff springs, an implicit solve that does not converge).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum OnFailure {
-    /// The run stops with the error (default): a game's world must not fail.
-    #[default]
-    Stop,
-    /// The world goes back to its state before the failed step and stops
-    /// there, with [`StageWorld::failure`] saying why; the others go on
-    /// (an integrator race, a stability demonstration). Switching its
-    /// integrator resumes it. Costs a snapshot per step.
-    Freeze,
-}
-
-/// The relative energy error `(E - E0) / |E0|` of a world over recent
-/// steps, for plots and legends.
-#[derive(Clone, Debug, Default)]
-pub struct EnergyTrace {
-    initial: Option<f64>,
-    /// `(time, relative error)` samples, oldest first, at most [`EnergyTrace::CAPACITY`].
-    samples: std::collections::VecDeque<(f64, f64)>,
-}
-
-impl EnergyTrace {
-    /// Samples kept.
-    pub const CAPACITY: usize = 600;
-
-    /// Records the world's energy now (the first call sets `E0`).
-    pub fn sample(&mut self, world: &mut World) {
-        let energy = world.energy().total();
-        let initial = *self.initial.get_or_insert(energy);
-        let error = if initial.abs() > 1e-12 {
-            (energy - initial) / initial.abs()
-        } else {
-            energy - initial
-        };
-        if self.samples.len() == Self::CAPACITY {
-            self.samples.pop_front();
-        }
-        self.samples.push_back((world.time(), error));
-    }
-
-    /// The latest relative error (0 before any sample).
-    #[must_use]
-    pub fn latest(&self) -> f64 {
-        self.samples.back().map_or(0.0, |s| s.1)
-    }
-
-    /// The samples, oldest first.
-    pub fn samples(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
-        self.samples.iter().copied()
-    }
-}
-
-/// The worlds a game shows, the camera and the step rate.
-#[derive(Debug)]
-pub struct Stage {
-    /// The worlds, stepped in order and drawn in one frame.
-    pub worlds: Vec<StageWorld>,
-    /// What the view looks at (the window's mouse moves it).
-    pub camera: Camera,
-    /// Fixed steps per second (default 60 Hz; `--hz` overrides it).
-    pub rate: Rate,
-}
-
-impl Default for Stage {
-    fn default() -> Self {
-        Self {
-            worlds: Vec::new(),
-            camera: Camera::TwoD {
-                center: glam::Vec2::ZERO,
-                height: 10.0,
-            },
-            rate: Rate::hz(60).unwrap_or_else(|_| unreachable!("60 Hz is a valid rate")),
-        }
-    }
-}
-
-/// Default colours of worlds added without one (the panel's plot lines).
-const PALETTE: [Colour; 8] = [
-    [240, 90, 80, 255],
-    [250, 190, 60, 255],
-    [120, 210, 90, 255],
-    [70, 200, 220, 255],
-    [100, 140, 250, 255],
-    [200, 110, 240, 255],
-    [240, 120, 190, 255],
-    [220, 220, 220, 255],
-];
-
-impl Stage {
-    /// Adds a world labelled `label` and returns its index in [`Stage::worlds`].
-    pub fn add_world(&mut self, label: impl Into<String>, world: World) -> usize {
-        let colour = PALETTE[self.worlds.len() % PALETTE.len()];
-        self.worlds.push(StageWorld {
-            label: label.into(),
-            world,
-            trails: Trails::new(240),
-            colour,
-            fixed_integrator: false,
-            energy: EnergyTrace::default(),
-            on_failure: OnFailure::Stop,
-            failure: None,
-            last_good: None,
-        });
-        self.worlds.len() - 1
-    }
-
-    /// The world at `index`.
-    ///
-    /// # Panics
-    /// If no world was added at `index` (a bug in the game, not bad input).
-    #[must_use]
-    pub fn world(&self, index: usize) -> &World {
-        &self.worlds[index].world
-    }
-
-    /// The world at `index`, to change.
-    ///
-    /// # Panics
-    /// If no world was added at `index`.
-    pub fn world_mut(&mut self, index: usize) -> &mut World {
-        &mut self.worlds[index].world
-    }
-
-    /// Draws a trail behind `entity` of world `index`, in `colour`.
-    ///
-    /// # Panics
-    /// If no world was added at `index`.
-    pub fn follow(&mut self, index: usize, entity: Entity, colour: Colour) {
-        self.worlds[index].trails.follow(entity, colour);
-    }
-}
-
-/// What a game draws on top of its worlds this frame.
-#[derive(Debug, Default)]
-pub struct Draw {
-    /// Line segments in world space.
-    pub lines: Vec<Line>,
-    /// HUD text, top-left (`write!` into it).
-    pub hud: String,
-    /// Colour changes in `hud`: (byte offset, colour); see [`Draw::colour`].
-    pub hud_colours: Vec<(usize, Colour)>,
-}
-
-impl Draw {
-    /// Adds a segment from `a` to `b`.
-    pub fn line(&mut self, a: glam::Vec3, b: glam::Vec3, colour: Colour) {
-        self.lines.push(Line { a, b, colour });
-    }
-
-    /// Adds segments joining `points` in order; `closed` joins the last to the first.
-    pub fn polyline(&mut self, points: &[glam::Vec3], colour: Colour, closed: bool) {
-        for pair in points.windows(2) {
-            self.line(pair[0], pair[1], colour);
-        }
-        if closed && points.len() > 2 {
-            self.line(points[points.len() - 1], points[0], colour);
-        }
-    }
-
-    /// HUD text written from now on is drawn in `colour` (a legend's entries).
-    pub fn colour(&mut self, colour: Colour) {
-        self.hud_colours.push((self.hud.len(), colour));
-    }
-
-    pub(crate) fn clear(&mut self) {
-        self.lines.clear();
-        self.hud.clear();
-        self.hud_colours.clear();
-    }
-}
-
 /// Why a game stopped. Every engine error converts into it, so `?` works on
 /// any engine call inside a [`Game`]'s hooks; so do a `String` or `&str`, a
 /// game's own message.
@@ -441,6 +244,7 @@ engine_errors!(
     crate::world::SpawnError,
     crate::world::EntityError,
     crate::colliders::ColliderError,
+    super::stage::StageError,
     crate::world::WorldError,
     crate::scene::SceneError,
     crate::clock::ClockError,
@@ -480,10 +284,15 @@ pub trait Game {
         let _ = (stage, frame);
     }
 
-    /// Lines and HUD text for this frame; `alpha` is the interpolation
-    /// factor the worlds are drawn at.
-    fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) {
+    /// What the game draws over its worlds this frame (shapes, lines,
+    /// text, the HUD); `alpha` is the interpolation factor the worlds are
+    /// drawn at, and `draw` knows the frame's size and scale.
+    ///
+    /// # Errors
+    /// A [`GameError`] stops the run with its message.
+    fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
         let _ = (stage, alpha, draw);
+        Ok(())
     }
 
     /// A line printed when a run ends (score, outcome); none by default.

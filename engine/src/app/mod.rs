@@ -3,22 +3,26 @@
 //! show them, off-screen ([`OffscreenRun`]) and in a window ([`run_window`]),
 //! which share the per-frame path. [`run`] picks one for a game.
 
+mod draw;
 mod game;
 mod offscreen;
 mod options;
 mod panel;
 mod playback;
 mod session;
+mod stage;
 mod window;
 
-pub use game::{Draw, EnergyTrace, Game, GameError, Key, KeySet, OnFailure, Settings, Stage, StageWorld, TickInput};
+pub use draw::{Draw, Viewport};
+pub use game::{Game, GameError, Key, KeySet, Settings, TickInput};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
 pub use options::{
     MAX_DISPLAY_HZ, MAX_OFFSCREEN_FRAMES, MIN_DISPLAY_HZ, RunOptions, RunSummary, display_hz, exit_code,
-    non_negative_seconds, parse_size, run,
+    non_negative_seconds, parse_size, renderer_config, run,
 };
 pub use playback::{Control, Playback, PlaybackError};
 pub use session::{GameSession, Recording, SessionOptions};
+pub use stage::{EnergyTrace, OnFailure, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 // RunError and FrameSource are defined below.
 pub use window::{WindowOptions, WindowSummary, run_window};
 
@@ -59,14 +63,15 @@ pub trait FrameSource {
     /// The camera, for the window's mouse.
     fn camera_mut(&mut self) -> &mut Camera;
 
-    /// Calls `render` with the view of the current frame (`hud`: with its
-    /// HUD text).
+    /// Calls `render` with the view of the current frame, for a target of
+    /// `size` pixels (`hud`: with its HUD text).
     ///
     /// # Errors
     /// What `render` returns.
     fn with_view(
         &mut self,
         hud: bool,
+        size: (u32, u32),
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
     ) -> Result<(), RunError>;
 

@@ -77,7 +77,7 @@ impl<'g> OffscreenRun<'g> {
     pub fn draw(&mut self, source: &mut dyn FrameSource, hud: bool) -> Result<RgbaImage, RunError> {
         let mut image = None;
         let (target, renderer, gpu) = (&self.target, &mut self.renderer, self.gpu);
-        source.with_view(hud, &mut |view| {
+        source.with_view(hud, (self.target.width(), self.target.height()), &mut |view| {
             image = Some(target.render(gpu, renderer, view)?);
             Ok(())
         })?;

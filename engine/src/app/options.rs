@@ -8,6 +8,7 @@ use clap::Args;
 
 use super::game::{Game, Settings};
 use super::session::{GameSession, Recording, SessionOptions};
+use super::stage::Stage;
 use super::window::display_available;
 use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
 use crate::clock::FixedCadence;
@@ -65,6 +66,10 @@ pub struct RunOptions {
     /// Overwrite existing frames, GIF or recording.
     #[arg(long)]
     pub force: bool,
+    /// Start with the control panel shown (F1 toggles it; default: as the
+    /// game says, hidden for games, shown for the lab's demos).
+    #[arg(long, conflicts_with = "no_panel")]
+    pub panel: bool,
     /// Start with the control panel hidden (F1 toggles it).
     #[arg(long)]
     pub no_panel: bool,
@@ -87,6 +92,7 @@ impl Default for RunOptions {
             display_hz: None,
             hold: 0.0,
             force: false,
+            panel: false,
             no_panel: false,
         }
     }
@@ -193,12 +199,16 @@ pub struct RunSummary {
     pub outcome: Option<String>,
 }
 
-/// Renderer settings for frames `height` pixels tall: the HUD's text is
-/// 16 px from 540 px up and shrinks with smaller frames, down to 10 px, so a
-/// legend that fits a window fits a small GIF.
-fn renderer_for(height: u32) -> RendererConfig {
+/// The renderer settings [`run`] draws a stage's frames `height` pixels
+/// tall with (for a test that draws a game as `run` does): the stage's
+/// background, and its HUD size from 540 px up, shrinking with smaller
+/// frames down to 10/16 of it, so a legend that fits a window fits a small
+/// GIF.
+#[must_use]
+pub fn renderer_config(stage: &Stage, height: u32) -> RendererConfig {
     RendererConfig {
-        hud_size: (16.0 * height as f32 / 540.0).clamp(10.0, 16.0),
+        background: stage.background,
+        hud_size: stage.hud_size * (height as f32 / 540.0).clamp(10.0 / 16.0, 1.0),
         ..RendererConfig::default()
     }
 }
@@ -339,6 +349,8 @@ fn show<G: Game>(
     let title = session.game().title().to_owned();
     if summary.windowed {
         let (width, height) = options.size.unwrap_or((1280, 720));
+        let panel = !options.no_panel && (options.panel || session.stage().panel);
+        let renderer = renderer_config(session.stage(), height);
         let window = run_window(
             session,
             WindowOptions {
@@ -348,8 +360,8 @@ fn show<G: Game>(
                 hold_seconds: options.hold,
                 display_hz: options.display_hz,
                 screenshot_dir: PathBuf::from("."),
-                panel: !options.no_panel,
-                renderer: renderer_for(height),
+                panel,
+                renderer,
                 ..WindowOptions::default()
             },
         )?;
@@ -384,7 +396,7 @@ fn show<G: Game>(
             .clone()
             .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
         let gpu = Gpu::headless()?;
-        let mut runner = OffscreenRun::new(&gpu, width, height, renderer_for(height))?;
+        let mut runner = OffscreenRun::new(&gpu, width, height, renderer_config(session.stage(), height))?;
         println!(
             "tickwork: {title}: no display{}; drawing {frames} frames of {width}x{height} off-screen on {}",
             if options.headless { " wanted (--headless)" } else { "" },

@@ -5,10 +5,11 @@
 
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
-use super::game::{EnergyTrace, Game};
+use super::game::Game;
 use super::playback::next_time_scale;
 use super::playback::{Playback, PlaybackError};
 use super::session::GameSession;
+use super::stage::EnergyTrace;
 use super::{Control, FrameSource, RunError};
 use crate::clock::{FixedClock, Rate};
 use crate::world::Colour;

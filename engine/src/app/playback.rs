@@ -415,6 +415,7 @@ impl super::FrameSource for Playback {
     fn with_view(
         &mut self,
         hud: bool,
+        _size: (u32, u32),
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), crate::render::RenderError>,
     ) -> Result<(), super::RunError> {
         let mut text = std::mem::take(&mut self.hud);

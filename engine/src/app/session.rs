@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::game::{Draw, Game, GameError, Key, KeySet, OnFailure, Settings, Stage, TickInput};
+use super::draw::{Draw, Viewport};
+use super::game::{Game, GameError, Key, KeySet, Settings, TickInput};
+use super::stage::{OnFailure, Stage};
 use super::{Control, FrameSource, RunError};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::render::{Camera, FrameView, RenderError, WorldView};
@@ -489,6 +491,9 @@ impl<G: Game> GameSession<G> {
 
     /// Applies a control to every world whose integrator is not the game's.
     fn set_integrators(&mut self, choose: impl Fn(&str) -> Option<&'static str>) -> Result<(), RunError> {
+        if !self.stage.switch_integrators {
+            return Ok(());
+        }
         for shown in self.stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
             if let Some(name) = choose(shown.world.integrator().info().name) {
                 shown
@@ -594,11 +599,18 @@ impl<G: Game> FrameSource for GameSession<G> {
     fn with_view(
         &mut self,
         hud: bool,
+        (width, height): (u32, u32),
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
     ) -> Result<(), RunError> {
         let alpha = self.last.alpha as f32;
-        self.draw.clear();
-        self.game.draw(&self.stage, alpha, &mut self.draw);
+        self.draw.clear(Viewport {
+            width,
+            height,
+            pixels_per_metre: self.stage.camera.matrices(width, height).pixels_per_unit,
+        });
+        self.game
+            .draw(&self.stage, alpha, &mut self.draw)
+            .map_err(RunError::Game)?;
         if !hud {
             self.draw.hud.clear();
             self.draw.hud_colours.clear();
@@ -618,6 +630,8 @@ impl<G: Game> FrameSource for GameSession<G> {
             trails: first.map(|w| &w.trails),
             others: &others,
             lines: &self.draw.lines,
+            triangles: &self.draw.triangles,
+            texts: &self.draw.texts,
             hud: &self.draw.hud,
             hud_colours: &self.draw.hud_colours,
             ..FrameView::new(first.map_or(&self.empty, |w| &w.world), alpha, self.stage.camera)

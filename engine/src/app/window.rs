@@ -359,7 +359,9 @@ impl App<'_> {
         };
         let (renderer, gpu) = (&mut state.renderer, &state.gpu);
         self.source
-            .with_view(self.options.hud, &mut |view| renderer.prepare(gpu, buffers, view))?;
+            .with_view(self.options.hud, (buffers.width, buffers.height), &mut |view| {
+                renderer.prepare(gpu, buffers, view)
+            })?;
         let frame = match state.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(frame) | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(()),
@@ -455,7 +457,7 @@ fn screenshot(state: &WindowState, source: &mut dyn FrameSource, options: &Windo
     let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
     let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
     let mut image = None;
-    source.with_view(options.hud, &mut |view| {
+    source.with_view(options.hud, (width, height), &mut |view| {
         image = Some(target.render(&state.gpu, &mut renderer, view)?);
         Ok(())
     })?;

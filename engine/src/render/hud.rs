@@ -8,7 +8,30 @@ use glyphon::{
 };
 
 use super::Gpu;
+use super::overlay::Anchor;
 use super::target::DEPTH_FORMAT;
+
+/// A game's text as the frame places it: its anchor point in pixels from
+/// the top-left corner.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PlacedText {
+    pub text: String,
+    pub x: f32,
+    pub y: f32,
+    pub size: f32,
+    pub colour: [u8; 4],
+    pub anchor: Anchor,
+}
+
+/// A laid-out text of the game's, kept from frame to frame: laid out again
+/// only when its text or size changes.
+struct LaidOut {
+    buffer: Buffer,
+    text: String,
+    size: f32,
+    /// Width and height of the laid-out text, in pixels.
+    extent: (f32, f32),
+}
 
 /// DejaVu Sans, shipped with its licence in `assets/fonts/`.
 const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
@@ -30,6 +53,8 @@ pub(crate) struct Hud {
     colours: Vec<(usize, [u8; 4])>,
     laid_out: (u32, u32),
     size: f32,
+    /// The game's placed texts, one buffer each, reused.
+    placed: Vec<LaidOut>,
 }
 
 impl Hud {
@@ -67,10 +92,13 @@ impl Hud {
             colours: Vec::new(),
             laid_out: (0, 0),
             size,
+            placed: Vec::new(),
         }
     }
 
-    /// Lays out `text` (only if it changed) and uploads its glyphs.
+    /// Lays out `text` (only if it changed) and the game's placed `texts`,
+    /// and uploads their glyphs.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -78,8 +106,10 @@ impl Hud {
         height: u32,
         text: &str,
         colours: &[(usize, [u8; 4])],
+        texts: &[PlacedText],
         single: bool,
     ) -> Result<(), PrepareError> {
+        self.lay_out_placed(texts);
         self.single = single;
         self.viewport.update(&gpu.queue, Resolution { width, height });
         if text != self.text || colours != self.colours || (width, height) != self.laid_out {
@@ -128,6 +158,25 @@ impl Hud {
             default_color: Color::rgb(235, 235, 235),
             custom_glyphs: &[],
         };
+        let bounds = area.bounds;
+        let placed = texts.iter().zip(&self.placed).map(|(text, laid)| {
+            let (w, h) = laid.extent;
+            let (left, top) = match text.anchor {
+                Anchor::Centre => (text.x - 0.5 * w, text.y - 0.5 * h),
+                Anchor::TopLeft => (text.x, text.y),
+                Anchor::Top => (text.x - 0.5 * w, text.y),
+            };
+            let [r, g, b, a] = text.colour;
+            TextArea {
+                buffer: &laid.buffer,
+                left: left.round(),
+                top: top.round(),
+                scale: 1.0,
+                bounds,
+                default_color: Color::rgba(r, g, b, a),
+                custom_glyphs: &[],
+            }
+        });
         let renderer = if single {
             &mut self.renderer_single
         } else {
@@ -139,9 +188,42 @@ impl Hud {
             &mut self.fonts,
             &mut self.atlas,
             &self.viewport,
-            [area],
+            std::iter::once(area).chain(placed),
             &mut self.swash,
         )
+    }
+
+    /// Lays out the texts that changed since the last frame (a buffer per
+    /// text, kept), measuring each.
+    fn lay_out_placed(&mut self, texts: &[PlacedText]) {
+        for (k, text) in texts.iter().enumerate() {
+            if k == self.placed.len() {
+                self.placed.push(LaidOut {
+                    buffer: Buffer::new(&mut self.fonts, Metrics::new(text.size, text.size * 1.2)),
+                    text: String::new(),
+                    size: 0.0,
+                    extent: (0.0, 0.0),
+                });
+            }
+            let laid = &mut self.placed[k];
+            if laid.text == text.text && laid.size == text.size {
+                continue;
+            }
+            laid.text.clone_from(&text.text);
+            laid.size = text.size;
+            let fonts = &mut self.fonts;
+            laid.buffer.set_metrics(Metrics::new(text.size, text.size * 1.2));
+            laid.buffer.set_size(None, None);
+            let attrs = Attrs::new().family(Family::SansSerif);
+            laid.buffer.set_text(&text.text, &attrs, Shaping::Basic, None);
+            laid.buffer.shape_until_scroll(fonts, false);
+            let (mut width, mut height) = (0.0f32, 0.0f32);
+            for run in laid.buffer.layout_runs() {
+                width = width.max(run.line_w);
+                height = height.max(run.line_top + run.line_height);
+            }
+            laid.extent = (width, height);
+        }
     }
 
     /// Draws the prepared text (nothing if it is empty).

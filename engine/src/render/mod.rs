@@ -37,6 +37,7 @@ mod camera;
 mod golden;
 mod gpu;
 mod hud;
+mod overlay;
 mod renderer;
 mod splat;
 mod target;
@@ -48,7 +49,8 @@ pub use camera::{Camera, CameraMatrices};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use gpu::Gpu;
 pub use image::RgbaImage;
-pub use renderer::{Blend, FrameView, Interpolation, Line, Renderer, RendererConfig, WorldView};
+pub use overlay::{Anchor, Line, Text, Triangle};
+pub use renderer::{Blend, FrameView, Interpolation, Renderer, RendererConfig, WorldView};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use trails::Trails;
 

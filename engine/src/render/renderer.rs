@@ -13,7 +13,8 @@ use glam::{Mat4, Quat, Vec3};
 use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
 
 use super::camera::{Camera, CameraMatrices};
-use super::hud::Hud;
+use super::hud::{Hud, PlacedText};
+use super::overlay::{Line, Text, Triangle};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::target::{DEPTH_FORMAT, FrameBuffers};
 use super::trails::Trails;
@@ -107,17 +108,6 @@ impl Default for RendererConfig {
     }
 }
 
-/// A line segment in world space, drawn one pixel wide.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Line {
-    /// One end.
-    pub a: Vec3,
-    /// The other end.
-    pub b: Vec3,
-    /// Colour, sRGB RGBA.
-    pub colour: [u8; 4],
-}
-
 /// What one frame shows.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameView<'a> {
@@ -135,6 +125,10 @@ pub struct FrameView<'a> {
     pub others: &'a [WorldView<'a>],
     /// Extra lines (a game's own drawing).
     pub lines: &'a [Line],
+    /// Filled triangles (a game's rectangles and polygons), drawn first.
+    pub triangles: &'a [Triangle],
+    /// Text placed in the world, drawn last.
+    pub texts: &'a [Text],
     /// HUD text, drawn top-left; empty for none.
     pub hud: &'a str,
     /// Colour changes in the HUD text: from each byte offset on, the text
@@ -154,6 +148,8 @@ impl<'a> FrameView<'a> {
             trails: None,
             others: &[],
             lines: &[],
+            triangles: &[],
+            texts: &[],
             hud: "",
             hud_colours: &[],
         }
@@ -239,6 +235,14 @@ pub struct Renderer {
     line_buffer: wgpu::Buffer,
     line_count: u32,
     line_scratch: Vec<LineVertex>,
+    triangle_pipeline: wgpu::RenderPipeline,
+    /// Triangles in single-sampled frames (the splat path).
+    triangle_pipeline_single: wgpu::RenderPipeline,
+    triangle_buffer: wgpu::Buffer,
+    triangle_count: u32,
+    triangle_scratch: Vec<LineVertex>,
+    /// The frame's texts in pixels, for the HUD.
+    placed_texts: Vec<PlacedText>,
     instance_scratch: Vec<Instance>,
     /// The world states last uploaded: (world id, revision) of each world.
     uploaded: Vec<(u64, u64)>,
@@ -362,7 +366,7 @@ impl Renderer {
             source: wgpu::ShaderSource::Wgsl(shader!("lines.wgsl").into()),
         });
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
-        let line_pipeline_for = |multisample| {
+        let line_pipeline_for = |multisample, topology| {
             pipeline(
                 device,
                 &line_layout,
@@ -372,19 +376,23 @@ impl Renderer {
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &line_attributes,
                 })],
-                wgpu::PrimitiveTopology::LineList,
+                topology,
                 format,
                 wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
                 false,
                 multisample,
             )
         };
-        let line_pipeline = line_pipeline_for(multisample);
-        let line_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default());
+        let (lines, triangles) = (wgpu::PrimitiveTopology::LineList, wgpu::PrimitiveTopology::TriangleList);
+        let line_pipeline = line_pipeline_for(multisample, lines);
+        let line_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default(), lines);
+        let triangle_pipeline = line_pipeline_for(multisample, triangles);
+        let triangle_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default(), triangles);
         let instances = storage_buffer(device, 1024);
         let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
         let line_bind_group = bind_buffers(device, &line_layout, &[&globals]);
         let line_buffer = vertex_buffer(device, 1024);
+        let triangle_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
         let splat = Splat::new(device, format, config.blend);
         let splat_threshold =
@@ -410,6 +418,12 @@ impl Renderer {
             line_buffer,
             line_count: 0,
             line_scratch: Vec::new(),
+            triangle_pipeline,
+            triangle_pipeline_single,
+            triangle_buffer,
+            triangle_count: 0,
+            triangle_scratch: Vec::new(),
+            placed_texts: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
             upload_key: Vec::new(),
@@ -482,6 +496,9 @@ impl Renderer {
         gpu.queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.build_lines(view, t);
         self.upload_lines(gpu);
+        self.build_triangles(view)?;
+        self.upload_triangles(gpu);
+        self.place_texts(view, view_proj, buffers.width, buffers.height)?;
         self.hud
             .prepare(
                 gpu,
@@ -489,6 +506,7 @@ impl Renderer {
                 buffers.height,
                 view.hud,
                 view.hud_colours,
+                &self.placed_texts,
                 self.splat_active,
             )
             .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
@@ -534,6 +552,16 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if self.triangle_count > 0 {
+            pass.set_pipeline(if single {
+                &self.triangle_pipeline_single
+            } else {
+                &self.triangle_pipeline
+            });
+            pass.set_bind_group(0, &self.line_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.triangle_buffer.slice(..));
+            pass.draw(0..self.triangle_count, 0..1);
+        }
         if self.line_count > 0 {
             pass.set_pipeline(if single {
                 &self.line_pipeline_single
@@ -684,6 +712,71 @@ impl Renderer {
         for line in view.lines {
             push(line.a, line.b, line.colour);
         }
+    }
+
+    /// The frame's triangles as vertices.
+    fn build_triangles(&mut self, view: &FrameView<'_>) -> Result<(), RenderError> {
+        self.triangle_scratch.clear();
+        for (k, triangle) in view.triangles.iter().enumerate() {
+            if let Some(corner) = triangle.corners.iter().find(|c| !c.is_finite()) {
+                return Err(RenderError::Config(format!(
+                    "triangle {k} of the frame has a non-finite corner {corner}"
+                )));
+            }
+            self.triangle_scratch
+                .extend(triangle.corners.iter().map(|corner| LineVertex {
+                    position: corner.to_array(),
+                    colour: triangle.colour,
+                }));
+        }
+        Ok(())
+    }
+
+    fn upload_triangles(&mut self, gpu: &Gpu) {
+        self.triangle_count = self.triangle_scratch.len() as u32;
+        if self.triangle_scratch.is_empty() {
+            return;
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(&self.triangle_scratch);
+        if bytes.len() as u64 > self.triangle_buffer.size() {
+            self.triangle_buffer = vertex_buffer(&gpu.device, self.triangle_scratch.len().next_power_of_two());
+        }
+        gpu.queue.write_buffer(&self.triangle_buffer, 0, bytes);
+    }
+
+    /// The frame's texts in pixels: each anchor point projected through the
+    /// camera (texts behind a 3D camera are left out).
+    fn place_texts(
+        &mut self,
+        view: &FrameView<'_>,
+        view_proj: Mat4,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.placed_texts.clear();
+        for (k, text) in view.texts.iter().enumerate() {
+            if !(text.at.is_finite() && text.size.is_finite() && text.size > 0.0 && text.size <= 1000.0) {
+                return Err(RenderError::Config(format!(
+                    "text {k} of the frame ({:?}) has position {} and size {} px: the position must be finite and \
+                     the size in (0, 1000]",
+                    text.text, text.at, text.size
+                )));
+            }
+            let clip = view_proj * text.at.extend(1.0);
+            if clip.w <= 0.0 {
+                continue;
+            }
+            let ndc = clip.truncate() / clip.w;
+            self.placed_texts.push(PlacedText {
+                text: text.text.clone(),
+                x: (ndc.x + 1.0) * 0.5 * width as f32,
+                y: (1.0 - ndc.y) * 0.5 * height as f32,
+                size: text.size,
+                colour: text.colour,
+                anchor: text.anchor,
+            });
+        }
+        Ok(())
     }
 
     fn upload_lines(&mut self, gpu: &Gpu) {

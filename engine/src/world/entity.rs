@@ -14,6 +14,14 @@ pub struct Entity {
 }
 
 impl Entity {
+    /// A handle that names no entity in any world (every call with it is an
+    /// [`EntityError::Unknown`]), for a game's fields before its set-up
+    /// spawns what they name; also `Entity::default()`.
+    pub const PLACEHOLDER: Self = Self {
+        index: u32::MAX,
+        generation: 0,
+    };
+
     /// The slot index (stable while the entity lives; not its row).
     #[must_use]
     pub fn index(self) -> u32 {
@@ -39,8 +47,17 @@ impl fmt::Debug for Entity {
     }
 }
 
+impl Default for Entity {
+    fn default() -> Self {
+        Self::PLACEHOLDER
+    }
+}
+
 impl fmt::Display for Entity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if *self == Self::PLACEHOLDER {
+            return f.write_str("Entity::PLACEHOLDER (a handle set before anything was spawned)");
+        }
         write!(f, "entity {}v{}", self.index, self.generation)
     }
 }

@@ -1,0 +1,333 @@
+//! The stage: the worlds a game shows, each with what the runner keeps for
+//! it (label, trails, energy trace, what a failure does), the camera, the
+//! step rate and the frame's look. Worlds are reached by the [`WorldId`]
+//! their [`Stage::add_world`] returned, several at once with
+//! [`Stage::worlds_mut`].
+
+use core::fmt;
+
+use crate::clock::Rate;
+use crate::render::{Camera, Trails};
+use crate::world::{Colour, Entity, World};
+
+/// A world's handle on its stage, from [`Stage::add_world`]. A restart
+/// builds a fresh stage, whose set-up hands out the same ids in the same
+/// order; the default id is the first world's (a game with one world can
+/// hold a `WorldId::default()` from the start).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct WorldId(usize);
+
+impl WorldId {
+    /// The world's place in [`Stage::worlds`].
+    #[must_use]
+    pub fn index(self) -> usize {
+        self.0
+    }
+}
+
+impl fmt::Display for WorldId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "world #{}", self.0)
+    }
+}
+
+/// A [`WorldId`] the stage cannot give.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StageError {
+    /// No world has this id on this stage (an id kept from another stage).
+    Unknown {
+        /// The id.
+        id: WorldId,
+        /// Worlds on the stage.
+        worlds: usize,
+    },
+    /// The same world asked for twice in one [`Stage::worlds_mut`].
+    Twice {
+        /// The id.
+        id: WorldId,
+    },
+}
+
+impl fmt::Display for StageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Unknown { id, worlds } => write!(f, "{id} is not on this stage (it has {worlds} worlds)"),
+            Self::Twice { id } => write!(f, "{id} was asked for twice in one worlds_mut"),
+        }
+    }
+}
+
+impl std::error::Error for StageError {}
+
+/// A world on the stage, with what the runner keeps for it.
+#[derive(Debug)]
+pub struct StageWorld {
+    /// Shown in the legend, the panel and error messages.
+    pub label: String,
+    /// The world.
+    pub world: World,
+    /// Its trails (none followed by default).
+    pub trails: Trails,
+    /// Its colour in the panel's energy plot and legends.
+    pub colour: Colour,
+    /// Whether the integrator belongs to the game (an integrator race), so
+    /// `--integrator`, Tab, 1-9 and the panel leave it alone (default false).
+    pub fixed_integrator: bool,
+    /// Relative energy error since set-up, sampled by the runner.
+    pub energy: EnergyTrace,
+    /// What a failed step does (default [`OnFailure::Stop`]).
+    pub on_failure: OnFailure,
+    /// Why the world stopped, under [`OnFailure::Freeze`] (`None` while it runs).
+    pub failure: Option<String>,
+    /// The state before the current step, kept under [`OnFailure::Freeze`].
+    pub(crate) last_good: Option<crate::world::Snapshot>,
+}
+
+/// What happens when a world's step fails (an explicit method blowing up
+/// on stiff springs, an implicit solve that does not converge).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OnFailure {
+    /// The run stops with the error (default): a game's world must not fail.
+    #[default]
+    Stop,
+    /// The world goes back to its state before the failed step and stops
+    /// there, with [`StageWorld::failure`] saying why; the others go on
+    /// (an integrator race, a stability demonstration). Switching its
+    /// integrator resumes it. Costs a snapshot per step.
+    Freeze,
+}
+
+/// The relative energy error `(E - E0) / |E0|` of a world over recent
+/// steps, for plots and legends.
+#[derive(Clone, Debug, Default)]
+pub struct EnergyTrace {
+    initial: Option<f64>,
+    /// `(time, relative error)` samples, oldest first, at most [`EnergyTrace::CAPACITY`].
+    samples: std::collections::VecDeque<(f64, f64)>,
+}
+
+impl EnergyTrace {
+    /// Samples kept.
+    pub const CAPACITY: usize = 600;
+
+    /// Records the world's energy now (the first call sets `E0`).
+    pub fn sample(&mut self, world: &mut World) {
+        let energy = world.energy().total();
+        let initial = *self.initial.get_or_insert(energy);
+        let error = if initial.abs() > 1e-12 {
+            (energy - initial) / initial.abs()
+        } else {
+            energy - initial
+        };
+        if self.samples.len() == Self::CAPACITY {
+            self.samples.pop_front();
+        }
+        self.samples.push_back((world.time(), error));
+    }
+
+    /// The latest relative error (0 before any sample).
+    #[must_use]
+    pub fn latest(&self) -> f64 {
+        self.samples.back().map_or(0.0, |s| s.1)
+    }
+
+    /// The samples, oldest first.
+    pub fn samples(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.samples.iter().copied()
+    }
+}
+
+/// The worlds a game shows, the camera and the step rate.
+#[derive(Debug)]
+pub struct Stage {
+    /// The worlds, stepped in order and drawn in one frame (reach one by
+    /// the [`WorldId`] [`Stage::add_world`] gave).
+    pub worlds: Vec<StageWorld>,
+    /// What the view looks at (the window's mouse moves it).
+    pub camera: Camera,
+    /// Fixed steps per second (default 60 Hz; `--hz` overrides it).
+    pub rate: Rate,
+    /// The frame's clear colour, sRGB RGBA (default: near-black blue
+    /// `[12, 14, 22, 255]`).
+    pub background: Colour,
+    /// HUD text size in pixels in frames 540 pixels high or more; smaller
+    /// frames scale it down to 10/16 of it (default 16).
+    pub hud_size: f32,
+    /// Whether a window opens with the control panel shown (F1 toggles
+    /// it; `--panel` and `--no-panel` override). Default false: a game's
+    /// own screen; the physics lab's demos turn it on.
+    pub panel: bool,
+    /// Whether the viewer may switch the integrator of the worlds whose
+    /// integrator is not fixed (Tab, keys 1-9, the panel). Default false: a
+    /// game's keys are its own; the lab's demos turn it on.
+    pub switch_integrators: bool,
+}
+
+impl Default for Stage {
+    fn default() -> Self {
+        Self {
+            worlds: Vec::new(),
+            camera: Camera::TwoD {
+                center: glam::Vec2::ZERO,
+                height: 10.0,
+            },
+            rate: Rate::hz(60).unwrap_or_else(|_| unreachable!("60 Hz is a valid rate")),
+            background: [12, 14, 22, 255],
+            hud_size: 16.0,
+            panel: false,
+            switch_integrators: false,
+        }
+    }
+}
+
+/// Default colours of worlds added without one (the panel's plot lines).
+const PALETTE: [Colour; 8] = [
+    [240, 90, 80, 255],
+    [250, 190, 60, 255],
+    [120, 210, 90, 255],
+    [70, 200, 220, 255],
+    [100, 140, 250, 255],
+    [200, 110, 240, 255],
+    [240, 120, 190, 255],
+    [220, 220, 220, 255],
+];
+
+impl Stage {
+    /// Adds a world labelled `label`; the builder it returns sets what the
+    /// runner keeps for it and gives its [`WorldId`]:
+    /// `let moon = stage.add_world("moon", world).follow(lander, colour).id();`
+    pub fn add_world(&mut self, label: impl Into<String>, world: World) -> WorldBuilder<'_> {
+        let colour = PALETTE[self.worlds.len() % PALETTE.len()];
+        self.worlds.push(StageWorld {
+            label: label.into(),
+            world,
+            trails: Trails::new(240),
+            colour,
+            fixed_integrator: false,
+            energy: EnergyTrace::default(),
+            on_failure: OnFailure::Stop,
+            failure: None,
+            last_good: None,
+        });
+        let index = self.worlds.len() - 1;
+        WorldBuilder { stage: self, index }
+    }
+
+    /// The world `id` with what the runner keeps for it.
+    ///
+    /// # Errors
+    /// [`StageError::Unknown`] for an id of another stage.
+    pub fn shown(&self, id: WorldId) -> Result<&StageWorld, StageError> {
+        let worlds = self.worlds.len();
+        self.worlds.get(id.0).ok_or(StageError::Unknown { id, worlds })
+    }
+
+    /// The world `id` with what the runner keeps for it, to change.
+    ///
+    /// # Errors
+    /// [`StageError::Unknown`] for an id of another stage.
+    pub fn shown_mut(&mut self, id: WorldId) -> Result<&mut StageWorld, StageError> {
+        let worlds = self.worlds.len();
+        self.worlds.get_mut(id.0).ok_or(StageError::Unknown { id, worlds })
+    }
+
+    /// The world `id`.
+    ///
+    /// # Errors
+    /// [`StageError::Unknown`] for an id of another stage.
+    pub fn world(&self, id: WorldId) -> Result<&World, StageError> {
+        self.shown(id).map(|shown| &shown.world)
+    }
+
+    /// The world `id`, to change.
+    ///
+    /// # Errors
+    /// [`StageError::Unknown`] for an id of another stage.
+    pub fn world_mut(&mut self, id: WorldId) -> Result<&mut World, StageError> {
+        self.shown_mut(id).map(|shown| &mut shown.world)
+    }
+
+    /// Several worlds at once, to change together (a ball passing from one
+    /// world to another): `let [a, b] = stage.worlds_mut([left, right])?;`
+    ///
+    /// # Errors
+    /// [`StageError`] for an id of another stage or one given twice.
+    pub fn worlds_mut<const N: usize>(&mut self, ids: [WorldId; N]) -> Result<[&mut World; N], StageError> {
+        let worlds = self.worlds.len();
+        for (k, id) in ids.iter().enumerate() {
+            if id.0 >= worlds {
+                return Err(StageError::Unknown { id: *id, worlds });
+            }
+            if ids[..k].contains(id) {
+                return Err(StageError::Twice { id: *id });
+            }
+        }
+        let shown = self
+            .worlds
+            .get_disjoint_mut(ids.map(|id| id.0))
+            .map_err(|_| StageError::Twice { id: ids[0] })?;
+        Ok(shown.map(|s| &mut s.world))
+    }
+
+    /// Draws a trail behind `entity` of world `id`, in `colour`.
+    ///
+    /// # Errors
+    /// [`StageError::Unknown`] for an id of another stage.
+    pub fn follow(&mut self, id: WorldId, entity: Entity, colour: Colour) -> Result<(), StageError> {
+        self.shown_mut(id)?.trails.follow(entity, colour);
+        Ok(())
+    }
+}
+
+/// What [`Stage::add_world`] returns: settings for the world just added
+/// (each applied at once, so the builder may be dropped after any), then
+/// its [`id`](Self::id).
+#[derive(Debug)]
+pub struct WorldBuilder<'a> {
+    stage: &'a mut Stage,
+    index: usize,
+}
+
+impl WorldBuilder<'_> {
+    fn shown(&mut self) -> &mut StageWorld {
+        &mut self.stage.worlds[self.index]
+    }
+
+    /// Its colour in legends and the panel's energy plot (default: the
+    /// next of eight).
+    pub fn colour(mut self, colour: Colour) -> Self {
+        self.shown().colour = colour;
+        self
+    }
+
+    /// The integrator belongs to the game (an integrator race):
+    /// `--integrator`, the integrator keys and the panel leave it alone.
+    pub fn fixed_integrator(mut self) -> Self {
+        self.shown().fixed_integrator = true;
+        self
+    }
+
+    /// What a failed step does (default [`OnFailure::Stop`]).
+    pub fn on_failure(mut self, on_failure: OnFailure) -> Self {
+        self.shown().on_failure = on_failure;
+        self
+    }
+
+    /// Trails kept `points` long (default 240).
+    pub fn trail_length(mut self, points: usize) -> Self {
+        self.shown().trails = Trails::new(points);
+        self
+    }
+
+    /// Draws a trail behind `entity` in `colour`.
+    pub fn follow(mut self, entity: Entity, colour: Colour) -> Self {
+        self.shown().trails.follow(entity, colour);
+        self
+    }
+
+    /// The world's id, to keep.
+    #[must_use]
+    pub fn id(self) -> WorldId {
+        WorldId(self.index)
+    }
+}
