@@ -122,10 +122,10 @@ pub(crate) fn diff_touches(
 ) {
     let bits = |a: Vec3A| a.to_array().map(f32::to_bits);
     for k in 0..x.len() {
-        let (dx, dv) = (x[k] - before_x[k], v[k] - before_v[k]);
         if bits(x[k]) == bits(before_x[k]) && bits(v[k]) == bits(before_v[k]) {
             continue;
         }
+        let (dx, dv) = (x[k] - before_x[k], v[k] - before_v[k]);
         let normal = dx.try_normalize().or_else(|| dv.try_normalize()).unwrap_or(Vec3A::ZERO);
         let w = inverse_mass[k];
         let impulse = if w > 0.0 { dv.dot(normal) / w } else { 0.0 };

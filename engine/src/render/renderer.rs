@@ -733,15 +733,7 @@ impl Renderer {
     }
 
     fn upload_triangles(&mut self, gpu: &Gpu) {
-        self.triangle_count = self.triangle_scratch.len() as u32;
-        if self.triangle_scratch.is_empty() {
-            return;
-        }
-        let bytes: &[u8] = bytemuck::cast_slice(&self.triangle_scratch);
-        if bytes.len() as u64 > self.triangle_buffer.size() {
-            self.triangle_buffer = vertex_buffer(&gpu.device, self.triangle_scratch.len().next_power_of_two());
-        }
-        gpu.queue.write_buffer(&self.triangle_buffer, 0, bytes);
+        self.triangle_count = upload_vertices(gpu, &self.triangle_scratch, &mut self.triangle_buffer);
     }
 
     /// The frame's texts in pixels: each anchor point projected through the
@@ -780,15 +772,7 @@ impl Renderer {
     }
 
     fn upload_lines(&mut self, gpu: &Gpu) {
-        self.line_count = self.line_scratch.len() as u32;
-        if self.line_scratch.is_empty() {
-            return;
-        }
-        let bytes: &[u8] = bytemuck::cast_slice(&self.line_scratch);
-        if bytes.len() as u64 > self.line_buffer.size() {
-            self.line_buffer = vertex_buffer(&gpu.device, self.line_scratch.len().next_power_of_two());
-        }
-        gpu.queue.write_buffer(&self.line_buffer, 0, bytes);
+        self.line_count = upload_vertices(gpu, &self.line_scratch, &mut self.line_buffer);
     }
 }
 
@@ -873,6 +857,20 @@ fn storage_buffer(device: &wgpu::Device, particles: usize) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+/// Writes `vertices` into `buffer`, growing it to a power of two when they
+/// do not fit; returns how many there are.
+fn upload_vertices(gpu: &Gpu, vertices: &[LineVertex], buffer: &mut wgpu::Buffer) -> u32 {
+    if vertices.is_empty() {
+        return 0;
+    }
+    let bytes: &[u8] = bytemuck::cast_slice(vertices);
+    if bytes.len() as u64 > buffer.size() {
+        *buffer = vertex_buffer(&gpu.device, vertices.len().next_power_of_two());
+    }
+    gpu.queue.write_buffer(buffer, 0, bytes);
+    vertices.len() as u32
 }
 
 fn vertex_buffer(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
