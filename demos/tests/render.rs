@@ -466,6 +466,8 @@ fn a_game_window_draws_the_control_panel_over_the_frame_and_f1_hides_it() {
         "120",
         "--size",
         &size,
+        // A game's panel is off unless asked for.
+        "--panel",
     ];
     // The same frames off-screen first, so nothing slow runs while the
     // window is up.
