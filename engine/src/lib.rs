@@ -57,7 +57,7 @@ pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Sp
 /// games use the same version.
 pub use glam;
 pub use headless::{HeadlessError, RunSummary, TraceWriter, run_headless};
-pub use input::{InputLog, InputQueue};
+pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;

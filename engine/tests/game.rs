@@ -212,6 +212,7 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
         integrator: None,
         ticks: 10,
         inputs: vec![],
+        controls: vec![],
     };
     let options = |seed| SessionOptions {
         settings: Settings { integrator: None, seed },
@@ -274,4 +275,93 @@ fn engine_errors_convert_into_game_errors_with_their_messages() {
     let message: GameError = "no such level".into();
     assert_eq!(message.to_string(), "no such level");
     assert!(message.source().is_none());
+}
+
+/// The world hashes and integrators of a session's stage.
+fn stage_state(game: &GameSession<Probe>) -> Vec<(u64, &'static str)> {
+    game.stage()
+        .worlds
+        .iter()
+        .map(|w| (w.world.state_hash(), w.world.integrator().info().name))
+        .collect()
+}
+
+#[test]
+fn a_replay_repeats_an_integrator_switch_made_from_the_panel_at_its_tick() {
+    let dir = std::env::temp_dir().join(format!("tickwork-game-controls-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("switch.ron");
+    let _ = std::fs::remove_file(&path);
+    let worlds = vec![
+        ("semi_implicit_euler", false, OnFailure::Stop),
+        ("semi_implicit_euler", false, OnFailure::Stop),
+    ];
+    let mut live = GameSession::new(
+        Probe {
+            worlds: worlds.clone(),
+            ..Probe::default()
+        },
+        SessionOptions {
+            record: Some(path.clone()),
+            ..SessionOptions::default()
+        },
+    )
+    .expect("a session");
+    let rk4 = tickwork_engine::integrators::METHODS
+        .iter()
+        .position(|m| m.name == "rk4")
+        .expect("registered");
+    for frame in 0..90u64 {
+        if frame == 40 {
+            // What the panel's integrator menu returns for the second world;
+            // the runner applies it between frames, like every control.
+            live.control(Control::WorldIntegrator { world: 1, method: rk4 })
+                .expect("switches");
+        }
+        live.advance(if frame % 3 == 0 { 0.03 } else { 0.011 }).expect("steps");
+    }
+    let switched_at = {
+        live.save_recording().expect("saved");
+        let recording = Recording::load(&path).expect("loads");
+        assert_eq!(recording.controls.len(), 1, "{:?}", recording.controls);
+        let (tick, control) = recording.controls[0].clone();
+        assert_eq!(
+            control,
+            tickwork_engine::input::RecordedControl::Integrator {
+                world: 1,
+                name: "rk4".into()
+            }
+        );
+        assert!(tick > 0 && tick < recording.ticks, "mid-run: tick {tick}");
+        recording
+    };
+    let replay = |recording: Recording, frame: f64| {
+        let mut game = GameSession::new(
+            Probe {
+                worlds: worlds.clone(),
+                ..Probe::default()
+            },
+            SessionOptions {
+                replay: Some(recording),
+                ..SessionOptions::default()
+            },
+        )
+        .expect("a session");
+        while game.ticks() < live.ticks() {
+            game.advance(frame).expect("steps");
+        }
+        assert_eq!(game.ticks(), live.ticks(), "frames of {frame} s end on the live tick");
+        stage_state(&game)
+    };
+    let state = stage_state(&live);
+    assert_eq!(state[1].1, "rk4");
+    assert_ne!(state[0].0, state[1].0, "the switch changed the second world's motion");
+    // Replayed with frames of another length: the same switch at the same tick.
+    assert_eq!(replay(switched_at.clone(), 1.0 / 60.0), state);
+    // Without the recorded control the replay stays on one method: the
+    // check is not blind.
+    let mut without = switched_at;
+    without.controls.clear();
+    assert_ne!(replay(without, 1.0 / 60.0), state);
+    std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -1,22 +1,15 @@
 //! Determinism: recorded per-tick inputs replay to a bit-identical state,
-//! whatever the frame timing and the number of threads, and the fused,
-//! parallel step equals the plain one.
+//! whatever the frame timing and the number of threads; a press reaches the
+//! tick of its time whatever the frame timing; and the fused, parallel step
+//! equals the plain one.
 
 mod support;
 use glam::Vec3;
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::{
-    Emitter, Entity, FixedClock, Gravity, InputLog, InputQueue, LinearDrag, Material, Particle, Plane, World,
-    WorldConfig,
+    Emitter, Entity, FixedClock, Gravity, InputEvent, InputQueue, Key, LinearDrag, Material, Particle, Plane,
+    Recording, TickInput, World, WorldConfig,
 };
-
-/// What the player can do.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-enum Key {
-    Left,
-    Right,
-    Jump,
-}
 
 fn scene(threads_threshold: usize) -> (World, Entity) {
     let mut w = World::new(WorldConfig {
@@ -48,67 +41,96 @@ fn scene(threads_threshold: usize) -> (World, Entity) {
     (w, player.expect("spawn"))
 }
 
-fn apply(world: &mut World, player: Entity, keys: &[Key]) {
-    for key in keys {
+/// Kicks the player for each key pressed this tick.
+fn apply(world: &mut World, player: Entity, input: &TickInput) {
+    for key in input.pressed.iter() {
         let v = world.velocity(player).expect("alive");
         let kick = match key {
             Key::Left => Vec3::new(-1.0, 0.0, 0.0),
             Key::Right => Vec3::new(1.0, 0.0, 0.0),
-            Key::Jump => Vec3::new(0.0, 4.0, 0.0),
+            _ => Vec3::new(0.0, 4.0, 0.0),
         };
         world.set_velocity(player, v + kick).expect("finite");
     }
 }
 
-/// Plays 4 seconds live: keys arrive at given frames; returns the log and the final hash.
-fn play_live(source: &mut dyn TimeSource, threshold: usize) -> (InputLog<Key>, u64, usize) {
+/// The clock's present: simulated time plus backlog.
+fn present(clock: &FixedClock) -> f64 {
+    clock.time() + clock.backlog()
+}
+
+fn tap(queue: &mut InputQueue, key: Key, at: f64) {
+    queue.push(InputEvent::Key { key, down: true }, at);
+    queue.push(InputEvent::Key { key, down: false }, at + 0.05);
+}
+
+/// Plays 4 seconds live: keys tapped at given frames; returns the recording,
+/// the final hash and the number of taps.
+fn play_live(source: &mut dyn TimeSource, threshold: usize) -> (Recording, u64, usize) {
     let (mut world, player) = scene(threshold);
     let mut clock = FixedClock::default();
     let mut queue = InputQueue::default();
-    let mut log = InputLog::default();
-    let mut frame_index = 0u64;
-    let mut pushed = 0;
+    let mut recording = Recording {
+        game: "replay".into(),
+        hz: 60.0,
+        seed: 7,
+        integrator: None,
+        ticks: 240,
+        inputs: Vec::new(),
+        controls: Vec::new(),
+    };
+    let (mut frame_index, mut taps, mut seen) = (0u64, 0, 0);
+    let mut carried = TickInput::default();
     while clock.tick() < 240 {
-        // Keys pressed during this frame (by frame count, as a player would).
+        // Keys tapped during this frame (by frame count, as a player would).
         match frame_index % 37 {
-            3 => queue.push(Key::Jump),
-            11 => queue.push(Key::Left),
-            19 => {
-                queue.push(Key::Right);
-                queue.push(Key::Right);
-            }
+            3 => tap(&mut queue, Key::Space, 0.3),
+            11 => tap(&mut queue, Key::Left, 0.5),
+            19 => tap(&mut queue, Key::Right, 0.1),
             _ => {}
         }
-        pushed = queue.pending().len() + log.events.len();
+        taps += usize::from(matches!(frame_index % 37, 3 | 11 | 19));
         frame_index += 1;
+        let from = present(&clock);
         let frame = clock.advance(source.next_frame()).expect("frame");
+        queue.stamp(from, present(&clock));
         for step in frame.fixed_steps() {
             if step.tick >= 240 {
                 break;
             }
-            let keys = queue.begin_step().to_vec();
-            log.record(step.tick, &keys);
-            world.step_with(step, |w, _| apply(w, player, &keys)).expect("step");
+            let input = queue.tick(step.time + step.dt);
+            seen += input.pressed.iter().count();
+            if input != carried {
+                recording.inputs.push((step.tick, input));
+            }
+            carried = input.carried();
+            world.step_with(step, |w, _| apply(w, player, &input)).expect("step");
         }
     }
     assert_eq!(world.tick(), 240);
-    // Every key pressed was seen by exactly one step, or still waits.
-    assert_eq!(log.events.len() + queue.pending().len(), pushed);
-    (log, world.state_hash(), pushed)
+    // Every tap was seen by exactly one step, or still waits.
+    queue.stamp(present(&clock), present(&clock));
+    seen += queue.tick(f64::INFINITY).pressed.iter().count();
+    assert_eq!(seen, taps);
+    (recording, world.state_hash(), taps)
 }
 
-fn replay(log: &InputLog<Key>, source: &mut dyn TimeSource, threshold: usize) -> u64 {
+fn replay(recording: &Recording, source: &mut dyn TimeSource, threshold: usize) -> u64 {
     let (mut world, player) = scene(threshold);
-    let mut log = log.clone();
     let mut clock = FixedClock::default();
+    let mut inputs = recording.inputs.iter().peekable();
+    let mut input = TickInput::default();
     while clock.tick() < 240 {
         let frame = clock.advance(source.next_frame()).expect("frame");
         for step in frame.fixed_steps() {
             if step.tick >= 240 {
                 break;
             }
-            let keys: Vec<Key> = log.events_at(step.tick).iter().map(|(_, k)| *k).collect();
-            world.step_with(step, |w, _| apply(w, player, &keys)).expect("step");
+            input = match inputs.next_if(|(tick, _)| *tick == step.tick) {
+                Some((_, recorded)) => *recorded,
+                None => input.carried(),
+            };
+            world.step_with(step, |w, _| apply(w, player, &input)).expect("step");
         }
     }
     world.state_hash()
@@ -116,74 +138,118 @@ fn replay(log: &InputLog<Key>, source: &mut dyn TimeSource, threshold: usize) ->
 
 #[test]
 fn replays_are_bit_identical_across_frame_timing_and_threads() {
-    let (log, live, pushed) = play_live(&mut JitteryCadence::new(1.0 / 50.0, 42), usize::MAX);
-    assert!(
-        log.events.len() > 10 && pushed >= log.events.len(),
-        "the run saw input: {}",
-        log.events.len()
-    );
+    let (recording, live, taps) = play_live(&mut JitteryCadence::new(1.0 / 50.0, 42), usize::MAX);
+    assert!(taps > 10, "the run saw input: {taps} taps");
     // Same inputs, a 144 Hz display, serial.
-    assert_eq!(replay(&log, &mut FixedCadence::hz(144.0), usize::MAX), live);
+    assert_eq!(replay(&recording, &mut FixedCadence::hz(144.0), usize::MAX), live);
     // Same inputs, jittery 30 Hz display, fused step split over 1 and 2 threads.
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .expect("pool");
-        let hash = pool.install(|| replay(&log, &mut JitteryCadence::new(1.0 / 30.0, 9), 512));
+        let hash = pool.install(|| replay(&recording, &mut JitteryCadence::new(1.0 / 30.0, 9), 512));
         assert_eq!(hash, live, "{threads} threads");
     }
     // A different input changes the outcome (the hash is not blind).
-    let mut other = log.clone();
-    other.events[0].1 = Key::Left;
+    let mut other = recording.clone();
+    other.inputs[0].1.pressed = vec![Key::Left].into();
     assert_ne!(replay(&other, &mut FixedCadence::hz(60.0), usize::MAX), live);
 }
 
-#[test]
-fn key_presses_are_never_lost_or_doubled_across_frames() {
-    // A 240 Hz display at 60 Hz steps runs zero steps in most frames; a 20 Hz
-    // display runs three per frame. Either way each press reaches one step.
-    for display_hz in [240.0, 20.0] {
-        let mut clock = FixedClock::default();
-        let mut queue = InputQueue::default();
-        let mut seen = Vec::new();
-        let mut source = FixedCadence::hz(display_hz);
-        for frame_index in 0..200u32 {
-            if frame_index % 5 == 0 {
-                queue.push(frame_index);
-            }
-            let frame = clock.advance(source.next_frame()).expect("frame");
-            for _ in frame.fixed_steps() {
-                seen.extend_from_slice(queue.begin_step());
+/// Frame durations of a display: steady at `hz`, or jittering about it.
+fn frames(source: &mut dyn TimeSource, seconds: f64) -> Vec<f64> {
+    let mut total = 0.0;
+    let mut out = Vec::new();
+    while total < seconds {
+        let frame = source.next_frame();
+        total += frame;
+        out.push(frame);
+    }
+    out
+}
+
+/// The ticks that see presses made at real times `presses` (seconds),
+/// each handed over with where in its frame it arrived.
+fn ticks_seeing(presses: &[f64], frame_times: &[f64]) -> Vec<u64> {
+    let mut clock = FixedClock::default();
+    let mut queue = InputQueue::default();
+    let (mut start, mut seen) = (0.0, Vec::new());
+    for &duration in frame_times {
+        for &at in presses.iter().filter(|&&t| t >= start && t < start + duration) {
+            queue.push(
+                InputEvent::Key {
+                    key: Key::Space,
+                    down: true,
+                },
+                (at - start) / duration,
+            );
+            queue.push(
+                InputEvent::Key {
+                    key: Key::Space,
+                    down: false,
+                },
+                (at - start) / duration,
+            );
+        }
+        start += duration;
+        let from = present(&clock);
+        let frame = clock.advance(duration).expect("frame");
+        queue.stamp(from, present(&clock));
+        for step in frame.fixed_steps() {
+            if queue.tick(step.time + step.dt).pressed(Key::Space) {
+                seen.push(step.tick);
             }
         }
-        seen.extend_from_slice(queue.begin_step());
-        let pushed: Vec<u32> = (0..200).filter(|f| f % 5 == 0).collect();
-        assert_eq!(seen, pushed, "display at {display_hz} Hz");
+    }
+    seen
+}
+
+#[test]
+fn a_press_reaches_the_tick_of_its_time_whatever_the_frame_timing() {
+    // Presses a third of the way into ticks 5, 31, 32, 100 and 177 (60 Hz).
+    let ticks = [5u64, 31, 32, 100, 177];
+    let presses: Vec<f64> = ticks.iter().map(|&k| (k as f64 + 0.33) / 60.0).collect();
+    let displays: [(&str, Box<dyn TimeSource>); 5] = [
+        ("240 Hz", Box::new(FixedCadence::hz(240.0))),
+        ("144 Hz", Box::new(FixedCadence::hz(144.0))),
+        ("60 Hz", Box::new(FixedCadence::hz(60.0))),
+        ("20 Hz", Box::new(FixedCadence::hz(20.0))),
+        ("jittery 45 Hz", Box::new(JitteryCadence::new(1.0 / 45.0, 3))),
+    ];
+    for (name, mut display) in displays {
+        let frame_times = frames(display.as_mut(), 3.1);
+        // Each press is seen once, by the tick whose time window holds it:
+        // at 20 Hz a frame runs three steps, and the press goes to the one
+        // it happened in, not to the frame's first.
+        assert_eq!(ticks_seeing(&presses, &frame_times), ticks, "{name}");
     }
 }
 
 #[test]
-fn log_files_round_trip_and_are_not_overwritten() {
-    let (log, _, _) = play_live(&mut FixedCadence::hz(60.0), usize::MAX);
+fn recordings_round_trip_and_are_not_overwritten() {
+    let (recording, _, _) = play_live(&mut FixedCadence::hz(60.0), usize::MAX);
     let dir = std::env::temp_dir().join(format!("tickwork-replay-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join("run.ron");
     let _ = std::fs::remove_file(&path);
-    log.save(&path, false).expect("write");
-    let err = log.save(&path, false).expect_err("exists");
+    recording.save(&path, false).expect("write");
+    let err = recording.save(&path, false).expect_err("exists");
     assert!(
         err.to_string()
-            .ends_with("exists; not overwriting a recording without being asked"),
+            .ends_with("run.ron: exists; pass --force to overwrite it"),
         "{err}"
     );
-    let back: InputLog<Key> = InputLog::load(&path).expect("read");
-    assert_eq!(back.events, log.events);
-    std::fs::write(&path, "(events: [(3, Jump), (4, Sideways)])").expect("write");
-    let err = InputLog::<Key>::load(&path).expect_err("bad variant");
+    let back = Recording::load(&path).expect("read");
+    assert_eq!(back, recording);
+    std::fs::write(
+        &path,
+        "Recording(game: \"replay\", hz: 60.0, seed: 7, integrator: None, ticks: 240, inputs: [(3, TickInput(held: [Sideways]))])",
+    )
+    .expect("write");
+    let err = Recording::load(&path).expect_err("bad variant");
     assert!(
-        err.to_string()
-            .contains("line 1, column 26: Unexpected variant named `Sideways`"),
+        err.to_string().contains("line 1, column ") && err.to_string().contains("`Sideways`"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).expect("clean up");

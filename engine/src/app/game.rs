@@ -10,172 +10,11 @@
 
 use std::fmt;
 
-use serde::{Deserialize, Serialize};
-
 use super::draw::Draw;
-use super::stage::Stage;
+use super::stage::{Settings, Stage};
 use crate::clock::{FixedStep, Frame};
+use crate::input::TickInput;
 use crate::step::SimulationError;
-
-/// The keys a game can read. Keys outside this set drive the runner's
-/// controls (P pause, Period step, `+`/`-` time scale, Tab and 1-9
-/// integrator, F1 panel, F5 restart, F12 screenshot, Escape quit).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[allow(missing_docs)]
-pub enum Key {
-    Left,
-    Right,
-    Up,
-    Down,
-    Space,
-    Enter,
-    Shift,
-    W,
-    A,
-    S,
-    D,
-    Q,
-    E,
-    R,
-    F,
-    Z,
-    X,
-    C,
-}
-
-impl Key {
-    /// Every key, in bit order.
-    pub const ALL: [Key; 18] = [
-        Key::Left,
-        Key::Right,
-        Key::Up,
-        Key::Down,
-        Key::Space,
-        Key::Enter,
-        Key::Shift,
-        Key::W,
-        Key::A,
-        Key::S,
-        Key::D,
-        Key::Q,
-        Key::E,
-        Key::R,
-        Key::F,
-        Key::Z,
-        Key::X,
-        Key::C,
-    ];
-
-    fn bit(self) -> u32 {
-        1 << (self as u32)
-    }
-}
-
-/// A set of [`Key`]s (a bit mask), written in recordings as a list of names.
-#[derive(Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(from = "Vec<Key>", into = "Vec<Key>")]
-pub struct KeySet(u32);
-
-impl KeySet {
-    /// No keys.
-    pub const EMPTY: Self = Self(0);
-
-    /// Whether `key` is in the set.
-    #[must_use]
-    pub fn contains(self, key: Key) -> bool {
-        self.0 & key.bit() != 0
-    }
-
-    /// Adds `key`.
-    pub fn insert(&mut self, key: Key) {
-        self.0 |= key.bit();
-    }
-
-    /// Removes `key`.
-    pub fn remove(&mut self, key: Key) {
-        self.0 &= !key.bit();
-    }
-
-    /// Whether the set is empty.
-    #[must_use]
-    pub fn is_empty(self) -> bool {
-        self.0 == 0
-    }
-
-    /// The keys in the set, in [`Key::ALL`] order.
-    pub fn iter(self) -> impl Iterator<Item = Key> {
-        Key::ALL.into_iter().filter(move |k| self.contains(*k))
-    }
-}
-
-impl From<Vec<Key>> for KeySet {
-    fn from(keys: Vec<Key>) -> Self {
-        let mut set = Self::EMPTY;
-        for key in keys {
-            set.insert(key);
-        }
-        set
-    }
-}
-
-impl From<KeySet> for Vec<Key> {
-    fn from(set: KeySet) -> Self {
-        set.iter().collect()
-    }
-}
-
-impl fmt::Debug for KeySet {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_set().entries(self.iter()).finish()
-    }
-}
-
-/// What one fixed step sees of the keyboard.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TickInput {
-    /// Keys down during this step (thrust while held).
-    #[serde(default)]
-    pub held: KeySet,
-    /// Keys pressed since the previous step began: seen by exactly one step,
-    /// even if released before it ran (fire, restart).
-    #[serde(default)]
-    pub pressed: KeySet,
-}
-
-impl TickInput {
-    /// Whether `key` is held during this step.
-    #[must_use]
-    pub fn held(&self, key: Key) -> bool {
-        self.held.contains(key)
-    }
-
-    /// Whether `key` went down since the previous step.
-    #[must_use]
-    pub fn pressed(&self, key: Key) -> bool {
-        self.pressed.contains(key)
-    }
-
-    /// The input of the following step if nothing changes: the same keys
-    /// held, none newly pressed.
-    #[must_use]
-    pub fn carried(&self) -> Self {
-        Self {
-            held: self.held,
-            pressed: KeySet::EMPTY,
-        }
-    }
-}
-
-/// What [`Game::setup`] is told by the command line.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
-    /// `--integrator`, as given (the runner also applies it to every world
-    /// that does not fix its own integrator; default: none).
-    pub integrator: Option<String>,
-    /// `--seed` (default 0).
-    pub seed: u64,
-}
 
 /// Why a game stopped. Every engine error converts into it, so `?` works on
 /// any engine call inside a [`Game`]'s hooks; so do a `String` or `&str`, a
@@ -248,7 +87,7 @@ engine_errors!(
     crate::world::WorldError,
     crate::scene::SceneError,
     crate::clock::ClockError,
-    crate::input::InputLogError,
+    crate::input::RecordingError,
     crate::headless::HeadlessError,
     tickwork_integrators::UnknownMethod,
     tickwork_integrators::StepError,

@@ -3,7 +3,9 @@
 //! show them, off-screen ([`OffscreenRun`]) and in a window ([`run_window`]),
 //! which share the per-frame path. [`run`] picks one for a game.
 
+mod control;
 mod draw;
+mod frame_rate;
 mod game;
 mod offscreen;
 mod options;
@@ -13,22 +15,29 @@ mod session;
 mod stage;
 mod window;
 
+/// The input types a game meets, from [`crate::input`], where they live.
+pub use crate::input::{InputEvent, Key, KeySet, Recording, RecordingError, TickInput};
+/// The command-line parser [`RunOptions`] is written for, re-exported so a
+/// game flattens [`RunOptions`] into its own options with the same version.
+pub use clap;
+pub use control::Control;
 pub use draw::{Draw, Viewport};
-pub use game::{Game, GameError, Key, KeySet, Settings, TickInput};
+pub use game::{Game, GameError};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
 pub use options::{
     MAX_DISPLAY_HZ, MAX_OFFSCREEN_FRAMES, MIN_DISPLAY_HZ, RunOptions, RunSummary, display_hz, exit_code,
     non_negative_seconds, parse_size, renderer_config, run,
 };
-pub use playback::{Control, Playback, PlaybackError};
-pub use session::{GameSession, Recording, SessionOptions};
-pub use stage::{EnergyTrace, OnFailure, Stage, StageError, StageWorld, WorldBuilder, WorldId};
+pub use playback::{Playback, PlaybackError};
+pub use session::{GameSession, SessionOptions};
+pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 // RunError and FrameSource are defined below.
 pub use window::{WindowOptions, WindowSummary, run_window};
 
 use std::fmt;
 use std::path::PathBuf;
 
+use crate::input::InputEvent as Event;
 use crate::render::{Camera, FrameView, RenderError};
 
 /// Something the runners can show frame by frame: advanced by each frame's
@@ -44,17 +53,27 @@ pub trait FrameSource {
     /// [`RunError`] for a bad duration or a failed step.
     fn advance(&mut self, seconds: f64) -> Result<(), RunError>;
 
-    /// Applies a viewer control.
+    /// Applies a viewer control now. The runners call it between frames
+    /// only (the keys' controls and the panel's alike), so every control
+    /// enters the simulation at a tick boundary.
     ///
     /// # Errors
-    /// [`RunError`] if the control fails (an integrator number beyond the registry).
+    /// [`RunError`] if the control fails (an integrator number beyond the
+    /// registry, a rate the clock refuses).
     fn control(&mut self, control: Control) -> Result<(), RunError>;
 
-    /// A game key went down or up; returns whether the source takes game
-    /// keys (if not, the window maps them to controls). Default: not taken.
-    fn key(&mut self, key: Key, down: bool) -> bool {
-        let _ = (key, down);
+    /// Whether the source takes the player's input (game keys, mouse
+    /// buttons and pointer); if not, the window maps keys to controls and
+    /// the mouse to the camera. Default: not taken.
+    fn takes_input(&self) -> bool {
         false
+    }
+
+    /// An input event that arrived at `arrival` in the coming frame (0 at
+    /// its start, 1 at its end): see [`crate::input::InputQueue`]. Called
+    /// by the runner just before [`advance`](Self::advance). Default: ignored.
+    fn input(&mut self, event: Event, arrival: f64) {
+        let _ = (event, arrival);
     }
 
     /// Fixed steps run since the start (or the last reset).
@@ -75,13 +94,11 @@ pub trait FrameSource {
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
     ) -> Result<(), RunError>;
 
-    /// Fills the window's control panel (default: clock controls only).
-    ///
-    /// # Errors
-    /// [`RunError`] if a control chosen in the panel fails.
-    fn panel(&mut self, ctx: &egui::Context) -> Result<(), RunError> {
-        let _ = ctx;
-        Ok(())
+    /// Lays out the window's control panel, adding the controls chosen in
+    /// it to `chosen` (applied by the runner before the next frame's
+    /// steps). Default: no panel.
+    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
+        let _ = (ctx, chosen);
     }
 }
 
@@ -135,6 +152,21 @@ impl From<PlaybackError> for RunError {
 impl From<RenderError> for RunError {
     fn from(e: RenderError) -> Self {
         Self::Render(e)
+    }
+}
+
+impl From<tickwork_integrators::UnknownMethod> for RunError {
+    fn from(e: tickwork_integrators::UnknownMethod) -> Self {
+        Self::Game(e.into())
+    }
+}
+
+impl From<crate::input::RecordingError> for RunError {
+    fn from(e: crate::input::RecordingError) -> Self {
+        match e {
+            crate::input::RecordingError::Exists(path) => Self::Exists(path),
+            crate::input::RecordingError::Io { path, message } => Self::Io { path, message },
+        }
     }
 }
 

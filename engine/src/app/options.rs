@@ -6,12 +6,14 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::game::{Game, Settings};
-use super::session::{GameSession, Recording, SessionOptions};
+use super::game::Game;
+use super::session::{GameSession, SessionOptions};
+use super::stage::Settings;
 use super::stage::Stage;
 use super::window::display_available;
 use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
 use crate::clock::FixedCadence;
+use crate::input::Recording;
 use crate::render::{Gpu, RendererConfig};
 
 /// The options every game shares on the command line.

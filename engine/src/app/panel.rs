@@ -2,26 +2,18 @@
 //! each world's integrator and particle count, and a live plot of each
 //! world's relative energy error. Drawn over the frame after it is
 //! rendered, so off-screen frames and golden images never contain it.
+//!
+//! The panel reads what a source shows it ([`ClockRow`], [`WorldRow`]) and
+//! returns the [`Control`]s chosen in it; the runner applies them between
+//! frames, like the keys' controls. It knows no source type.
 
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
-use super::game::Game;
-use super::playback::next_time_scale;
-use super::playback::{Playback, PlaybackError};
-use super::session::GameSession;
+use super::control::{Control, next_time_scale};
 use super::stage::EnergyTrace;
-use super::{Control, FrameSource, RunError};
-use crate::clock::{FixedClock, Rate};
+use crate::clock::FixedClock;
 use crate::world::Colour;
 use tickwork_integrators::METHODS;
-
-/// Something the panel asked for, applied after the panel is laid out.
-enum Action {
-    Control(Control),
-    TimeScale(f64),
-    Rate(f64),
-    Integrator { world: usize, name: &'static str },
-}
 
 /// `log10 |e|`, floored at 1e-16 (round-off) so exact zeros plot.
 fn log_error(e: f64) -> f64 {
@@ -33,17 +25,18 @@ fn plot_points(trace: &EnergyTrace) -> PlotPoints<'static> {
 }
 
 /// What the panel shows of one world.
-struct WorldRow<'a> {
-    label: &'a str,
-    colour: Colour,
-    integrator: &'static str,
-    fixed: bool,
-    particles: usize,
-    energy: &'a EnergyTrace,
+pub(super) struct WorldRow<'a> {
+    pub(super) label: &'a str,
+    pub(super) colour: Colour,
+    pub(super) integrator: &'static str,
+    /// Whether the integrator stays as it is (the game fixes it).
+    pub(super) fixed: bool,
+    pub(super) particles: usize,
+    pub(super) energy: &'a EnergyTrace,
 }
 
 /// What the panel shows of the clock.
-struct ClockRow {
+pub(super) struct ClockRow {
     fps: f64,
     steps: u32,
     dropped: f64,
@@ -55,9 +48,24 @@ struct ClockRow {
     rate_fixed: bool,
 }
 
-/// Lays the panel out and returns what was chosen.
-fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Vec<Action> {
-    let mut actions = Vec::new();
+impl ClockRow {
+    /// The row of `clock`, at `fps` with `steps` in the last frame.
+    pub(super) fn of(clock: &FixedClock, fps: f64, steps: u32, rate_fixed: bool) -> Self {
+        Self {
+            fps,
+            steps,
+            dropped: clock.dropped_total(),
+            time: clock.time(),
+            paused: clock.is_paused(),
+            scale: clock.config().time_scale,
+            hz: clock.config().rate.hz_value(),
+            rate_fixed,
+        }
+    }
+}
+
+/// Lays the panel out; adds the controls chosen in it to `actions`.
+pub(super) fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>], actions: &mut Vec<Control>) {
     let (mut scale, mut hz) = (clock.scale, clock.hz);
     egui::Window::new("Tickwork")
         .default_pos([12.0, 80.0])
@@ -72,19 +80,19 @@ fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Ve
                     .button(if clock.paused { "Resume (P)" } else { "Pause (P)" })
                     .clicked()
                 {
-                    actions.push(Action::Control(Control::TogglePause));
+                    actions.push(Control::TogglePause);
                 }
                 if ui.add_enabled(clock.paused, egui::Button::new("Step (.)")).clicked() {
-                    actions.push(Action::Control(Control::SingleStep));
+                    actions.push(Control::SingleStep);
                 }
                 if ui.button("Restart (F5)").clicked() {
-                    actions.push(Action::Control(Control::Reset));
+                    actions.push(Control::Reset);
                 }
             });
             ui.horizontal(|ui| {
                 ui.label("time scale");
                 if ui.button("-").clicked() {
-                    actions.push(Action::TimeScale(next_time_scale(scale, false)));
+                    actions.push(Control::TimeScale(next_time_scale(scale, false)));
                 }
                 let response = ui.add(
                     egui::DragValue::new(&mut scale)
@@ -93,10 +101,10 @@ fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Ve
                         .suffix("x"),
                 );
                 if response.changed() {
-                    actions.push(Action::TimeScale(scale));
+                    actions.push(Control::TimeScale(scale));
                 }
                 if ui.button("+").clicked() {
-                    actions.push(Action::TimeScale(next_time_scale(scale, true)));
+                    actions.push(Control::TimeScale(next_time_scale(scale, true)));
                 }
             });
             ui.horizontal(|ui| {
@@ -110,7 +118,7 @@ fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Ve
                         .suffix(" Hz"),
                 );
                 if response.drag_stopped() || (response.changed() && !response.dragged()) {
-                    actions.push(Action::Rate(hz));
+                    actions.push(Control::Rate(hz));
                 }
             });
             ui.separator();
@@ -127,15 +135,15 @@ fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Ve
                         egui::ComboBox::from_id_salt(("integrator", index))
                             .selected_text(row.integrator)
                             .show_ui(ui, |ui| {
-                                for method in METHODS {
+                                for (number, method) in METHODS.iter().enumerate() {
                                     if ui
                                         .selectable_label(method.name == row.integrator, method.name)
                                         .clicked()
                                         && method.name != row.integrator
                                     {
-                                        actions.push(Action::Integrator {
+                                        actions.push(Control::WorldIntegrator {
                                             world: index,
-                                            name: method.name,
+                                            method: number,
                                         });
                                     }
                                 }
@@ -160,97 +168,4 @@ fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<'_>]) -> Ve
                     }
                 });
         });
-    actions
-}
-
-fn clock_row(clock: &FixedClock, fps: f64, steps: u32, rate_fixed: bool) -> ClockRow {
-    ClockRow {
-        fps,
-        steps,
-        dropped: clock.dropped_total(),
-        time: clock.time(),
-        paused: clock.is_paused(),
-        scale: clock.config().time_scale,
-        hz: clock.config().rate.hz_value(),
-        rate_fixed,
-    }
-}
-
-/// Lays out the panel for `session` and applies what was chosen.
-pub(super) fn show<G: Game>(session: &mut GameSession<G>, ctx: &egui::Context) -> Result<(), RunError> {
-    let clock = clock_row(
-        session.clock(),
-        session.fps(),
-        session.last_frame().steps,
-        session.is_recording(),
-    );
-    let rows: Vec<WorldRow<'_>> = session
-        .stage()
-        .worlds
-        .iter()
-        .map(|w| WorldRow {
-            label: &w.label,
-            colour: w.colour,
-            integrator: w.world.integrator().info().name,
-            fixed: w.fixed_integrator,
-            particles: w.world.len(),
-            energy: &w.energy,
-        })
-        .collect();
-    let actions = lay_out(ctx, &clock, &rows);
-    drop(rows);
-    for action in actions {
-        match action {
-            Action::Control(control) => session.control(control)?,
-            Action::TimeScale(scale) => session.clock_mut().set_time_scale(scale)?,
-            Action::Rate(hz) => {
-                let rate = Rate::hz_f64(hz)?;
-                session.clock_mut().set_rate(rate);
-                session.stage_mut().rate = rate;
-            }
-            Action::Integrator { world, name } => {
-                if let Some(shown) = session.stage_mut().worlds.get_mut(world) {
-                    shown
-                        .world
-                        .set_integrator(name)
-                        .map_err(|e| RunError::Game(super::GameError::Message(e.to_string())))?;
-                    shown.failure = None;
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-/// Lays out the panel for a scene's `playback` (one world) and applies what was chosen.
-pub(super) fn show_playback(playback: &mut Playback, ctx: &egui::Context) -> Result<(), RunError> {
-    let clock = clock_row(playback.clock(), playback.fps(), playback.last_frame().steps, false);
-    let title = playback.title().to_owned();
-    let rows = [WorldRow {
-        label: &title,
-        colour: [235, 235, 235, 255],
-        integrator: playback.world().integrator().info().name,
-        fixed: false,
-        particles: playback.world().len(),
-        energy: playback.energy_trace(),
-    }];
-    let actions = lay_out(ctx, &clock, &rows);
-    for action in actions {
-        match action {
-            Action::Control(control) => playback.control(control)?,
-            Action::TimeScale(scale) => playback
-                .clock_mut()
-                .set_time_scale(scale)
-                .map_err(PlaybackError::from)?,
-            Action::Rate(hz) => {
-                let rate = Rate::hz_f64(hz).map_err(PlaybackError::from)?;
-                playback.clock_mut().set_rate(rate);
-            }
-            Action::Integrator { name, .. } => {
-                let index = METHODS.iter().position(|m| m.name == name).unwrap_or(0);
-                playback.control(Control::Integrator(index))?;
-            }
-        }
-    }
-    Ok(())
 }

@@ -14,80 +14,12 @@ use crate::render::{Camera, FrameView, Trails};
 use crate::scene::{Scene, SceneError};
 use crate::step::SimulationError;
 use crate::world::{Snapshot, World};
-use tickwork_integrators::{METHODS, UnknownMethod};
+use tickwork_integrators::UnknownMethod;
 
-/// Slowest and fastest time scales the `-`/`+` keys reach.
-const TIME_SCALES: [f64; 9] = [0.0625, 0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0];
-
-/// The next time scale up (`faster`) or down from `scale` in [`TIME_SCALES`],
-/// or `scale` itself at either end.
-pub(crate) fn next_time_scale(scale: f64, faster: bool) -> f64 {
-    let next = if faster {
-        TIME_SCALES.iter().find(|&&s| s > scale * 1.0001)
-    } else {
-        TIME_SCALES.iter().rev().find(|&&s| s < scale * 0.9999)
-    };
-    next.copied().unwrap_or(scale)
-}
-
-/// Frames per second for the HUD and the panel, from a smoothed frame time
-/// `e <- e + (s - e) / 8` (the first frame sets it).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct FrameRate {
-    seconds: f64,
-}
-
-impl FrameRate {
-    /// Takes a frame of `seconds` into the average.
-    pub(crate) fn record(&mut self, seconds: f64) {
-        self.seconds = if self.seconds == 0.0 {
-            seconds
-        } else {
-            self.seconds + (seconds - self.seconds) / 8.0
-        };
-    }
-
-    /// Smoothed frames per second (0 before any frame).
-    pub(crate) fn fps(self) -> f64 {
-        if self.seconds > 0.0 { 1.0 / self.seconds } else { 0.0 }
-    }
-}
-
-/// Applies the clock's controls (pause, single step, faster, slower) to
-/// `clock`; the others leave it alone.
-pub(crate) fn clock_control(clock: &mut FixedClock, control: Control) -> Result<(), ClockError> {
-    match control {
-        Control::TogglePause if clock.is_paused() => clock.resume(),
-        Control::TogglePause => clock.pause(),
-        Control::SingleStep => {
-            clock.single_step();
-        }
-        Control::Faster | Control::Slower => {
-            clock.set_time_scale(next_time_scale(clock.config().time_scale, control == Control::Faster))?;
-        }
-        Control::NextIntegrator | Control::Integrator(_) | Control::Reset => {}
-    }
-    Ok(())
-}
-
-/// A control a viewer can apply between frames (keys in the window).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Control {
-    /// Pause or resume (Space).
-    TogglePause,
-    /// While paused, run exactly one fixed step (Period).
-    SingleStep,
-    /// Double the time scale, up to 16 (`+`).
-    Faster,
-    /// Halve the time scale, down to 1/16 (`-`).
-    Slower,
-    /// Switch to the next integrator of the registry (Tab).
-    NextIntegrator,
-    /// Switch to the registry's integrator number `n` (keys 1-9 are 0-8).
-    Integrator(usize),
-    /// Back to the initial state (R).
-    Reset,
-}
+use super::control::{Control, chosen_integrator, clock_control};
+use super::frame_rate::FrameRate;
+use super::panel::{ClockRow, WorldRow};
+use super::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
 
 /// Why playback stopped.
 #[derive(Debug)]
@@ -149,7 +81,7 @@ pub struct Playback {
     /// The HUD text, reused between frames.
     hud: String,
     /// Relative energy error, sampled once per frame that stepped (the panel's plot).
-    energy_trace: super::EnergyTrace,
+    energy_trace: EnergyTrace,
 }
 
 impl fmt::Debug for Playback {
@@ -160,10 +92,6 @@ impl fmt::Debug for Playback {
             .finish_non_exhaustive()
     }
 }
-
-/// Worlds up to this size compute their energy every step for the HUD;
-/// larger ones every 30 steps.
-const ENERGY_EVERY_STEP: usize = 20_000;
 
 impl Playback {
     /// Plays `world` at `rate`, seen through `camera`.
@@ -192,7 +120,7 @@ impl Playback {
             initial_energy,
             initial_len: world_len,
             hud: String::new(),
-            energy_trace: super::EnergyTrace::default(),
+            energy_trace: EnergyTrace::default(),
         })
     }
 
@@ -244,11 +172,6 @@ impl Playback {
         &self.clock
     }
 
-    /// The clock, for the panel's rate and time scale.
-    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
-        &mut self.clock
-    }
-
     /// Smoothed frames per second.
     #[must_use]
     pub fn fps(&self) -> f64 {
@@ -257,7 +180,7 @@ impl Playback {
 
     /// The relative energy error over recent frames (the panel's plot).
     #[must_use]
-    pub fn energy_trace(&self) -> &super::EnergyTrace {
+    pub fn energy_trace(&self) -> &EnergyTrace {
         &self.energy_trace
     }
 
@@ -293,39 +216,27 @@ impl Playback {
         Ok(&self.last)
     }
 
-    /// Applies a viewer control.
+    /// Applies a viewer control now (the runners call this between
+    /// frames, at a tick boundary).
     ///
     /// # Errors
     /// [`PlaybackError::Integrator`] for an integrator number beyond the
-    /// registry; [`PlaybackError::Clock`] never in practice (time scales
-    /// are from a fixed list).
+    /// registry; [`PlaybackError::Clock`] for a time scale or rate the
+    /// clock refuses.
     pub fn control(&mut self, control: Control) -> Result<(), PlaybackError> {
-        match control {
-            Control::TogglePause | Control::SingleStep | Control::Faster | Control::Slower => {
-                clock_control(&mut self.clock, control)?;
-            }
-            Control::NextIntegrator => {
-                let methods = METHODS;
-                let current = self.world.integrator().info().name;
-                let index = methods.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
-                self.world.set_integrator(methods[index % methods.len()].name)?;
-            }
-            Control::Integrator(n) => {
-                let methods = METHODS;
-                let Some(info) = methods.get(n) else {
-                    return Err(PlaybackError::Integrator(UnknownMethod::new(&format!("#{}", n + 1))));
-                };
-                self.world.set_integrator(info.name)?;
-            }
-            Control::Reset => {
-                let integrator = self.world.integrator().info().name;
-                self.world.restore(&self.initial);
-                // Keep the integrator the viewer chose.
-                self.world.set_integrator(integrator)?;
-                self.trails.clear_points();
-                self.energy = None;
-                self.energy_trace = super::EnergyTrace::default();
-            }
+        if clock_control(&mut self.clock, control)? {
+            return Ok(());
+        }
+        if control == Control::Reset {
+            let integrator = self.world.integrator().info().name;
+            self.world.restore(&self.initial);
+            // Keep the integrator the viewer chose.
+            self.world.set_integrator(integrator)?;
+            self.trails.clear_points();
+            self.energy = None;
+            self.energy_trace = EnergyTrace::default();
+        } else if let Some(name) = chosen_integrator(control, 0, self.world.integrator().info().name)? {
+            self.world.set_integrator(name)?;
         }
         Ok(())
     }
@@ -348,7 +259,7 @@ impl Playback {
         let tick = self.world.tick();
         let stale = match self.energy {
             None => true,
-            Some((at, _)) => at != tick && (self.world.len() <= ENERGY_EVERY_STEP || tick >= at + 30),
+            Some((at, _)) => at != tick && (self.world.len() <= ENERGY_EVERY_STEP_UP_TO || tick >= at + 30),
         };
         if stale {
             self.energy = Some((tick, self.world.energy().total()));
@@ -404,8 +315,17 @@ impl super::FrameSource for Playback {
         self.world.tick()
     }
 
-    fn panel(&mut self, ctx: &egui::Context) -> Result<(), super::RunError> {
-        super::panel::show_playback(self, ctx)
+    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
+        let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, false);
+        let rows = [WorldRow {
+            label: &self.title,
+            colour: [235, 235, 235, 255],
+            integrator: self.world.integrator().info().name,
+            fixed: false,
+            particles: self.world.len(),
+            energy: &self.energy_trace,
+        }];
+        super::panel::lay_out(ctx, &clock, &rows, chosen);
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

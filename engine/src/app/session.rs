@@ -1,173 +1,38 @@
-//! A game in play: its stage, the clock, the keyboard state turned into
+//! A game in play: its stage, the clock, the player's input turned into
 //! per-tick input, and the recording or replay of that input.
 //!
-//! Per frame: the clock turns the frame's duration into fixed steps; each
-//! step takes the tick's input (live keys, or the replayed recording), calls
+//! Per frame: the clock turns the frame's duration into fixed steps and the
+//! frame's input events get their simulated times; each step applies the
+//! recorded controls of its tick (replay), takes the tick's input (the
+//! events of its time window, or the recording's), calls
 //! [`Game::fixed_update`], then steps every world of the stage and samples
 //! its energy. [`Game::update`] then runs once for the frame.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use serde::{Deserialize, Serialize};
-
+use super::control::{Control, chosen_integrator, clock_control};
 use super::draw::{Draw, Viewport};
-use super::game::{Game, GameError, Key, KeySet, Settings, TickInput};
-use super::stage::{OnFailure, Stage};
-use super::{Control, FrameSource, RunError};
+use super::frame_rate::FrameRate;
+use super::game::{Game, GameError};
+use super::panel::{ClockRow, WorldRow};
+use super::stage::{ENERGY_EVERY_STEP_UP_TO, OnFailure, Settings, Stage};
+use super::{FrameSource, RunError};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
+use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::render::{Camera, FrameView, RenderError, WorldView};
-use tickwork_integrators::{METHODS, UnknownMethod, build};
-
-/// Worlds up to this many particles sample their energy every step; larger
-/// ones every 30 steps (an energy sum costs as much as a step).
-const ENERGY_EVERY_STEP: usize = 4_000;
-
-/// The inputs of a run, by tick, with what a replay needs to repeat it.
-/// A misspelt field is an error (`integrater: Some("rk4")` once left the
-/// replay on the default integrator in silence).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Recording {
-    /// The game's title.
-    pub game: String,
-    /// Fixed steps per second of the recorded run.
-    pub hz: f64,
-    /// The seed of the recorded run.
-    pub seed: u64,
-    /// `--integrator` of the recorded run.
-    pub integrator: Option<String>,
-    /// Ticks the recording covers.
-    pub ticks: u64,
-    /// `(tick, input)` for every tick whose input differs from the previous
-    /// tick's carried over (keys held unchanged, none newly pressed).
-    pub inputs: Vec<(u64, TickInput)>,
-}
-
-impl Recording {
-    /// Reads a recording written by a run with `--record`.
-    ///
-    /// # Errors
-    /// [`RunError::Io`] naming the file, with the line and column of a
-    /// malformed one.
-    pub fn load(path: &Path) -> Result<Self, RunError> {
-        let text = crate::text_file::read_limited(path, Self::MAX_FILE_BYTES, "Recording::MAX_FILE_BYTES")
-            .map_err(|e| RunError::io(path, &e))?;
-        Self::parse(&text, path)
-    }
-
-    /// Parses and range-checks recording text; `path` names it in errors.
-    ///
-    /// # Errors
-    /// [`RunError::Io`] naming `path`, with the line and column of the fault.
-    pub fn parse(text: &str, path: &Path) -> Result<Self, RunError> {
-        let recording: Self = ron::from_str(text).map_err(|e| RunError::Io {
-            path: path.to_path_buf(),
-            message: format!(
-                "line {}, column {}: {} (not a Tickwork input recording?)",
-                e.span.start.line, e.span.start.col, e.code
-            ),
-        })?;
-        recording.check().map_err(|(field, message)| {
-            let (line, column) = field_position(text, field);
-            RunError::Io {
-                path: path.to_path_buf(),
-                message: format!("line {line}, column {column}: {field}: {message}"),
-            }
-        })?;
-        Ok(recording)
-    }
-
-    /// The largest recording read: 256 MiB (hours of input changing every
-    /// tick; a recording stores only the ticks whose input changed).
-    pub const MAX_FILE_BYTES: u64 = 256 << 20;
-
-    /// The most ticks a recording may cover: a billion (over six months at
-    /// 60 Hz). Past it a replay could not be drawn in any reasonable number
-    /// of frames; record shorter runs.
-    pub const MAX_TICKS: u64 = 1_000_000_000;
-
-    /// Range-checks every field: the field's name and what is wrong.
-    fn check(&self) -> Result<(), (&'static str, String)> {
-        Rate::hz_f64(self.hz).map_err(|e| match e {
-            crate::clock::ClockError::InvalidRate { expected, .. } => (
-                "hz",
-                format!(
-                    "{} steps per second (accepted: {expected})",
-                    crate::clock::Number(self.hz)
-                ),
-            ),
-            other => ("hz", other.to_string()),
-        })?;
-        if self.ticks > Self::MAX_TICKS {
-            return Err((
-                "ticks",
-                format!(
-                    "{} is past the limit of {} recorded ticks (Recording::MAX_TICKS); record a shorter run",
-                    self.ticks,
-                    Self::MAX_TICKS
-                ),
-            ));
-        }
-        let mut previous = None;
-        for (k, (tick, _)) in self.inputs.iter().enumerate() {
-            if *tick >= self.ticks || previous.is_some_and(|p| *tick <= p) {
-                return Err((
-                    "inputs",
-                    format!(
-                        "entry {k} is at tick {tick}: ticks must rise and stay below the recording's {} ticks",
-                        self.ticks
-                    ),
-                ));
-            }
-            previous = Some(*tick);
-        }
-        Ok(())
-    }
-
-    /// Writes the recording as RON.
-    ///
-    /// # Errors
-    /// [`RunError::Exists`] if the file exists and `overwrite` is off,
-    /// [`RunError::Io`] if it cannot be written.
-    pub fn save(&self, path: &Path, overwrite: bool) -> Result<(), RunError> {
-        if path.exists() && !overwrite {
-            return Err(RunError::Exists(path.to_path_buf()));
-        }
-        let text = ron::ser::to_string_pretty(
-            self,
-            ron::ser::PrettyConfig::default().struct_names(true).depth_limit(2),
-        )
-        .map_err(|e| RunError::io(path, &e))?;
-        std::fs::write(path, text).map_err(|e| RunError::io(path, &e))
-    }
-}
-
-/// Line and column (from 1) of the first `field:` in a RON text, or of the
-/// start when it is not found.
-fn field_position(text: &str, field: &str) -> (usize, usize) {
-    let key = format!("{field}:");
-    let offset = text
-        .match_indices(&key)
-        .find(|(i, _)| {
-            text[..*i]
-                .chars()
-                .next_back()
-                .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
-        })
-        .map_or(0, |(i, _)| i);
-    let before = &text[..offset];
-    let line = before.matches('\n').count() + 1;
-    let column = before.len() - before.rfind('\n').map_or(0, |n| n + 1) + 1;
-    (line, column)
-}
+use tickwork_integrators::build;
 
 /// Where the session's per-tick input comes from.
 #[derive(Debug)]
 enum InputMode {
-    /// The keyboard; recorded if `record` is set.
+    /// The player; recorded if `record` is set.
     Live { record: Option<(Recording, PathBuf)> },
-    /// A recording, replayed from `cursor`.
-    Replay { recording: Recording, cursor: usize },
+    /// A recording, replayed from `cursor` (inputs) and `next_control`.
+    Replay {
+        recording: Recording,
+        cursor: usize,
+        next_control: usize,
+    },
 }
 
 /// What a [`GameSession`] is started with.
@@ -190,10 +55,7 @@ pub struct SessionOptions {
 impl Default for SessionOptions {
     fn default() -> Self {
         Self {
-            settings: Settings {
-                integrator: None,
-                seed: 0,
-            },
+            settings: Settings::default(),
             hz: None,
             time_scale: 1.0,
             record: None,
@@ -210,14 +72,13 @@ pub struct GameSession<G: Game> {
     options: SessionOptions,
     clock: FixedClock,
     last: Frame,
-    /// Keys down now, and keys pressed since the last step began.
-    held: KeySet,
-    pressed: KeySet,
+    /// The player's events, waiting for the steps of their time.
+    queue: InputQueue,
     /// The last step's input, carried into the next.
     input: TickInput,
     mode: InputMode,
     draw: Draw,
-    frame_rate: super::playback::FrameRate,
+    frame_rate: FrameRate,
     /// Whether the replay has run out (reported once).
     replay_done: bool,
     /// Drawn when the stage has no world (a game of lines only).
@@ -284,11 +145,15 @@ impl<G: Game> GameSession<G> {
         }
         if let Some(names) = &options.settings.integrator {
             for name in names.split(',') {
-                build::<glam::Vec3A>(name.trim()).map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
+                build::<glam::Vec3A>(name.trim())?;
             }
         }
         let mode = match options.replay.take() {
-            Some(recording) => InputMode::Replay { recording, cursor: 0 },
+            Some(recording) => InputMode::Replay {
+                recording,
+                cursor: 0,
+                next_control: 0,
+            },
             None => InputMode::Live { record: None },
         };
         // Replaced by `restart` with the stage's rate; the time scale carries over.
@@ -303,12 +168,11 @@ impl<G: Game> GameSession<G> {
             options,
             clock,
             last,
-            held: KeySet::EMPTY,
-            pressed: KeySet::EMPTY,
+            queue: InputQueue::default(),
             input: TickInput::default(),
             mode,
             draw: Draw::default(),
-            frame_rate: super::playback::FrameRate::default(),
+            frame_rate: FrameRate::default(),
             replay_done: false,
             empty: crate::world::World::default(),
         };
@@ -318,7 +182,10 @@ impl<G: Game> GameSession<G> {
 
     /// Builds the stage afresh and restarts the clock (and the recording).
     fn restart(&mut self) -> Result<(), RunError> {
-        let mut stage = Stage::default();
+        let mut stage = Stage {
+            settings: self.options.settings.clone(),
+            ..Stage::default()
+        };
         self.game
             .setup(&mut stage, &self.options.settings)
             .map_err(RunError::Game)?;
@@ -329,10 +196,7 @@ impl<G: Game> GameSession<G> {
         stage.rate = rate;
         if let Some(name) = &self.options.settings.integrator {
             for shown in stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
-                shown
-                    .world
-                    .set_integrator(name)
-                    .map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
+                shown.world.set_integrator(name)?;
             }
         }
         for shown in &mut stage.worlds {
@@ -346,6 +210,7 @@ impl<G: Game> GameSession<G> {
         self.last = self.clock.advance(0.0)?;
         self.stage = stage;
         self.input = TickInput::default();
+        self.queue.restart();
         match &mut self.mode {
             InputMode::Live { record } => {
                 *record = self.options.record.clone().map(|path| {
@@ -357,12 +222,18 @@ impl<G: Game> GameSession<G> {
                             integrator: self.options.settings.integrator.clone(),
                             ticks: 0,
                             inputs: Vec::new(),
+                            controls: Vec::new(),
                         },
                         path,
                     )
                 });
             }
-            InputMode::Replay { cursor, .. } => *cursor = 0,
+            InputMode::Replay {
+                cursor, next_control, ..
+            } => {
+                *cursor = 0;
+                *next_control = 0;
+            }
         }
         self.replay_done = false;
         Ok(())
@@ -388,11 +259,6 @@ impl<G: Game> GameSession<G> {
         &self.clock
     }
 
-    /// The clock, for the panel's rate and time scale.
-    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
-        &mut self.clock
-    }
-
     /// The last frame's report.
     pub fn last_frame(&self) -> &Frame {
         &self.last
@@ -412,27 +278,24 @@ impl<G: Game> GameSession<G> {
         }
     }
 
-    /// A key went down (`down`) or up, from the window; ignored while a
-    /// recording is replayed.
+    /// A key went down (`down`) or up at the start of the coming frame
+    /// (for tests and tools; the window stamps its events with
+    /// [`input`](FrameSource::input)); ignored while a recording is replayed.
     pub fn key(&mut self, key: Key, down: bool) {
-        if matches!(self.mode, InputMode::Replay { .. }) {
-            return;
-        }
-        if down {
-            if !self.held.contains(key) {
-                self.pressed.insert(key);
-            }
-            self.held.insert(key);
-        } else {
-            self.held.remove(key);
-        }
+        FrameSource::input(self, InputEvent::Key { key, down }, 0.0);
     }
 
-    /// The input of `tick`: replayed, or taken from the keyboard (and recorded).
-    fn tick_input(&mut self, tick: u64) -> TickInput {
+    /// The present in simulated seconds: the clock's time plus its backlog.
+    fn present(&self) -> f64 {
+        self.clock.time() + self.clock.backlog()
+    }
+
+    /// The input of the step `tick` ending at simulated time `end`:
+    /// replayed, or the player's events of its time window (and recorded).
+    fn tick_input(&mut self, tick: u64, end: f64) -> TickInput {
         let carried = self.input.carried();
         let input = match &mut self.mode {
-            InputMode::Replay { recording, cursor } => {
+            InputMode::Replay { recording, cursor, .. } => {
                 let mut input = carried;
                 while let Some((at, recorded)) = recording.inputs.get(*cursor) {
                     if *at > tick {
@@ -450,11 +313,7 @@ impl<G: Game> GameSession<G> {
                 input
             }
             InputMode::Live { record } => {
-                let input = TickInput {
-                    held: self.held,
-                    pressed: self.pressed,
-                };
-                self.pressed = KeySet::EMPTY;
+                let input = self.queue.tick(end);
                 if let Some((recording, _)) = record {
                     if input != carried {
                         recording.inputs.push((tick, input));
@@ -466,6 +325,35 @@ impl<G: Game> GameSession<G> {
         };
         self.input = input;
         input
+    }
+
+    /// Replays the recorded controls of `tick` (before its input).
+    fn replay_controls(&mut self, tick: u64) -> Result<(), RunError> {
+        let InputMode::Replay {
+            recording,
+            next_control,
+            ..
+        } = &mut self.mode
+        else {
+            return Ok(());
+        };
+        while let Some((at, control)) = recording.controls.get(*next_control) {
+            if *at > tick {
+                break;
+            }
+            *next_control += 1;
+            let RecordedControl::Integrator { world, name } = control;
+            let Some(shown) = self.stage.worlds.get_mut(*world) else {
+                return Err(RunError::Game(GameError::Message(format!(
+                    "the recording switches the integrator of world {world} at tick {at}, but the stage has {} \
+                     worlds",
+                    self.stage.worlds.len()
+                ))));
+            };
+            shown.world.set_integrator(name)?;
+            shown.failure = None;
+        }
+        Ok(())
     }
 
     /// Writes the recording, if one was asked for; returns its path.
@@ -489,18 +377,41 @@ impl<G: Game> GameSession<G> {
         self.game.outcome(&self.stage)
     }
 
-    /// Applies a control to every world whose integrator is not the game's.
-    fn set_integrators(&mut self, choose: impl Fn(&str) -> Option<&'static str>) -> Result<(), RunError> {
+    /// Applies an integrator control to every world the viewer may switch
+    /// (the stage allows it, the game does not fix the world's); records
+    /// each switch before the next tick. A replay keeps its recorded
+    /// integrators.
+    fn switch_integrators(&mut self, control: Control) -> Result<(), RunError> {
+        // Checked first, so a bad number is an error wherever it is sent.
+        chosen_integrator(control, usize::MAX, "")?;
         if !self.stage.switch_integrators {
             return Ok(());
         }
-        for shown in self.stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
-            if let Some(name) = choose(shown.world.integrator().info().name) {
-                shown
-                    .world
-                    .set_integrator(name)
-                    .map_err(|e| RunError::Game(GameError::Message(e.to_string())))?;
+        let tick = self.clock.tick();
+        let record = match &mut self.mode {
+            InputMode::Replay { .. } => {
+                println!("tickwork: a replay keeps the recorded integrators; the switch is ignored");
+                return Ok(());
+            }
+            InputMode::Live { record } => record.as_mut().map(|(recording, _)| recording),
+        };
+        let mut record = record;
+        for (index, shown) in self.stage.worlds.iter_mut().enumerate() {
+            if shown.fixed_integrator {
+                continue;
+            }
+            if let Some(name) = chosen_integrator(control, index, shown.world.integrator().info().name)? {
+                shown.world.set_integrator(name)?;
                 shown.failure = None;
+                if let Some(recording) = record.as_deref_mut() {
+                    recording.controls.push((
+                        tick,
+                        RecordedControl::Integrator {
+                            world: index,
+                            name: name.to_owned(),
+                        },
+                    ));
+                }
             }
         }
         Ok(())
@@ -518,10 +429,13 @@ impl<G: Game> FrameSource for GameSession<G> {
     }
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
+        let from = self.present();
         let frame = self.clock.advance(seconds)?;
+        self.queue.stamp(from, self.present());
         self.frame_rate.record(seconds);
         for step in frame.fixed_steps() {
-            let input = self.tick_input(step.tick);
+            self.replay_controls(step.tick)?;
+            let input = self.tick_input(step.tick, step.time + step.dt);
             self.game
                 .fixed_update(&mut self.stage, &step, &input)
                 .map_err(RunError::Game)?;
@@ -551,7 +465,7 @@ impl<G: Game> FrameSource for GameSession<G> {
                     }
                 }
                 shown.trails.record(&shown.world);
-                if shown.world.len() <= ENERGY_EVERY_STEP || step.tick % 30 == 0 {
+                if shown.world.len() <= ENERGY_EVERY_STEP_UP_TO || step.tick % 30 == 0 {
                     shown.energy.sample(&mut shown.world);
                 }
             }
@@ -562,30 +476,32 @@ impl<G: Game> FrameSource for GameSession<G> {
     }
 
     fn control(&mut self, control: Control) -> Result<(), RunError> {
-        match control {
-            Control::TogglePause | Control::SingleStep | Control::Faster | Control::Slower => {
-                super::playback::clock_control(&mut self.clock, control)?;
+        if let Control::Rate(hz) = control {
+            // A recording stores one rate (the panel greys it out then).
+            if self.is_recording() || self.replay().is_some() {
+                return Err(RunError::Game(GameError::Message(format!(
+                    "cannot change the rate to {hz} Hz while recording or replaying: a recording has one rate"
+                ))));
             }
-            Control::NextIntegrator => self.set_integrators(|current| {
-                let index = METHODS.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
-                Some(METHODS[index % METHODS.len()].name)
-            })?,
-            Control::Integrator(n) => {
-                let Some(info) = METHODS.get(n) else {
-                    return Err(RunError::Game(GameError::Message(
-                        UnknownMethod::new(&format!("#{}", n + 1)).to_string(),
-                    )));
-                };
-                self.set_integrators(|_| Some(info.name))?;
-            }
-            Control::Reset => self.restart()?,
+            self.stage.rate = Rate::hz_f64(hz)?;
         }
-        Ok(())
+        if clock_control(&mut self.clock, control)? {
+            return Ok(());
+        }
+        match control {
+            Control::Reset => self.restart(),
+            other => self.switch_integrators(other),
+        }
     }
 
-    fn key(&mut self, key: Key, down: bool) -> bool {
-        GameSession::key(self, key, down);
+    fn takes_input(&self) -> bool {
         true
+    }
+
+    fn input(&mut self, event: InputEvent, arrival: f64) {
+        if matches!(self.mode, InputMode::Live { .. }) {
+            self.queue.push(event, arrival);
+        }
     }
 
     fn ticks(&self) -> u64 {
@@ -640,7 +556,21 @@ impl<G: Game> FrameSource for GameSession<G> {
         Ok(())
     }
 
-    fn panel(&mut self, ctx: &egui::Context) -> Result<(), RunError> {
-        super::panel::show(self, ctx)
+    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
+        let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, self.is_recording());
+        let rows: Vec<WorldRow<'_>> = self
+            .stage
+            .worlds
+            .iter()
+            .map(|w| WorldRow {
+                label: &w.label,
+                colour: w.colour,
+                integrator: w.world.integrator().info().name,
+                fixed: w.fixed_integrator || !self.stage.switch_integrators,
+                particles: w.world.len(),
+                energy: &w.energy,
+            })
+            .collect();
+        super::panel::lay_out(ctx, &clock, &rows, chosen);
     }
 }

@@ -137,6 +137,21 @@ impl EnergyTrace {
     }
 }
 
+/// What [`Game::setup`] is told by the command line.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    /// `--integrator`, as given (the runner also applies it to every world
+    /// that does not fix its own integrator; default: none).
+    pub integrator: Option<String>,
+    /// `--seed` (default 0).
+    pub seed: u64,
+}
+
+/// Worlds up to this many particles sample their energy every step (for
+/// the panel's plot and the HUD); larger ones every 30 steps, since an
+/// energy sum costs about as much as a step.
+pub(crate) const ENERGY_EVERY_STEP_UP_TO: usize = 4_000;
+
 /// The worlds a game shows, the camera and the step rate.
 #[derive(Debug)]
 pub struct Stage {
@@ -161,6 +176,8 @@ pub struct Stage {
     /// integrator is not fixed (Tab, keys 1-9, the panel). Default false: a
     /// game's keys are its own; the lab's demos turn it on.
     pub switch_integrators: bool,
+    /// What the run was started with (see [`Stage::settings`]).
+    pub(crate) settings: Settings,
 }
 
 impl Default for Stage {
@@ -176,6 +193,7 @@ impl Default for Stage {
             hud_size: 16.0,
             panel: false,
             switch_integrators: false,
+            settings: Settings::default(),
         }
     }
 }
@@ -193,6 +211,14 @@ const PALETTE: [Colour; 8] = [
 ];
 
 impl Stage {
+    /// The command line's settings (seed, integrator), the same ones
+    /// [`Game::setup`](super::Game::setup) was given: a game that starts a
+    /// level again from `fixed_update` builds it from these.
+    #[must_use]
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
     /// Adds a world labelled `label`; the builder it returns sets what the
     /// runner keeps for it and gives its [`WorldId`]:
     /// `let moon = stage.add_world("moon", world).follow(lander, colour).id();`

@@ -6,7 +6,14 @@
 //! Keys: P pause (and Space and R reset for sources without game keys),
 //! Period single step, `+`/`-` time scale, Tab or 1-9 integrator, F5 reset,
 //! F1 panel, F12 screenshot, Escape close; game keys go to the game first.
-//! Mouse: drag to orbit (3D) or pan (2D), wheel to zoom.
+//! Mouse: a game gets its buttons and the pointer (as a world point);
+//! otherwise drag to orbit (3D) or pan (2D). The wheel zooms.
+//!
+//! Everything the player does is collected during a frame and handed over
+//! at the start of the next, before its steps: input events with where in
+//! the frame they arrived (the source gives each to the tick of its time),
+//! then the controls of keys and panel, applied through
+//! [`FrameSource::control`] at that tick boundary.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -18,8 +25,11 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use super::{Control, FrameSource, Key as GameKey, RunError};
+use std::time::Instant;
+
+use super::{Control, FrameSource, RunError};
 use crate::clock::{RealTime, TimeSource};
+use crate::input::{InputEvent, Key as GameKey};
 use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer, RendererConfig};
 
 /// Window settings.
@@ -139,6 +149,9 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
         },
         drag: None,
         cursor: (0.0, 0.0),
+        events: Vec::new(),
+        controls: Vec::new(),
+        frame_started: Instant::now(),
         hold_started: None,
         screenshot: false,
         announce: None,
@@ -181,6 +194,12 @@ struct App<'a> {
     summary: WindowSummary,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
+    /// The player's input events of the coming frame, with their arrival.
+    events: Vec<(InputEvent, Instant)>,
+    /// Controls from keys and the panel, applied before the next frame's steps.
+    controls: Vec<Control>,
+    /// When the coming frame began (the last `advance`).
+    frame_started: Instant,
     hold_started: Option<std::time::Instant>,
     screenshot: bool,
     /// A line to print once this many more frames have been presented: the
@@ -287,9 +306,11 @@ impl App<'_> {
     fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
         let down = event.state == ElementState::Pressed;
         if let Some(key) = game_key(event.physical_key)
-            && !event.repeat
-            && self.source.key(key, down)
+            && self.source.takes_input()
         {
+            if !event.repeat {
+                self.events.push((InputEvent::Key { key, down }, Instant::now()));
+            }
             return;
         }
         // A held key repeats: single step and the time scale may repeat, the
@@ -337,15 +358,32 @@ impl App<'_> {
             },
             _ => None,
         };
-        if let Some(control) = control
-            && let Err(error) = self.source.control(control)
-        {
-            self.fail(event_loop, error);
+        self.controls.extend(control);
+    }
+
+    /// Hands the frame's input events and controls to the source: the
+    /// start of the next frame is a tick boundary.
+    fn hand_over(&mut self) -> Result<(), RunError> {
+        let now = Instant::now();
+        let span = now.duration_since(self.frame_started).as_secs_f64();
+        for (event, at) in self.events.drain(..) {
+            let arrival = if span > 0.0 {
+                at.duration_since(self.frame_started).as_secs_f64() / span
+            } else {
+                1.0
+            };
+            self.source.input(event, arrival);
         }
+        self.frame_started = now;
+        for control in self.controls.drain(..) {
+            self.source.control(control)?;
+        }
+        Ok(())
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), RunError> {
         let holding = self.hold_started.is_some();
+        self.hand_over()?;
         if !holding {
             let seconds = self.time.next_frame();
             self.source.advance(seconds)?;
@@ -385,7 +423,7 @@ impl App<'_> {
         if self.panel_visible
             && let Some(panel) = self.panel.as_mut()
         {
-            commands = draw_panel(panel, &mut *self.source, state, &mut encoder, &output)?;
+            commands = draw_panel(panel, &*self.source, &mut self.controls, state, &mut encoder, &output);
         }
         commands.push(encoder.finish());
         state.gpu.queue.submit(commands);
@@ -477,22 +515,14 @@ fn screenshot(state: &WindowState, source: &mut dyn FrameSource, options: &Windo
 /// `output` (loaded, not cleared); returns the upload command buffers.
 fn draw_panel(
     panel: &mut Panel,
-    source: &mut dyn FrameSource,
+    source: &dyn FrameSource,
+    chosen: &mut Vec<Control>,
     state: &WindowState,
     encoder: &mut wgpu::CommandEncoder,
     output: &wgpu::TextureView,
-) -> Result<Vec<wgpu::CommandBuffer>, RunError> {
+) -> Vec<wgpu::CommandBuffer> {
     let raw = panel.input.take_egui_input(&state.window);
-    let mut failed = None;
-    let mut full = panel.context.run_pass(raw, |ctx| {
-        if let Err(error) = source.panel(ctx) {
-            failed.get_or_insert(error);
-        }
-    });
-    if let Some(error) = failed {
-        full.textures_delta.clear();
-        return Err(error);
-    }
+    let mut full = panel.context.run_pass(raw, |ctx| source.panel(ctx, chosen));
     panel
         .input
         .handle_platform_output(&state.window, std::mem::take(&mut full.platform_output));
@@ -537,7 +567,7 @@ fn draw_panel(
     }
     // Applied: egui checks that every delta was handled.
     full.textures_delta.clear();
-    Ok(commands)
+    commands
 }
 
 /// The game key of a physical key, if it is one.
@@ -616,6 +646,16 @@ impl ApplicationHandler for App<'_> {
                 }
             }
             WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
+            WindowEvent::MouseInput { state, button, .. } if self.source.takes_input() => {
+                let key = match button {
+                    MouseButton::Left => GameKey::MouseLeft,
+                    MouseButton::Right => GameKey::MouseRight,
+                    MouseButton::Middle => GameKey::MouseMiddle,
+                    _ => return,
+                };
+                let down = state == ElementState::Pressed;
+                self.events.push((InputEvent::Key { key, down }, Instant::now()));
+            }
             WindowEvent::MouseInput {
                 state,
                 button: MouseButton::Left,
@@ -625,7 +665,18 @@ impl ApplicationHandler for App<'_> {
             }
             WindowEvent::CursorMoved { position, .. } => {
                 self.cursor = (position.x, position.y);
-                if let Some((x, y)) = self.drag {
+                if self.source.takes_input() {
+                    if let Some(size) = self.state.as_ref().map(|s| (s.config.width, s.config.height))
+                        && let Some(at) = self.source.camera_mut().point_on_plane(
+                            position.x as f32,
+                            position.y as f32,
+                            size.0,
+                            size.1,
+                        )
+                    {
+                        self.events.push((InputEvent::Pointer(at), Instant::now()));
+                    }
+                } else if let Some((x, y)) = self.drag {
                     // Half a degree per pixel dragged.
                     let (dx, dy) = (position.x - x, position.y - y);
                     self.source.camera_mut().orbit(-0.5 * dx as f32, 0.5 * dy as f32);

@@ -128,6 +128,26 @@ impl Camera {
         }
     }
 
+    /// The world point on the `z = 0` plane seen at pixel `(x, y)` (from the
+    /// top left) of a `width` x `height` image: the mouse pointer as a game
+    /// reads it. `None` where the view does not meet that plane (looking
+    /// along it, or the plane behind the camera or past its far plane).
+    ///
+    /// The pixel's ray runs from its point on the near plane (clip depth 0)
+    /// to the far plane (depth 1), both unprojected; it meets z = 0 at
+    /// `s = -near.z / (far.z - near.z)`, which must lie in `[0, 1]`.
+    #[must_use]
+    pub fn point_on_plane(&self, x: f32, y: f32, width: u32, height: u32) -> Option<Vec2> {
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let ndc = Vec2::new(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h);
+        let inverse = self.matrices(width, height).view_proj.inverse();
+        let near = inverse.project_point3(ndc.extend(0.0));
+        let far = inverse.project_point3(ndc.extend(1.0));
+        let s = -near.z / (far.z - near.z);
+        let point = (near + s * (far - near)).truncate();
+        ((0.0..=1.0).contains(&s) && point.is_finite()).then_some(point)
+    }
+
     /// Zooms by `factor` (> 1 moves closer / shows less).
     pub fn zoom(&mut self, factor: f32) {
         if !(factor.is_finite() && factor > 0.0) {
@@ -161,6 +181,39 @@ mod tests {
         assert!(centre.x.abs() < 1e-6 && centre.y.abs() < 1e-6);
         assert!((0.0..=1.0).contains(&centre.z));
         assert!((m.pixels_per_unit - 25.0).abs() < 1e-5); // 100 px for 4 m
+    }
+
+    #[test]
+    fn the_pointer_finds_the_world_point_under_it() {
+        let camera = Camera::TwoD {
+            center: Vec2::new(0.0, 5.0),
+            height: 10.0,
+        };
+        // 200 x 100 px: 10 px per metre, 20 m wide.
+        let at = |x, y| camera.point_on_plane(x, y, 200, 100).expect("on the plane");
+        assert!(at(100.0, 50.0).abs_diff_eq(Vec2::new(0.0, 5.0), 1e-4));
+        assert!(at(0.0, 0.0).abs_diff_eq(Vec2::new(-10.0, 10.0), 1e-4));
+        assert!(at(150.0, 100.0).abs_diff_eq(Vec2::new(5.0, 0.0), 1e-4));
+        // Looking down at the plane from above: the centre is the target.
+        let above = Camera::Orbit {
+            target: Vec3::new(1.0, 2.0, 0.0),
+            distance: 10.0,
+            yaw: 0.0,
+            pitch: 0.0,
+            fov_y: 45.0,
+        };
+        let centre = above.point_on_plane(50.0, 50.0, 100, 100).expect("seen");
+        assert!(centre.abs_diff_eq(Vec2::new(1.0, 2.0), 1e-3), "{centre}");
+        // From the side (yaw 90) at z = 5, looking parallel to the plane:
+        // the centre ray never meets it.
+        let along = Camera::Orbit {
+            yaw: 90.0,
+            pitch: 0.0,
+            target: Vec3::new(0.0, 0.0, 5.0),
+            distance: 10.0,
+            fov_y: 45.0,
+        };
+        assert_eq!(along.point_on_plane(50.0, 50.0, 100, 100), None);
     }
 
     #[test]

@@ -1,0 +1,178 @@
+//! Window events handed to the fixed steps whose simulated time they
+//! arrived in.
+//!
+//! An event that arrives during a frame is stamped with where in that frame
+//! it arrived (`f`, 0 at the frame's start, 1 at its end). When the frame
+//! advances the clock's present from `T0` to `T1` (simulated seconds, the
+//! backlog included), the event's simulated time is
+//!
+//! ```text
+//! tau = T0 + f (T1 - T0)
+//! ```
+//!
+//! and it belongs to the tick whose window `[t_k, t_k + dt)` contains `tau`.
+//! A frame that runs three steps gives an early event to its first step and
+//! a late one to its last, and an event after the last step's window waits
+//! for a later frame's: which tick sees a key depends on when it was
+//! pressed, not on how the display's frames fell around it, so the delay
+//! from a press to its tick is at most one step and does not jitter with
+//! frame timing. (Handing every event to the next tick run, as game loops
+//! usually do, makes that delay vary by up to a whole frame.)
+//!
+//! Presses are latched: a tap shorter than a step is seen, as pressed, by
+//! exactly one step; a frame that runs no step keeps its events waiting.
+
+use std::collections::VecDeque;
+
+use glam::Vec2;
+
+use super::keys::{Key, KeySet};
+use super::tick::TickInput;
+
+/// One thing the player did, as the window saw it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InputEvent {
+    /// A key or mouse button went down (`down`) or up.
+    Key {
+        /// The key.
+        key: Key,
+        /// Down (pressed) or up (released).
+        down: bool,
+    },
+    /// The pointer moved to this world point (on the `z = 0` plane).
+    Pointer(Vec2),
+}
+
+/// Events waiting for the fixed step whose simulated time they arrived in,
+/// and the key state they leave. Reuses its buffers: no allocation once
+/// warm.
+#[derive(Clone, Debug, Default)]
+pub struct InputQueue {
+    /// Arrived during the coming frame: the event and where in the frame.
+    arrived: Vec<(InputEvent, f64)>,
+    /// Stamped with simulated time, in arrival order.
+    waiting: VecDeque<(InputEvent, f64)>,
+    held: KeySet,
+    pressed: KeySet,
+    pointer: Option<[f32; 2]>,
+}
+
+impl InputQueue {
+    /// Adds an event that arrived at `arrival` in the coming frame (0 at
+    /// its start, 1 at its end; outside that, or NaN, it counts at the
+    /// nearer end: the frame cannot place it better).
+    pub fn push(&mut self, event: InputEvent, arrival: f64) {
+        let arrival = if arrival.is_nan() { 0.0 } else { arrival.clamp(0.0, 1.0) };
+        self.arrived.push((event, arrival));
+    }
+
+    /// Called once a frame has advanced the clock's present (simulated
+    /// time plus backlog) from `from` to `to`: gives the frame's events
+    /// their simulated times.
+    pub fn stamp(&mut self, from: f64, to: f64) {
+        for (event, arrival) in self.arrived.drain(..) {
+            self.waiting.push_back((event, from + arrival * (to - from)));
+        }
+    }
+
+    /// The input of the step that ends at simulated time `end`: the events
+    /// stamped before `end` applied in order, presses latched, the rest
+    /// left waiting.
+    pub fn tick(&mut self, end: f64) -> TickInput {
+        while let Some(&(event, time)) = self.waiting.front() {
+            if time >= end {
+                break;
+            }
+            self.waiting.pop_front();
+            match event {
+                InputEvent::Key { key, down: true } => {
+                    if !self.held.contains(key) {
+                        self.pressed.insert(key);
+                    }
+                    self.held.insert(key);
+                }
+                InputEvent::Key { key, down: false } => self.held.remove(key),
+                InputEvent::Pointer(at) => self.pointer = Some(at.to_array()),
+            }
+        }
+        let input = TickInput {
+            held: self.held,
+            pressed: self.pressed,
+            pointer: self.pointer,
+        };
+        self.pressed = KeySet::EMPTY;
+        input
+    }
+
+    /// Events not yet seen by a step (arrived or stamped).
+    #[must_use]
+    pub fn waiting(&self) -> usize {
+        self.arrived.len() + self.waiting.len()
+    }
+
+    /// Forgets the waiting events and presses (a restart starts a new
+    /// timeline); keys still held stay held, and the pointer stays.
+    pub fn restart(&mut self) {
+        self.arrived.clear();
+        self.waiting.clear();
+        self.pressed = KeySet::EMPTY;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DT: f64 = 1.0 / 60.0;
+
+    fn key(key: Key, down: bool) -> InputEvent {
+        InputEvent::Key { key, down }
+    }
+
+    #[test]
+    fn a_frame_of_three_steps_gives_each_event_to_the_step_it_arrived_in() {
+        let mut queue = InputQueue::default();
+        // A frame of 3 dt: a tap at its start, a press at 0.5 (step 1) and
+        // its release at 0.9 (step 2).
+        queue.push(key(Key::Space, true), 0.0);
+        queue.push(key(Key::Space, false), 0.01);
+        queue.push(key(Key::Up, true), 0.5);
+        queue.push(key(Key::Up, false), 0.9);
+        queue.stamp(0.0, 3.0 * DT);
+        let steps: Vec<TickInput> = (1..=3).map(|k| queue.tick(f64::from(k) * DT)).collect();
+        assert!(steps[0].pressed(Key::Space) && !steps[0].held(Key::Space));
+        assert!(!steps[0].pressed(Key::Up));
+        assert!(steps[1].pressed(Key::Up) && steps[1].held(Key::Up));
+        assert!(!steps[2].held(Key::Up) && !steps[2].pressed(Key::Up));
+        assert_eq!(queue.waiting(), 0);
+    }
+
+    #[test]
+    fn an_event_past_the_last_step_of_its_frame_waits_for_its_own() {
+        let mut queue = InputQueue::default();
+        // A frame of 1.5 dt runs one step; the event at 0.9 is at 1.35 dt.
+        queue.push(key(Key::Left, true), 0.9);
+        queue.push(InputEvent::Pointer(Vec2::new(1.0, 2.0)), 0.9);
+        queue.stamp(0.0, 1.5 * DT);
+        assert_eq!(queue.tick(DT), TickInput::default());
+        assert_eq!(queue.waiting(), 2);
+        // The next frame (no events of its own) runs step 1.
+        queue.stamp(1.5 * DT, 2.2 * DT);
+        let input = queue.tick(2.0 * DT);
+        assert!(input.pressed(Key::Left));
+        assert_eq!(input.pointer_at(), Some(Vec2::new(1.0, 2.0)));
+        assert_eq!(queue.tick(3.0 * DT).carried(), input.carried());
+    }
+
+    #[test]
+    fn arrivals_outside_the_frame_count_at_its_ends() {
+        let mut queue = InputQueue::default();
+        queue.push(key(Key::A, true), f64::NAN);
+        queue.push(key(Key::D, true), 7.0);
+        queue.stamp(0.0, 2.0 * DT);
+        assert!(queue.tick(DT).pressed(Key::A));
+        // Arrived "after" the frame: at its end, 2 dt, the third step's.
+        assert!(!queue.tick(2.0 * DT).pressed(Key::D));
+        assert!(queue.tick(3.0 * DT).pressed(Key::D));
+    }
+}

@@ -1,0 +1,55 @@
+//! What one fixed step sees of the player: [`TickInput`].
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+use super::keys::{Key, KeySet};
+
+/// What one fixed step sees of the keyboard and the mouse.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TickInput {
+    /// Keys down during this step (thrust while held).
+    #[serde(default)]
+    pub held: KeySet,
+    /// Keys pressed since the previous step began: seen by exactly one step,
+    /// even if released before it ran (fire, restart).
+    #[serde(default)]
+    pub pressed: KeySet,
+    /// Where the mouse pointer is, as `[x, y]` in world metres on the
+    /// `z = 0` plane (none before it has moved over the window, or where
+    /// the view does not see that plane). A world point, not a pixel, so a
+    /// replay at another window size steers the same way.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pointer: Option<[f32; 2]>,
+}
+
+impl TickInput {
+    /// Whether `key` is held during this step.
+    #[must_use]
+    pub fn held(&self, key: Key) -> bool {
+        self.held.contains(key)
+    }
+
+    /// Whether `key` went down since the previous step.
+    #[must_use]
+    pub fn pressed(&self, key: Key) -> bool {
+        self.pressed.contains(key)
+    }
+
+    /// The pointer as a vector (see [`pointer`](Self::pointer)).
+    #[must_use]
+    pub fn pointer_at(&self) -> Option<Vec2> {
+        self.pointer.map(Vec2::from)
+    }
+
+    /// The input of the following step if nothing changes: the same keys
+    /// held and pointer, none newly pressed.
+    #[must_use]
+    pub fn carried(&self) -> Self {
+        Self {
+            pressed: KeySet::EMPTY,
+            ..*self
+        }
+    }
+}
