@@ -4,6 +4,7 @@
 //! tool for comparing methods.
 #![warn(missing_docs)]
 
+pub mod breakout;
 pub mod cli;
 pub mod lab;
 pub mod lander;

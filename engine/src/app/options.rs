@@ -273,12 +273,16 @@ pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 /// Runs `game` with `options`: in a window when a display is available
 /// (and `--headless` is not given), else off-screen into PNG frames and a
 /// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
-/// Prints where files went and the game's outcome.
+/// Prints where files went and the game's outcome. Call it from `main`
+/// before starting threads of your own: it may quiet a Vulkan layer
+/// through the environment ([`quiet_device_select_layer`](crate::render::quiet_device_select_layer)).
 ///
 /// # Errors
 /// [`RunError`] with what went wrong: a bad option or recording, no GPU
 /// adapter, a failed step, a file that exists (without `--force`).
 pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // Before any thread starts (a game's `main` calls `run` first).
+    crate::render::quiet_device_select_layer();
     // Parallel steps from this thread then allocate nothing. An existing
     // pool (the game used rayon first) is fine: steps run on it.
     let _ = crate::threads::join_thread_pool();

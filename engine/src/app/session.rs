@@ -195,8 +195,19 @@ impl<G: Game> GameSession<G> {
         };
         stage.rate = rate;
         if let Some(name) = &self.options.settings.integrator {
+            let names = name.split(',').count();
             for shown in stage.worlds.iter_mut().filter(|w| !w.fixed_integrator) {
-                shown.world.set_integrator(name)?;
+                if names > 1 {
+                    // A list is for a game that races integrators, one world
+                    // each (it fixes them itself); this world takes one.
+                    return Err(RunError::Game(GameError::Message(format!(
+                        "--integrator {name} names {names} integrators, but {}'s world \"{}\" runs one: give one \
+                         name (a list is for a game that races integrators, such as orbits)",
+                        self.game.title(),
+                        shown.label
+                    ))));
+                }
+                shown.world.set_integrator(name.trim())?;
             }
         }
         for shown in &mut stage.worlds {

@@ -33,6 +33,18 @@ use crate::world::Entity;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ColliderId(pub(crate) u64);
 
+impl ColliderId {
+    /// A handle to no collider, for a game's fields before set-up (every
+    /// lookup with it is an error naming it): also [`ColliderId::default`].
+    pub const PLACEHOLDER: Self = Self(u64::MAX);
+}
+
+impl Default for ColliderId {
+    fn default() -> Self {
+        Self::PLACEHOLDER
+    }
+}
+
 impl fmt::Display for ColliderId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "collider #{}", self.0)

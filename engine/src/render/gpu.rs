@@ -29,6 +29,25 @@ impl fmt::Debug for Gpu {
     }
 }
 
+/// Turns off Mesa's Vulkan device-selection layer when it would complain:
+/// with `XDG_RUNTIME_DIR` unset or not a directory (CI, `sudo`, a bare
+/// container) the layer tries Wayland and prints "error: XDG_RUNTIME_DIR
+/// is invalid or not set in the environment" twice on every run, though
+/// nothing is wrong (wgpu picks the adapter itself, so the layer has no
+/// work to do). Sets `NODEVICE_SELECT=1` then, unless the user set it.
+///
+/// Call it first thing in `main`, before any thread starts: the binaries
+/// and [`run`](crate::app::run) do.
+pub fn quiet_device_select_layer() {
+    let runtime_dir_ok = std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !runtime_dir_ok && std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: called at the start of a program, before the engine starts
+        // a thread (the docs say so), so no other thread reads the
+        // environment while it changes.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 impl Gpu {
     /// A GPU for off-screen rendering (no window, no display), on the
     /// backends `WGPU_BACKEND` selects (default: all that are compiled in,

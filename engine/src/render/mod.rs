@@ -47,7 +47,7 @@ use std::fmt;
 
 pub use camera::{Camera, CameraMatrices};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
-pub use gpu::Gpu;
+pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::RgbaImage;
 pub use overlay::{Anchor, Line, Text, Triangle};
 pub use renderer::{Blend, FrameView, Interpolation, Renderer, RendererConfig, WorldView};

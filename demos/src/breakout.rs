@@ -1,0 +1,244 @@
+//! Breakout, written only against Tickwork's public API: Left/Right (or
+//! A/D, or the mouse) move the paddle, Space or a click serves, Enter plays
+//! again. Clear the 40 bricks before the ball gets past you three times.
+//!
+//! The paddle is a kinematic box (moved by its velocity each step, it hands
+//! the ball its speed); bricks are solid boxes that report contacts, and a
+//! brick goes when the ball touches it. `--autopilot` lets the game play
+//! itself (the demo's golden frame and replays use it).
+
+use tickwork::prelude::*;
+
+/// The arena's half width and height (m); the paddle's centre height.
+const ARENA: (f32, f32) = (8.0, 12.0);
+const PADDLE_Y: f32 = 1.0;
+/// The paddle's half extents and top speed (m, m/s).
+const PADDLE: Vec2 = Vec2::new(1.2, 0.2);
+const PADDLE_SPEED: f32 = 10.0;
+/// The ball's radius and speed (m, m/s), and where it rides the paddle.
+const BALL: (f32, f32) = (0.2, 8.0);
+const RIDE: f32 = PADDLE_Y + PADDLE.y + BALL.0 + 0.05;
+/// Bricks per row; the rows' colours, top row (50 points a brick) first.
+const COLUMNS: usize = 8;
+const ROWS: [[u8; 4]; 5] = [
+    [235, 90, 80, 255],
+    [245, 160, 60, 255],
+    [235, 215, 80, 255],
+    [110, 205, 95, 255],
+    [80, 160, 240, 255],
+];
+/// A bounce with no loss and no friction: the ball keeps its speed.
+const ELASTIC: Material = Material {
+    restitution: 1.0,
+    friction: 0.0,
+};
+
+/// How the game stands.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Play {
+    /// The ball rides the paddle until served.
+    #[default]
+    Serving,
+    /// The ball is in play.
+    Playing,
+    /// Every brick is gone.
+    Won,
+    /// The last ball got past the paddle.
+    Lost,
+}
+
+/// The Breakout game.
+#[derive(Debug, Default)]
+pub struct Breakout {
+    /// Whether the game moves the paddle and serves itself.
+    pub autopilot: bool,
+    /// How the game stands.
+    pub play: Play,
+    /// Score so far: 10 points a brick in the bottom row to 50 in the top.
+    pub score: u32,
+    /// Balls left.
+    pub lives: u32,
+    /// The ball.
+    pub ball: Entity,
+    court: WorldId,
+    paddle: ColliderId,
+    /// The bricks left: each one's collider and row.
+    pub bricks: Vec<(ColliderId, usize)>,
+}
+
+impl Breakout {
+    /// A game, played by its autopilot if `autopilot`.
+    #[must_use]
+    pub fn new(autopilot: bool) -> Self {
+        Self {
+            autopilot,
+            ..Self::default()
+        }
+    }
+
+    /// A fresh court: walls, bricks, the paddle, the ball on it.
+    fn build(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+        let mut court = World::new(WorldConfig {
+            seed: settings.seed,
+            ..WorldConfig::default()
+        })?;
+        let (half, top) = ARENA;
+        // Open at the bottom: the walls' box reaches far below the paddle.
+        let walls = BoxCollider::container(Vec3::new(-half, -20.0, -1.0), Vec3::new(half, top, 1.0), ELASTIC);
+        court.add_collider(walls);
+        self.bricks.clear();
+        let width = 2.0 * half / COLUMNS as f32;
+        for row in 0..ROWS.len() {
+            for column in 0..COLUMNS {
+                let min = Vec3::new(-half + column as f32 * width + 0.08, top - 2.1 - 0.6 * row as f32, -1.0);
+                let brick = court.add_collider(BoxCollider::solid(
+                    min,
+                    min + Vec3::new(width - 0.16, 0.45, 2.0),
+                    ELASTIC,
+                ));
+                court.report_contacts(brick)?;
+                self.bricks.push((brick, row));
+            }
+        }
+        self.paddle = court.add_collider(BoxCollider::solid(
+            Vec3::new(-PADDLE.x, PADDLE_Y - PADDLE.y, -1.0),
+            Vec3::new(PADDLE.x, PADDLE_Y + PADDLE.y, 1.0),
+            ELASTIC,
+        ));
+        court.report_contacts(self.paddle)?;
+        self.ball = court.spawn(Particle {
+            position: Vec3::new(0.0, RIDE, 0.0),
+            radius: BALL.0,
+            colour: [245, 245, 250, 255],
+            ..Particle::default()
+        })?;
+        match stage.world_mut(self.court) {
+            Ok(world) => *world = court,
+            Err(_) => self.court = stage.add_world("court", court).id(),
+        }
+        (self.score, self.lives, self.play) = (0, 3, Play::Serving);
+        Ok(())
+    }
+
+    /// Removes the bricks the ball touched in the last step, and aims the
+    /// ball by where it met the paddle (the ends send it out at 60 degrees).
+    fn hits(&mut self, world: &mut World, paddle_x: f32) -> Result<(), GameError> {
+        for contact in world.contacts().to_vec() {
+            let Touched::Collider(id) = contact.touched else {
+                continue;
+            };
+            if id == self.paddle {
+                let angle = ((contact.point.x - paddle_x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
+                world.set_velocity(self.ball, BALL.1 * Vec3::new(angle.sin(), angle.cos(), 0.0))?;
+            } else if let Some(k) = self.bricks.iter().position(|(brick, _)| *brick == id) {
+                let (brick, row) = self.bricks.remove(k);
+                world.remove_collider(brick)?;
+                self.score += 10 * (ROWS.len() - row) as u32;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Game for Breakout {
+    fn title(&self) -> &str {
+        "breakout"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::new(0.0, 6.0),
+            height: 13.0,
+        };
+        stage.background = [16, 18, 30, 255];
+        self.build(stage, settings)
+    }
+
+    fn fixed_update(&mut self, stage: &mut Stage, step: &FixedStep, input: &TickInput) -> Result<(), GameError> {
+        if matches!(self.play, Play::Won | Play::Lost) {
+            if input.pressed(Key::Enter) {
+                let settings = stage.settings().clone();
+                self.build(stage, &settings)?;
+            }
+            return Ok(());
+        }
+        let world = stage.world_mut(self.court)?;
+        let mut paddle = *world.collider::<BoxCollider>(self.paddle)?;
+        let x = paddle.centre().x;
+        self.hits(world, x)?;
+        let ball = world.position(self.ball)?;
+        // Where the paddle heads: the autopilot's aim, the pointer, or the keys.
+        let target = if self.autopilot {
+            Some(ball.x + 0.6 * (step.tick as f32 * 0.013).sin())
+        } else {
+            input.pointer_at().map(|p| p.x)
+        };
+        let held = |a, b| f32::from(u8::from(input.held(a) || input.held(b)));
+        let dt = step.dt as f32;
+        let speed = target.map_or(
+            PADDLE_SPEED * (held(Key::Right, Key::D) - held(Key::Left, Key::A)),
+            |t| ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED),
+        );
+        // Stop at the walls.
+        let reach = ARENA.0 - PADDLE.x;
+        paddle.velocity.x = ((x + speed * dt).clamp(-reach, reach) - x) / dt;
+        *world.collider_mut::<BoxCollider>(self.paddle)? = paddle;
+        match self.play {
+            Play::Serving if self.autopilot || input.pressed(Key::Space) || input.pressed(Key::MouseLeft) => {
+                world.set_velocity(self.ball, BALL.1 * Vec3::new(0.5, 0.866, 0.0))?;
+                self.play = Play::Playing;
+            }
+            // Riding along at the paddle's speed, so it is drawn smoothly.
+            Play::Serving => world.set_velocity(self.ball, paddle.velocity)?,
+            _ if self.bricks.is_empty() => self.play = Play::Won,
+            _ if ball.y < -0.5 => {
+                self.lives -= 1;
+                world.teleport(self.ball, Vec3::new(x, RIDE, 0.0))?;
+                world.set_velocity(self.ball, Vec3::ZERO)?;
+                self.play = if self.lives == 0 { Play::Lost } else { Play::Serving };
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        let world = stage.world(self.court)?;
+        for &(id, row) in &self.bricks {
+            let brick = world.collider::<BoxCollider>(id)?;
+            draw.rect(brick.min.truncate(), brick.max.truncate(), ROWS[row]);
+        }
+        let paddle = world.collider::<BoxCollider>(self.paddle)?;
+        let (min, max) = paddle.interpolated(alpha, stage.rate.step_seconds() as f32);
+        draw.rect(min.truncate(), max.truncate(), [225, 225, 235, 255]);
+        let (x, y) = ARENA;
+        let walls = [(-x, 0.0), (-x, y), (x, y), (x, 0.0)].map(|(x, y)| Vec3::new(x, y, 0.0));
+        draw.polyline(&walls, [90, 95, 120, 255], false);
+        draw.hud = format!("score {}   balls {}", self.score, self.lives);
+        let (message, colour) = match self.play {
+            Play::Won => ("YOU WIN", [120, 230, 120, 255]),
+            Play::Lost => ("GAME OVER", [240, 100, 90, 255]),
+            Play::Serving if !self.autopilot => ("Space to serve", [200, 200, 210, 255]),
+            _ => return Ok(()),
+        };
+        let centre = Vec3::new(0.0, 4.5, 0.0);
+        draw.text(message, centre)
+            .size(48.0)
+            .colour(colour)
+            .anchor(Anchor::Centre);
+        Ok(())
+    }
+
+    fn outcome(&self, _stage: &Stage) -> Option<String> {
+        let how = match self.play {
+            Play::Won => "won",
+            Play::Lost => "lost",
+            Play::Serving | Play::Playing => "stopped",
+        };
+        Some(format!(
+            "{how} with {} points, {} bricks left",
+            self.score,
+            self.bricks.len()
+        ))
+    }
+}
