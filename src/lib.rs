@@ -24,6 +24,7 @@ pub mod prelude {
         Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, Viewport, WorldId,
         exit_code, run,
     };
+    pub use tickwork_engine::interpolation::Interpolated;
     pub use tickwork_engine::render::{Anchor, Camera, Line};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material,

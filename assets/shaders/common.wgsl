@@ -52,7 +52,8 @@ fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
     return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
-// Where particle `p` is drawn: previous + t (current - previous).
+// Where particle `p` is drawn: previous + t (current - previous), the lerp of
+// engine/src/interpolation.rs (t from Interpolation::parameter).
 fn interpolated(p: Instance) -> vec3<f32> {
     return mix(p.previous, p.current, globals.t);
 }

@@ -38,6 +38,7 @@ pub mod energy;
 pub mod forces;
 pub mod headless;
 pub mod input;
+pub mod interpolation;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod scene;

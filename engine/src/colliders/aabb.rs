@@ -67,8 +67,12 @@ impl BoxCollider {
     /// particles are drawn).
     #[must_use]
     pub fn interpolated(&self, alpha: f32, dt: f32) -> (Vec3, Vec3) {
-        let back = self.velocity * (dt * (1.0 - alpha));
-        (self.min - back, self.max - back)
+        use crate::interpolation::lerp;
+        let step = self.velocity * dt;
+        (
+            lerp(self.min - step, self.min, alpha),
+            lerp(self.max - step, self.max, alpha),
+        )
     }
 
     fn resolve_one(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {

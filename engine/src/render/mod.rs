@@ -45,12 +45,13 @@ mod trails;
 
 use std::fmt;
 
+pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::RgbaImage;
 pub use overlay::{Anchor, Line, Text, Triangle};
-pub use renderer::{Blend, FrameView, Interpolation, Renderer, RendererConfig, WorldView};
+pub use renderer::{Blend, FrameView, Renderer, RendererConfig, WorldView};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use trails::Trails;
 

@@ -9,7 +9,7 @@
 //! on the CPU.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Quat, Vec3};
+use glam::{Mat4, Vec3};
 use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
 
 use super::camera::{Camera, CameraMatrices};
@@ -20,6 +20,7 @@ use super::target::{DEPTH_FORMAT, FrameBuffers};
 use super::trails::Trails;
 use super::{Gpu, RenderError};
 use crate::forces::{SpringEnd, Springs};
+use crate::interpolation::Interpolation;
 use crate::world::World;
 
 /// How particles are composited.
@@ -31,33 +32,6 @@ pub enum Blend {
     Alpha,
     /// Colours add up, no depth writes: sparks, fire, dense clouds.
     Additive,
-}
-
-/// Where particles are drawn between two fixed steps.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Interpolation {
-    /// Between the previous and the current step, by the clock's alpha
-    /// (default): smooth and exact, one step behind the simulation.
-    #[default]
-    Interpolate,
-    /// Beyond the current step, as if the velocity stayed constant: no
-    /// latency, but overshoots at bounces.
-    Extrapolate,
-    /// At the current step: shows the raw fixed-step motion (judder).
-    None,
-}
-
-impl Interpolation {
-    /// The shader's mixing parameter for a frame's `alpha`:
-    /// `x = x_prev + t (x - x_prev)`.
-    #[must_use]
-    pub fn parameter(self, alpha: f32) -> f32 {
-        match self {
-            Self::Interpolate => alpha,
-            Self::Extrapolate => 1.0 + alpha,
-            Self::None => 1.0,
-        }
-    }
 }
 
 /// Renderer settings.
@@ -686,7 +660,7 @@ impl Renderer {
                 for body in 0..rigid.len() {
                     let row = rigid.owner[body] as usize;
                     let centre = at(row);
-                    let q = slerp_param(rigid.previous_orientation[body], rigid.orientation[body], t);
+                    let q = crate::interpolation::slerp(rigid.previous_orientation[body], rigid.orientation[body], t);
                     let transform = Mat4::from_rotation_translation(q, centre);
                     let h = rigid.half_extents[body];
                     let corner =
@@ -826,19 +800,6 @@ const BOX_EDGES: [(usize, usize); 12] = [
 
 fn sign(bit: usize) -> f32 {
     if bit == 0 { -1.0 } else { 1.0 }
-}
-
-/// Orientation between two steps: slerp for `t` in [0, 1], and beyond for
-/// extrapolation (the same rotation continued).
-fn slerp_param(previous: Quat, current: Quat, t: f32) -> Quat {
-    if t <= 1.0 {
-        previous.slerp(current, t)
-    } else {
-        // q(t) = (q q_prev^-1)^(t - 1) q
-        let delta = current * previous.inverse();
-        let (axis, angle) = delta.to_axis_angle();
-        (Quat::from_axis_angle(axis, angle * (t - 1.0)) * current).normalize()
-    }
 }
 
 /// sRGB transfer function, for the clear colour.

@@ -245,12 +245,13 @@ impl PartialEq for Lifetimes {
 
 impl Particles {
     /// Where row `row` is drawn at `t` steps past the previous one:
-    /// `x_prev + t (x - x_prev)` (the vertex shader's formula, for the few
-    /// things interpolated on the CPU: springs, trails, rigid bodies).
+    /// [`lerp`](crate::interpolation::lerp), the vertex shader's formula,
+    /// for the few things interpolated on the CPU: springs, trails, rigid
+    /// bodies.
     #[must_use]
     pub fn interpolated(&self, row: usize, t: f32) -> Vec3 {
         let (from, to) = (self.previous_position.row(row), self.position.row(row));
-        from.lerp(to, t).into()
+        crate::interpolation::lerp(from.into(), to.into(), t)
     }
 
     /// Number of rows.

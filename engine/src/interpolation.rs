@@ -1,0 +1,185 @@
+//! Where things are drawn between two fixed steps: one home for the
+//! formulas the GPU and the CPU share.
+//!
+//! The renderer draws a frame `alpha` of a step past the last one
+//! (`alpha` in `[0, 1)`, from the clock) by mixing the previous and the
+//! current state with a parameter `t` ([`Interpolation::parameter`]):
+//!
+//! ```text
+//! lerp      x(t) = x0 + t (x1 - x0)                       (the vertex shader's `interpolated`)
+//! hermite   x(t) = h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1
+//!           h00 = 2t^3 - 3t^2 + 1   h10 = t^3 - 2t^2 + t   h01 = -2t^3 + 3t^2   h11 = t^3 - t^2
+//! slerp     q(t) = q0 (q0^-1 q1)^t                        (orientations; past t = 1 the same turn goes on)
+//! ```
+//!
+//! `lerp` is exact for motion at constant velocity and off by
+//! `a dt^2 t (1 - t) / 2` under an acceleration `a` (a ball's arc is drawn
+//! as chords); `hermite`, from positions *and* velocities at both steps,
+//! is exact for any motion up to cubic in time, so an arc stays an arc (as
+//! avian offers and no other engine builds in). The particles' shader uses
+//! `lerp` (its instance record carries no velocities); springs, trails and
+//! rigid bodies are interpolated on the CPU with the same formulas, and a
+//! game's own positions (a paddle, a camera target) through [`Interpolated`].
+
+use glam::{Quat, Vec3};
+
+/// Where particles are drawn between two fixed steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Between the previous and the current step, by the clock's alpha
+    /// (default): smooth and exact, one step behind the simulation.
+    #[default]
+    Interpolate,
+    /// Beyond the current step, as if the velocity stayed constant: no
+    /// latency, but overshoots at bounces.
+    Extrapolate,
+    /// At the current step: shows the raw fixed-step motion (judder).
+    None,
+}
+
+impl Interpolation {
+    /// The mixing parameter `t` for a frame's `alpha`: `alpha`, `1 + alpha`
+    /// (one step further) or 1.
+    #[must_use]
+    pub fn parameter(self, alpha: f32) -> f32 {
+        match self {
+            Self::Interpolate => alpha,
+            Self::Extrapolate => 1.0 + alpha,
+            Self::None => 1.0,
+        }
+    }
+}
+
+/// `x0 + t (x1 - x0)`: the position `t` of the way from the previous step
+/// to the current one.
+#[must_use]
+pub fn lerp(previous: Vec3, current: Vec3, t: f32) -> Vec3 {
+    previous + t * (current - previous)
+}
+
+/// The cubic Hermite position `t` of the way through a step of `dt`
+/// seconds that starts at `x0` moving at `v0` and ends at `x1` moving at
+/// `v1` (exact for motion up to cubic in time).
+#[must_use]
+pub fn hermite(x0: Vec3, v0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 {
+    let (t2, t3) = (t * t, t * t * t);
+    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
+    let h10 = t3 - 2.0 * t2 + t;
+    let h01 = -2.0 * t3 + 3.0 * t2;
+    let h11 = t3 - t2;
+    h00 * x0 + (h10 * dt) * v0 + h01 * x1 + (h11 * dt) * v1
+}
+
+/// The orientation `t` of the way from `previous` to `current`: slerp for
+/// `t` in `[0, 1]`, and past 1 the same rotation continued
+/// (`q(t) = (q1 q0^-1)^(t - 1) q1`, for extrapolation).
+#[must_use]
+pub fn slerp(previous: Quat, current: Quat, t: f32) -> Quat {
+    if t <= 1.0 {
+        previous.slerp(current, t)
+    } else {
+        let (axis, angle) = (current * previous.inverse()).to_axis_angle();
+        (Quat::from_axis_angle(axis, angle * (t - 1.0)) * current).normalize()
+    }
+}
+
+/// A game-owned position kept for drawing between steps: told the new
+/// position and velocity once per fixed step, asked where it is at a
+/// frame's `alpha`.
+///
+/// ```
+/// use glam::Vec3;
+/// use tickwork_engine::interpolation::Interpolated;
+///
+/// let mut paddle = Interpolated::at(Vec3::ZERO, Vec3::ZERO);
+/// paddle.step_to(Vec3::new(0.5, 0.0, 0.0), Vec3::new(30.0, 0.0, 0.0)); // in fixed_update
+/// assert_eq!(paddle.lerp(0.5), Vec3::new(0.25, 0.0, 0.0)); // in draw
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Interpolated {
+    previous: (Vec3, Vec3),
+    current: (Vec3, Vec3),
+}
+
+impl Interpolated {
+    /// At rest at `position` moving at `velocity`: drawn there whatever
+    /// the alpha until the next step.
+    #[must_use]
+    pub fn at(position: Vec3, velocity: Vec3) -> Self {
+        Self {
+            previous: (position, velocity),
+            current: (position, velocity),
+        }
+    }
+
+    /// The state after a fixed step; the last one becomes the previous.
+    pub fn step_to(&mut self, position: Vec3, velocity: Vec3) {
+        self.previous = self.current;
+        self.current = (position, velocity);
+    }
+
+    /// A jump (a respawn): no streak across it.
+    pub fn teleport(&mut self, position: Vec3, velocity: Vec3) {
+        *self = Self::at(position, velocity);
+    }
+
+    /// The position after the last step.
+    #[must_use]
+    pub fn current(&self) -> Vec3 {
+        self.current.0
+    }
+
+    /// Drawn by [`lerp`] at `t` (a frame's alpha).
+    #[must_use]
+    pub fn lerp(&self, t: f32) -> Vec3 {
+        lerp(self.previous.0, self.current.0, t)
+    }
+
+    /// Drawn by [`hermite`] at `t` through a step of `dt` seconds.
+    #[must_use]
+    pub fn hermite(&self, t: f32, dt: f32) -> Vec3 {
+        hermite(self.previous.0, self.previous.1, self.current.0, self.current.1, dt, t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A projectile: x(s) = x0 + v0 s + g s^2 / 2, v(s) = v0 + g s.
+    fn projectile(s: f32) -> (Vec3, Vec3) {
+        let (x0, v0, g) = (
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(3.0, 4.0, 0.0),
+            Vec3::new(0.0, -9.81, 0.0),
+        );
+        (x0 + v0 * s + 0.5 * g * s * s, v0 + g * s)
+    }
+
+    #[test]
+    fn hermite_draws_an_arc_exactly_and_lerp_cuts_its_chord_by_theory() {
+        let dt = 0.1;
+        let mut tracked = Interpolated::at(projectile(0.0).0, projectile(0.0).1);
+        let (x1, v1) = projectile(dt);
+        tracked.step_to(x1, v1);
+        for t in [0.0f32, 0.25, 0.5, 0.9, 1.0] {
+            let exact = projectile(t * dt).0;
+            assert!(tracked.hermite(t, dt).abs_diff_eq(exact, 1e-6), "t = {t}");
+            // The chord runs g dt^2 t (1 - t) / 2 below the arc.
+            let sag = 9.81 * dt * dt * t * (1.0 - t) / 2.0;
+            assert!((exact.y - tracked.lerp(t).y - sag).abs() < 1e-6, "t = {t}");
+        }
+        assert_eq!(tracked.current(), x1);
+        tracked.teleport(Vec3::ZERO, Vec3::ONE);
+        assert_eq!(tracked.lerp(0.3), Vec3::ZERO, "no streak across a jump");
+    }
+
+    #[test]
+    fn slerp_turns_between_steps_and_keeps_turning_past_them() {
+        let (q0, q1) = (Quat::IDENTITY, Quat::from_rotation_z(0.4));
+        assert!(slerp(q0, q1, 0.5).abs_diff_eq(Quat::from_rotation_z(0.2), 1e-6));
+        assert!(slerp(q0, q1, 1.5).abs_diff_eq(Quat::from_rotation_z(0.6), 1e-6));
+        assert_eq!(Interpolation::Extrapolate.parameter(0.25), 1.25);
+        assert_eq!(Interpolation::None.parameter(0.25), 1.0);
+    }
+}
