@@ -73,6 +73,7 @@ pub use methods::semi_implicit_euler::SemiImplicitEuler;
 pub use methods::trapezoidal::Trapezoidal;
 pub use methods::velocity_verlet::VelocityVerlet;
 pub use newton_krylov::NewtonKrylovConfig;
+pub use chunks::CHUNK;
 pub use registry::{METHODS, UnknownMethod, build, find};
 pub use system::System;
 pub use vector::{Real, Vector};

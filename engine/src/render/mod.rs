@@ -34,6 +34,8 @@ macro_rules! shader {
 }
 
 mod camera;
+mod config;
+mod frame_view;
 mod golden;
 mod gpu;
 mod hud;
@@ -42,16 +44,19 @@ mod renderer;
 mod splat;
 mod target;
 mod trails;
+mod world_lines;
 
 use std::fmt;
 
 pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices};
+pub use config::{Blend, RendererConfig};
+pub use frame_view::{FrameView, WorldView};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::RgbaImage;
 pub use overlay::{Anchor, Line, Text, Triangle};
-pub use renderer::{Blend, FrameView, Renderer, RendererConfig, WorldView};
+pub use renderer::Renderer;
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
 pub use trails::Trails;
 

@@ -13,140 +13,13 @@ use glam::{Mat4, Vec3};
 use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
 
 use super::camera::{Camera, CameraMatrices};
+use super::config::{Blend, RendererConfig};
+use super::frame_view::FrameView;
 use super::hud::{Hud, PlacedText};
-use super::overlay::{Line, Text, Triangle};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::target::{DEPTH_FORMAT, FrameBuffers};
-use super::trails::Trails;
 use super::{Gpu, RenderError};
-use crate::forces::{SpringEnd, Springs};
 use crate::interpolation::Interpolation;
-use crate::world::World;
-
-/// How particles are composited.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Blend {
-    /// "Over", with depth testing (default): solid discs that hide what is
-    /// behind them.
-    #[default]
-    Alpha,
-    /// Colours add up, no depth writes: sparks, fire, dense clouds.
-    Additive,
-}
-
-/// Renderer settings.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RendererConfig {
-    /// Clear colour, sRGB RGBA (default: near-black blue `[12, 14, 22, 255]`).
-    pub background: [u8; 4],
-    /// Compositing of particles (default: [`Blend::Alpha`]).
-    pub blend: Blend,
-    /// Interpolation between steps (default: [`Interpolation::Interpolate`]).
-    pub interpolation: Interpolation,
-    /// Samples per pixel: 4 (MSAA, default) or 1.
-    pub samples: u32,
-    /// Smallest drawn disc radius in pixels; smaller particles are dimmed by
-    /// the area ratio instead (default 0.75).
-    pub min_radius_px: f32,
-    /// Draw springs as lines (default true).
-    pub springs: bool,
-    /// Draw rigid bodies as oriented boxes with their axes (default true).
-    pub rigid_bodies: bool,
-    /// Colour of spring lines, sRGB RGBA (default `[150, 150, 170, 200]`).
-    pub spring_colour: [u8; 4],
-    /// HUD text size in pixels (default 16).
-    pub hud_size: f32,
-    /// Particle count from which a 2D view of small particles (drawn radius
-    /// 4 px or less) is drawn by the compute splat path instead of one quad
-    /// per particle (`usize::MAX`: never). Default `None`: chosen by the
-    /// adapter, 2 000 on a software (CPU) adapter, where every primitive
-    /// costs about a microsecond and MSAA a dozen milliseconds a frame, and
-    /// 250 000 on a GPU, where quads are cheap.
-    pub splat_threshold: Option<usize>,
-}
-
-impl Default for RendererConfig {
-    fn default() -> Self {
-        Self {
-            background: [12, 14, 22, 255],
-            blend: Blend::Alpha,
-            interpolation: Interpolation::Interpolate,
-            samples: 4,
-            min_radius_px: 0.75,
-            springs: true,
-            rigid_bodies: true,
-            spring_colour: [150, 150, 170, 200],
-            hud_size: 16.0,
-            splat_threshold: None,
-        }
-    }
-}
-
-/// What one frame shows.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameView<'a> {
-    /// The world, read only.
-    pub world: &'a World,
-    /// The clock's alpha: how far the frame is past the current step, in
-    /// steps, in [0, 1).
-    pub alpha: f32,
-    /// The camera.
-    pub camera: Camera,
-    /// Trails to draw, if any.
-    pub trails: Option<&'a Trails>,
-    /// More worlds drawn in the same frame, after `world` (an integrator
-    /// race: one world per method, side by side or overlaid).
-    pub others: &'a [WorldView<'a>],
-    /// Extra lines (a game's own drawing).
-    pub lines: &'a [Line],
-    /// Filled triangles (a game's rectangles and polygons), drawn first.
-    pub triangles: &'a [Triangle],
-    /// Text placed in the world, drawn last.
-    pub texts: &'a [Text],
-    /// HUD text, drawn top-left; empty for none.
-    pub hud: &'a str,
-    /// Colour changes in the HUD text: from each byte offset on, the text
-    /// is drawn in that sRGB colour (default: none, all light grey).
-    pub hud_colours: &'a [(usize, [u8; 4])],
-}
-
-impl<'a> FrameView<'a> {
-    /// A view of `world` at `alpha` through `camera`, with no trails, lines
-    /// or HUD.
-    #[must_use]
-    pub fn new(world: &'a World, alpha: f32, camera: Camera) -> Self {
-        Self {
-            world,
-            alpha,
-            camera,
-            trails: None,
-            others: &[],
-            lines: &[],
-            triangles: &[],
-            texts: &[],
-            hud: "",
-            hud_colours: &[],
-        }
-    }
-
-    /// Every world of the frame with its trails: `world` first, then `others`.
-    pub fn worlds(&self) -> impl Iterator<Item = WorldView<'a>> + '_ {
-        std::iter::once(WorldView {
-            world: self.world,
-            trails: self.trails,
-        })
-        .chain(self.others.iter().copied())
-    }
-}
-
-/// One more world in a frame, with its trails.
-#[derive(Clone, Copy, Debug)]
-pub struct WorldView<'a> {
-    /// The world, read only.
-    pub world: &'a World,
-    /// Its trails, if any.
-    pub trails: Option<&'a Trails>,
-}
 
 /// Uniforms shared by both pipelines (96 bytes, as in the WGSL `Globals`).
 #[repr(C)]
@@ -636,52 +509,7 @@ impl Renderer {
             });
         };
         for shown in view.worlds() {
-            let world = shown.world;
-            let particles = world.particles();
-            let at = |row: usize| particles.interpolated(row, t);
-            if self.config.springs {
-                for force in world.forces() {
-                    let Some(springs) = force.as_any().downcast_ref::<Springs>() else {
-                        continue;
-                    };
-                    for spring in springs.springs() {
-                        let end = |end: SpringEnd| match end {
-                            SpringEnd::Anchor(p) => Some(p),
-                            SpringEnd::Entity(e) => world.row(e).ok().map(at),
-                        };
-                        if let (Some(a), Some(b)) = (end(spring.a), end(spring.b)) {
-                            push(a, b, self.config.spring_colour);
-                        }
-                    }
-                }
-            }
-            if self.config.rigid_bodies {
-                let rigid = world.rigid_bodies();
-                for body in 0..rigid.len() {
-                    let row = rigid.owner[body] as usize;
-                    let centre = at(row);
-                    let q = crate::interpolation::slerp(rigid.previous_orientation[body], rigid.orientation[body], t);
-                    let transform = Mat4::from_rotation_translation(q, centre);
-                    let h = rigid.half_extents[body];
-                    let corner =
-                        |i: usize| transform.transform_point3(h * Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)));
-                    let colour = particles.colour[row];
-                    for (i, j) in BOX_EDGES {
-                        push(corner(i), corner(j), colour);
-                    }
-                    for (axis, colour) in [
-                        (Vec3::X, [230, 80, 70, 255]),
-                        (Vec3::Y, [90, 210, 90, 255]),
-                        (Vec3::Z, [80, 140, 240, 255]),
-                    ] {
-                        let tip = transform.transform_point3(axis * (1.6 * h.max_element()));
-                        push(centre, tip, colour);
-                    }
-                }
-            }
-            if let Some(trails) = shown.trails {
-                trails.lines(world, t, &mut push);
-            }
+            super::world_lines::world_lines(&self.config, &shown, t, &mut push);
         }
         for line in view.lines {
             push(line.a, line.b, line.colour);
@@ -779,27 +607,6 @@ fn fill_instances(particles: &crate::world::Particles, out: &mut [Instance]) {
     } else {
         fill(0, out);
     }
-}
-
-/// Corner pairs of a box's 12 edges, corners numbered by the sign bits of
-/// x (1), y (2) and z (4).
-const BOX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (2, 3),
-    (4, 5),
-    (6, 7),
-    (0, 2),
-    (1, 3),
-    (4, 6),
-    (5, 7),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
-
-fn sign(bit: usize) -> f32 {
-    if bit == 0 { -1.0 } else { 1.0 }
 }
 
 /// sRGB transfer function, for the clear colour.

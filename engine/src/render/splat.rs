@@ -2,7 +2,8 @@
 //! compute invocation each instead of one quad each (see
 //! `assets/shaders/splat.wgsl` for the method and why).
 
-use super::renderer::{Blend, bind_buffers, depth_state};
+use super::config::Blend;
+use super::renderer::{bind_buffers, depth_state};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;

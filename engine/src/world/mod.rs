@@ -25,11 +25,13 @@ macro_rules! clone_fields {
 
 mod colliders;
 pub(crate) mod column;
-mod columns;
+mod components;
+mod config;
 mod entity;
 pub(crate) mod facts;
 mod particles;
 mod rigid;
+mod snapshot;
 
 use core::fmt;
 
@@ -37,154 +39,28 @@ use glam::{Quat, Vec3, Vec3A};
 use rand::SeedableRng;
 use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
-use tickwork_integrators::{Integrator, UnknownMethod, Vec3x4, build};
+use tickwork_integrators::{Integrator, UnknownMethod, build};
 
 pub use column::{RowsMut, Vec3Column};
-pub use columns::Component;
+pub use components::{Component, QueryMut};
+pub use config::{WorldConfig, WorldError};
 pub use entity::{Entities, Entity, EntityError};
 pub use particles::{Colour, Particle, Particles, SpawnError};
 pub use rigid::{RigidBodies, RigidBody};
+pub use snapshot::Snapshot;
 
 use crate::colliders::set::ColliderSet;
 use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
 use crate::forces::Force;
-use columns::Columns;
-
-/// Settings of a new [`World`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct WorldConfig {
-    /// The integrator, by registry name or alias (default: `"semi_implicit_euler"`).
-    pub integrator: String,
-    /// The angular integrator for rigid bodies (default: `"angular_rk4"`, 4th
-    /// order: rigid bodies are few, and the first-order methods drift in energy).
-    pub angular_integrator: String,
-    /// Seed of the world's random generator (emitters, games) (default: `0`).
-    pub seed: u64,
-    /// Particle count from which a step is spread over rayon's threads, when
-    /// the forces and the method allow it (default: `4096`: measured on two
-    /// cores, two lanes step 4 096 particles in 0.85 of one lane's time and
-    /// 16k-64k in 0.6-0.7; below, waking a thread costs more than it saves).
-    pub parallel_threshold: usize,
-    /// Most particles one emitter may spawn in one step (default:
-    /// `1_000_000`): an emitter of 1e12 per second is an error naming this
-    /// limit, not an allocation that takes the machine.
-    pub max_spawns_per_step: u32,
-    /// Most particles the world may hold, live and queued (default:
-    /// `10_000_000`, about a gigabyte of columns): a spawn past it is
-    /// [`SpawnError::ParticleLimit`], an emitter's step past it
-    /// [`SimulationError::ParticleLimit`](crate::step::SimulationError), not an
-    /// allocation that aborts the process.
-    pub max_particles: usize,
-}
-
-impl Default for WorldConfig {
-    fn default() -> Self {
-        Self {
-            integrator: "semi_implicit_euler".into(),
-            angular_integrator: "angular_rk4".into(),
-            seed: 0,
-            parallel_threshold: 4_096,
-            max_spawns_per_step: 1_000_000,
-            max_particles: 10_000_000,
-        }
-    }
-}
-
-/// A request to change an entity that failed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum WorldError {
-    /// The handle names no live entity.
-    Entity(EntityError),
-    /// A value is invalid (the field is named).
-    Invalid {
-        /// The entity.
-        entity: Entity,
-        /// What was wrong.
-        error: SpawnError,
-    },
-    /// The component type was never registered.
-    UnregisteredComponent {
-        /// The type's name.
-        type_name: &'static str,
-    },
-}
-
-impl fmt::Display for WorldError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Entity(e) => e.fmt(f),
-            Self::Invalid { entity, error } => write!(f, "{entity}: {error}"),
-            Self::UnregisteredComponent { type_name } => {
-                write!(
-                    f,
-                    "component {type_name} is not registered; call World::register::<{type_name}>() first"
-                )
-            }
-        }
-    }
-}
-
-impl std::error::Error for WorldError {}
-
-impl From<EntityError> for WorldError {
-    fn from(e: EntityError) -> Self {
-        Self::Entity(e)
-    }
-}
+pub(crate) use crate::step::{Lane, Rows};
+use components::Columns;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Command {
     Spawn(Entity, Particle),
     SpawnRigid(Entity, RigidBody),
     Despawn(Entity),
-}
-
-/// One thread's share of a fused step: its copy of the method (stepping
-/// blocks of four particles) and its scratch rows. Kept between steps so
-/// nothing is allocated.
-pub(crate) struct Lane {
-    pub method: Box<dyn Integrator<Vec3x4>>,
-    pub rows: Rows,
-    /// The lane's contacts, for colliders that report them.
-    pub touches: Vec<RowTouch>,
-}
-
-/// Scratch rows, one `Vec3A` per particle, for the parts of a step that take
-/// rows rather than blocks (forces and colliders without a block kernel,
-/// the methods that keep history); buffers reused from step to step.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct Rows {
-    pub x: Vec<Vec3A>,
-    pub v: Vec<Vec3A>,
-    pub other: Vec<Vec3A>,
-    /// Positions and velocities before a reporting collider ran.
-    pub before_x: Vec<Vec3A>,
-    pub before_v: Vec<Vec3A>,
-}
-
-impl Clone for Lane {
-    fn clone(&self) -> Self {
-        Self {
-            method: self.method.clone_boxed(),
-            rows: Rows::default(),
-            touches: Vec::new(),
-        }
-    }
-}
-
-/// Mutable access to the position and velocity columns and one game column,
-/// row by row (all slices have the same length; `entities[i]` owns row `i`).
-#[derive(Debug)]
-pub struct QueryMut<'a, T> {
-    /// The entity of each row.
-    pub entities: &'a [Entity],
-    /// Positions.
-    pub position: RowsMut<'a>,
-    /// Velocities.
-    pub velocity: RowsMut<'a>,
-    /// The game's column.
-    pub component: &'a mut [T],
 }
 
 /// The particle world. See the [module docs](self).
@@ -307,22 +183,6 @@ impl fmt::Debug for World {
 impl Default for World {
     fn default() -> Self {
         Self::new(WorldConfig::default()).unwrap_or_else(|_| unreachable!("the default methods are registered"))
-    }
-}
-
-/// A copy of a whole world (entities, columns, forces, integrator history,
-/// random generator), taken by [`World::snapshot`] and put back by
-/// [`World::restore`].
-#[derive(Clone, Debug)]
-pub struct Snapshot {
-    world: World,
-}
-
-impl Snapshot {
-    /// The tick the snapshot was taken at.
-    #[must_use]
-    pub fn tick(&self) -> u64 {
-        self.world.tick
     }
 }
 
@@ -644,64 +504,6 @@ impl World {
         Ok(())
     }
 
-    // ---- game columns -----------------------------------------------------
-
-    /// Adds a column of `T` to every entity (default values). Registering twice is a no-op.
-    pub fn register<T: Component>(&mut self) {
-        self.columns.register::<T>(self.entities.len());
-    }
-
-    /// Sets an entity's `T`.
-    ///
-    /// # Errors
-    /// [`WorldError`] for a dead handle or an unregistered `T`.
-    pub fn insert<T: Component>(&mut self, entity: Entity, value: T) -> Result<(), WorldError> {
-        *self.get_mut::<T>(entity)? = value;
-        Ok(())
-    }
-
-    /// An entity's `T`.
-    ///
-    /// # Errors
-    /// [`WorldError`] for a dead handle or an unregistered `T`.
-    pub fn get<T: Component>(&self, entity: Entity) -> Result<&T, WorldError> {
-        let row = self.row(entity)?;
-        let column = self.columns.get::<T>().ok_or_else(unregistered::<T>)?;
-        Ok(&column[row])
-    }
-
-    /// An entity's `T`, mutable.
-    ///
-    /// # Errors
-    /// [`WorldError`] for a dead handle or an unregistered `T`.
-    pub fn get_mut<T: Component>(&mut self, entity: Entity) -> Result<&mut T, WorldError> {
-        let row = self.row(entity)?;
-        let column = self.columns.get_mut::<T>().ok_or_else(unregistered::<T>)?;
-        Ok(&mut column[row])
-    }
-
-    /// The whole column of `T`, row-aligned with the particle columns.
-    ///
-    /// # Errors
-    /// [`WorldError::UnregisteredComponent`] for an unregistered `T`.
-    pub fn column<T: Component>(&self) -> Result<&[T], WorldError> {
-        self.columns.get::<T>().map(Vec::as_slice).ok_or_else(unregistered::<T>)
-    }
-
-    /// Positions, velocities and the column of `T`, mutable, row by row.
-    ///
-    /// # Errors
-    /// [`WorldError::UnregisteredComponent`] for an unregistered `T`.
-    pub fn query_mut<T: Component>(&mut self) -> Result<QueryMut<'_, T>, WorldError> {
-        let component = self.columns.get_mut::<T>().ok_or_else(unregistered::<T>)?;
-        Ok(QueryMut {
-            entities: self.entities.rows(),
-            position: RowsMut::new(&mut self.particles.position),
-            velocity: RowsMut::new(&mut self.particles.velocity),
-            component,
-        })
-    }
-
     // ---- forces, colliders, emitters, methods -----------------------------
 
     /// Adds a force generator.
@@ -814,94 +616,5 @@ impl World {
     #[must_use]
     pub fn revision(&self) -> u64 {
         self.revision
-    }
-
-    /// A copy of the whole state.
-    #[must_use]
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot { world: self.clone() }
-    }
-
-    /// Overwrites `snapshot` with the current state, reusing its buffers.
-    pub fn snapshot_into(&self, snapshot: &mut Snapshot) {
-        snapshot.world.clone_from(self);
-    }
-
-    /// Puts back a snapshot's state (buffers reused). Forces, colliders and
-    /// emitters come back as they were too.
-    pub fn restore(&mut self, snapshot: &Snapshot) {
-        self.clone_from(&snapshot.world);
-    }
-
-    /// A 64-bit FNV-1a hash of the simulated state (tick, entities, every
-    /// particle and rigid-body column, the random generator), for comparing
-    /// runs bit for bit.
-    #[must_use]
-    pub fn state_hash(&self) -> u64 {
-        let mut h = Fnv::default();
-        h.u64(self.tick);
-        for e in self.entities.rows() {
-            h.u64(e.to_bits());
-        }
-        let p = &self.particles;
-        for column in [&p.position, &p.velocity, &p.previous_position] {
-            for x in column.iter() {
-                h.f32s(&x.to_array());
-            }
-        }
-        for column in [&p.inverse_mass, &p.radius, &p.lifetime] {
-            h.f32s(column);
-        }
-        h.u64(p.lifetimes.lived.to_bits());
-        for born in &p.born {
-            h.u64(born.to_bits());
-        }
-        for (q, w) in self.rigid.orientation.iter().zip(&self.rigid.angular_velocity) {
-            h.f32s(&q.to_array());
-            h.f32s(&w.to_array());
-        }
-        for c in &self.contacts {
-            h.u64(c.entity.to_bits());
-            h.u64(match c.touched {
-                crate::colliders::Touched::Collider(id) => id.0,
-                crate::colliders::Touched::Entity(e) => e.to_bits() | 1 << 63,
-            });
-            h.f32s(&c.point.to_array());
-            h.f32s(&c.normal.to_array());
-            h.f32s(&[c.impulse]);
-        }
-        h.u64(rand::Rng::next_u64(&mut self.rng.clone()));
-        h.0
-    }
-}
-
-fn unregistered<T>() -> WorldError {
-    WorldError::UnregisteredComponent {
-        type_name: core::any::type_name::<T>(),
-    }
-}
-
-/// FNV-1a, 64 bits: simple, fast enough, and stable across platforms and runs.
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    fn bytes(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    fn u64(&mut self, v: u64) {
-        self.bytes(&v.to_le_bytes());
-    }
-    fn f32s(&mut self, values: &[f32]) {
-        for v in values {
-            self.bytes(&v.to_bits().to_le_bytes());
-        }
     }
 }

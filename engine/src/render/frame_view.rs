@@ -1,0 +1,73 @@
+//! The contract between a frame's source and the renderer: everything one
+//! frame shows, borrowed for the time of the draw (the renderer only reads).
+
+use super::camera::Camera;
+use super::overlay::{Line, Text, Triangle};
+use super::trails::Trails;
+use crate::world::World;
+
+/// What one frame shows.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameView<'a> {
+    /// The world, read only.
+    pub world: &'a World,
+    /// The clock's alpha: how far the frame is past the current step, in
+    /// steps, in [0, 1).
+    pub alpha: f32,
+    /// The camera.
+    pub camera: Camera,
+    /// Trails to draw, if any.
+    pub trails: Option<&'a Trails>,
+    /// More worlds drawn in the same frame, after `world` (an integrator
+    /// race: one world per method, side by side or overlaid).
+    pub others: &'a [WorldView<'a>],
+    /// Extra lines (a game's own drawing).
+    pub lines: &'a [Line],
+    /// Filled triangles (a game's rectangles and polygons), drawn first.
+    pub triangles: &'a [Triangle],
+    /// Text placed in the world, drawn last.
+    pub texts: &'a [Text],
+    /// HUD text, drawn top-left; empty for none.
+    pub hud: &'a str,
+    /// Colour changes in the HUD text: from each byte offset on, the text
+    /// is drawn in that sRGB colour (default: none, all light grey).
+    pub hud_colours: &'a [(usize, [u8; 4])],
+}
+
+impl<'a> FrameView<'a> {
+    /// A view of `world` at `alpha` through `camera`, with no trails, lines
+    /// or HUD.
+    #[must_use]
+    pub fn new(world: &'a World, alpha: f32, camera: Camera) -> Self {
+        Self {
+            world,
+            alpha,
+            camera,
+            trails: None,
+            others: &[],
+            lines: &[],
+            triangles: &[],
+            texts: &[],
+            hud: "",
+            hud_colours: &[],
+        }
+    }
+
+    /// Every world of the frame with its trails: `world` first, then `others`.
+    pub fn worlds(&self) -> impl Iterator<Item = WorldView<'a>> + '_ {
+        std::iter::once(WorldView {
+            world: self.world,
+            trails: self.trails,
+        })
+        .chain(self.others.iter().copied())
+    }
+}
+
+/// One more world in a frame, with its trails.
+#[derive(Clone, Copy, Debug)]
+pub struct WorldView<'a> {
+    /// The world, read only.
+    pub world: &'a World,
+    /// Its trails, if any.
+    pub trails: Option<&'a Trails>,
+}

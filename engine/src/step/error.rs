@@ -1,0 +1,142 @@
+//! Why a step failed: [`SimulationError`], naming the tick, the entity, the
+//! field and the value (and, for a non-finite state, its likely cause).
+
+use core::fmt;
+
+use glam::Vec3;
+use tickwork_integrators::StepError;
+
+use crate::world::Entity;
+
+/// A step that failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimulationError {
+    /// The integrator refused or failed (bad `dt`, a solver that did not converge).
+    Integrator {
+        /// The tick of the step.
+        tick: u64,
+        /// What the method said.
+        error: StepError,
+    },
+    /// An emitter's settings are invalid (changed through `emitters_mut`).
+    Emitter {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        index: usize,
+        /// The invalid setting.
+        error: crate::world::SpawnError,
+    },
+    /// A position or velocity became NaN or infinite (an explosion: a step too
+    /// large for the method's stability, or a force that divides by zero),
+    /// or was already so, or a force gave a non-finite acceleration.
+    NonFinite {
+        /// The tick of the step.
+        tick: u64,
+        /// The first entity (in row order) with a non-finite value.
+        entity: Entity,
+        /// `"position"`, `"velocity"` or `"acceleration"`.
+        field: &'static str,
+        /// The value.
+        value: Vec3,
+        /// What is known of how it came about.
+        cause: NonFiniteCause,
+    },
+    /// An emitter is due more particles in one step than
+    /// [`WorldConfig::max_spawns_per_step`](crate::world::WorldConfig) allows.
+    SpawnLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        emitter: usize,
+        /// Particles it was due.
+        due: f64,
+        /// The limit in force.
+        limit: u32,
+    },
+    /// An emitter would take the world past
+    /// [`WorldConfig::max_particles`](crate::world::WorldConfig).
+    ParticleLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The emitter's index.
+        emitter: usize,
+        /// The limit in force.
+        limit: usize,
+    },
+    /// The fixed step itself is invalid: a time or `dt` that is not finite
+    /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
+    InvalidStep {
+        /// The tick of the step.
+        tick: u64,
+        /// Its time, in seconds.
+        time: f64,
+        /// Its `dt`, in seconds.
+        dt: f64,
+    },
+}
+
+/// How a non-finite value came about, as far as the step can tell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NonFiniteCause {
+    /// The step made it: too large a step for the method's stability, or a
+    /// force that diverged.
+    Step,
+    /// It was already non-finite when the step began: set outside the step
+    /// (through `particles_mut`, a game's system).
+    Start,
+    /// The forces gave a non-finite acceleration at a finite state (what
+    /// made an implicit or adaptive solve fail).
+    Force,
+}
+
+impl fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Integrator { tick, error } => write!(f, "step {tick}: {error}"),
+            Self::Emitter { tick, index, error } => write!(f, "step {tick}: emitter {index}: {error}"),
+            Self::NonFinite {
+                tick,
+                entity,
+                field,
+                value,
+                cause,
+            } => {
+                write!(f, "step {tick}: {entity} has a non-finite {field} {value}; ")?;
+                f.write_str(match cause {
+                    NonFiniteCause::Step => "the step is too large for the integrator's stability, or a force diverged",
+                    NonFiniteCause::Start => {
+                        "it was so before the step began: it was set outside the step (particles_mut, a game system)"
+                    }
+                    NonFiniteCause::Force => "the forces gave it at a finite position and velocity",
+                })
+            }
+            Self::SpawnLimit {
+                tick,
+                emitter,
+                due,
+                limit,
+            } => write!(
+                f,
+                "step {tick}: emitter {emitter} is due {} particles in one step, past the limit of {limit} \
+                 (WorldConfig::max_spawns_per_step); lower its rate or raise the limit",
+                // `due` was an f32: its shortest form, not its widening's digits.
+                crate::clock::Number::from(*due as f32)
+            ),
+            Self::ParticleLimit { tick, emitter, limit } => write!(
+                f,
+                "step {tick}: emitter {emitter} would take the world past its limit of {limit} particles \
+                 (WorldConfig::max_particles); give its particles a shorter lifetime, lower its rate \
+                 or raise the limit"
+            ),
+            Self::InvalidStep { tick, time, dt } => write!(
+                f,
+                "step {tick}: invalid fixed step: time {} s, dt {} s (both must be finite)",
+                crate::clock::Number(*time),
+                crate::clock::Number(*dt)
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
