@@ -50,6 +50,7 @@ mod system;
 mod vector;
 
 pub use block::Vec3x4;
+pub use chunks::CHUNK;
 pub use integrator::{Integrator, IntegratorState, MethodInfo, StepError, StepStats};
 pub use methods::adams_bashforth::AdamsBashforth;
 pub use methods::adams_bashforth2::AdamsBashforth2;
@@ -73,7 +74,6 @@ pub use methods::semi_implicit_euler::SemiImplicitEuler;
 pub use methods::trapezoidal::Trapezoidal;
 pub use methods::velocity_verlet::VelocityVerlet;
 pub use newton_krylov::NewtonKrylovConfig;
-pub use chunks::CHUNK;
 pub use registry::{METHODS, UnknownMethod, build, find};
 pub use system::System;
 pub use vector::{Real, Vector};

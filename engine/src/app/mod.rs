@@ -11,6 +11,7 @@ mod offscreen;
 mod options;
 mod panel;
 mod playback;
+mod run;
 mod session;
 mod stage;
 mod window;
@@ -24,11 +25,9 @@ pub use control::Control;
 pub use draw::{Draw, Viewport};
 pub use game::{Game, GameError};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
-pub use options::{
-    MAX_DISPLAY_HZ, MAX_OFFSCREEN_FRAMES, MIN_DISPLAY_HZ, RunOptions, RunSummary, display_hz, exit_code,
-    non_negative_seconds, parse_size, renderer_config, run,
-};
+pub use options::{MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_size};
 pub use playback::{Playback, PlaybackError};
+pub use run::{MAX_OFFSCREEN_FRAMES, RunSummary, exit_code, renderer_config, run};
 pub use session::{GameSession, SessionOptions};
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 // RunError and FrameSource are defined below.

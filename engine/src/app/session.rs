@@ -15,7 +15,7 @@ use super::draw::{Draw, Viewport};
 use super::frame_rate::FrameRate;
 use super::game::{Game, GameError};
 use super::panel::{ClockRow, WorldRow};
-use super::stage::{ENERGY_EVERY_STEP_UP_TO, OnFailure, Settings, Stage};
+use super::stage::{Settings, Stage};
 use super::{FrameSource, RunError};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
@@ -451,34 +451,12 @@ impl<G: Game> FrameSource for GameSession<G> {
                 .fixed_update(&mut self.stage, &step, &input)
                 .map_err(RunError::Game)?;
             for shown in &mut self.stage.worlds {
-                if shown.failure.is_some() {
-                    continue;
-                }
-                if shown.on_failure == OnFailure::Freeze {
-                    match &mut shown.last_good {
-                        Some(snapshot) => shown.world.snapshot_into(snapshot),
-                        None => shown.last_good = Some(shown.world.snapshot()),
-                    }
-                }
-                if let Err(error) = shown.world.step(step) {
-                    match (shown.on_failure, &shown.last_good) {
-                        (OnFailure::Freeze, Some(snapshot)) => {
-                            shown.world.restore(snapshot);
-                            shown.failure = Some(format!("failed at t = {:.2} s: {error}", step.time));
-                            continue;
-                        }
-                        _ => {
-                            return Err(RunError::Game(GameError::Simulation {
-                                world: shown.label.clone(),
-                                error,
-                            }));
-                        }
-                    }
-                }
-                shown.trails.record(&shown.world);
-                if shown.world.len() <= ENERGY_EVERY_STEP_UP_TO || step.tick % 30 == 0 {
-                    shown.energy.sample(&mut shown.world);
-                }
+                shown.step(step).map_err(|error| {
+                    RunError::Game(GameError::Simulation {
+                        world: shown.label.clone(),
+                        error,
+                    })
+                })?;
             }
         }
         self.last = frame;

@@ -6,8 +6,9 @@
 
 use core::fmt;
 
-use crate::clock::Rate;
+use crate::clock::{FixedStep, Rate};
 use crate::render::{Camera, Trails};
+use crate::step::SimulationError;
 use crate::world::{Colour, Entity, World};
 
 /// A world's handle on its stage, from [`Stage::add_world`]. A restart
@@ -151,6 +152,42 @@ pub struct Settings {
 /// the panel's plot and the HUD); larger ones every 30 steps, since an
 /// energy sum costs about as much as a step.
 pub(crate) const ENERGY_EVERY_STEP_UP_TO: usize = 4_000;
+
+impl StageWorld {
+    /// Runs one fixed step of this world, then records its trails and
+    /// samples its energy. A world that fails stops the run, or, if it
+    /// freezes on failure, goes back to its last finite state and stays
+    /// there (its `failure` says why) while the others run on.
+    ///
+    /// # Errors
+    /// The [`SimulationError`] of a failed step of a world that stops the run.
+    pub fn step(&mut self, step: FixedStep) -> Result<(), SimulationError> {
+        if self.failure.is_some() {
+            return Ok(());
+        }
+        if self.on_failure == OnFailure::Freeze {
+            match &mut self.last_good {
+                Some(snapshot) => self.world.snapshot_into(snapshot),
+                None => self.last_good = Some(self.world.snapshot()),
+            }
+        }
+        if let Err(error) = self.world.step(step) {
+            return match (self.on_failure, &self.last_good) {
+                (OnFailure::Freeze, Some(snapshot)) => {
+                    self.world.restore(snapshot);
+                    self.failure = Some(format!("failed at t = {:.2} s: {error}", step.time));
+                    Ok(())
+                }
+                _ => Err(error),
+            };
+        }
+        self.trails.record(&self.world);
+        if self.world.len() <= ENERGY_EVERY_STEP_UP_TO || step.tick.is_multiple_of(30) {
+            self.energy.sample(&mut self.world);
+        }
+        Ok(())
+    }
+}
 
 /// The worlds a game shows, the camera and the step rate.
 #[derive(Debug)]

@@ -15,22 +15,26 @@
 //! then the controls of keys and panel, applied through
 //! [`FrameSource::control`] at that tick boundary.
 
+mod keys;
+mod panel;
+mod surface;
+
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::time::Instant;
 
 use winit::application::ApplicationHandler;
-use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
-use winit::window::{Window, WindowId};
-
-use std::time::Instant;
+use winit::keyboard::{Key, NamedKey};
+use winit::window::WindowId;
 
 use super::{Control, FrameSource, RunError};
 use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
-use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer, RendererConfig};
+use crate::render::{RenderError, RendererConfig};
+use keys::{KeyAction, game_key};
+use panel::draw_panel;
+use surface::{Panel, WindowState, screenshot};
 
 /// Window settings.
 #[derive(Clone, Debug)]
@@ -165,24 +169,6 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
     }
 }
 
-/// Everything that exists only while the window does.
-struct WindowState {
-    gpu: Gpu,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    renderer: Renderer,
-    buffers: Option<FrameBuffers>,
-    // Dropped last: the surface refers to it.
-    window: Arc<Window>,
-}
-
-/// The egui side of the window: context, winit input state, wgpu renderer.
-struct Panel {
-    context: egui::Context,
-    input: egui_winit::State,
-    renderer: egui_wgpu::Renderer,
-}
-
 struct App<'a> {
     source: &'a mut dyn FrameSource,
     options: WindowOptions,
@@ -222,87 +208,6 @@ impl App<'_> {
         event_loop.exit();
     }
 
-    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
-        let attributes = Window::default_attributes()
-            .with_title(format!("Tickwork - {}", self.source.title()))
-            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
-        let window = Arc::new(
-            event_loop
-                .create_window(attributes)
-                .map_err(|e| RunError::Window(e.to_string()))?,
-        );
-        // With the display handle, so that the GL backend finds an adapter
-        // compatible with the window's surface.
-        let descriptor =
-            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
-        let backends = descriptor.backends;
-        let instance = wgpu::Instance::new(descriptor);
-        let surface = instance
-            .create_surface(window.clone())
-            .map_err(|e| RenderError::Surface(e.to_string()))?;
-        let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
-        let caps = surface.get_capabilities(&gpu.adapter);
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(wgpu::TextureFormat::is_srgb)
-            .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
-        let present_mode = if self.options.vsync {
-            wgpu::PresentMode::Fifo
-        } else {
-            [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
-                .into_iter()
-                .find(|m| caps.present_modes.contains(m))
-                .unwrap_or(wgpu::PresentMode::Fifo)
-        };
-        let size = window.inner_size();
-        // Copies into the surface let the splat path skip a full-screen pass.
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
-        let config = wgpu::SurfaceConfiguration {
-            usage,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            present_mode,
-            alpha_mode: caps
-                .alpha_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
-            desired_maximum_frame_latency: 2,
-            color_space: wgpu::SurfaceColorSpace::Auto,
-        };
-        let renderer = Renderer::new(&gpu, format, self.options.renderer.clone())?;
-        let context = egui::Context::default();
-        self.panel = Some(Panel {
-            input: egui_winit::State::new(
-                context.clone(),
-                egui::ViewportId::ROOT,
-                &window,
-                Some(window.scale_factor() as f32),
-                None,
-                Some(gpu.device.limits().max_texture_dimension_2d as usize),
-            ),
-            context,
-            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
-        });
-        self.summary.adapter = gpu.describe();
-        self.summary.surface = format!("{format:?}, {present_mode:?}");
-        let mut state = WindowState {
-            gpu,
-            surface,
-            config,
-            renderer,
-            buffers: None,
-            window,
-        };
-        state.resize(size.width, size.height)?;
-        Ok(state)
-    }
-
     fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
         let down = event.state == ElementState::Pressed;
         if let Some(key) = game_key(event.physical_key)
@@ -313,50 +218,27 @@ impl App<'_> {
             }
             return;
         }
-        // A held key repeats: single step and the time scale may repeat, the
-        // toggles (F1, pause, integrator, restart, F12) act once a press.
-        // (Under load, the X server's autorepeat turned one F1 into two, and
-        // the panel came back.)
-        let repeatable = matches!(
-            event.physical_key,
-            PhysicalKey::Code(
-                KeyCode::Period | KeyCode::NumpadAdd | KeyCode::NumpadSubtract | KeyCode::Equal | KeyCode::Minus
-            )
-        );
-        if !down || (event.repeat && !repeatable) {
+        if !down || (event.repeat && !keys::repeatable(event.physical_key)) {
             return;
         }
-        let control = match (&event.logical_key, event.physical_key) {
-            (Key::Named(NamedKey::Escape), _) => {
+        let control = match keys::key_action(&event.logical_key, event.physical_key) {
+            Some(KeyAction::Quit) => {
                 event_loop.exit();
                 None
             }
-            (Key::Named(NamedKey::F12), _) => {
+            Some(KeyAction::Screenshot) => {
                 self.screenshot = true;
                 None
             }
-            (Key::Named(NamedKey::F1), _) => {
+            Some(KeyAction::TogglePanel) => {
                 self.panel_visible = !self.panel_visible;
                 let state = if self.panel_visible { "shown" } else { "hidden" };
                 say(&format!("tickwork: panel {state} (F1)"));
                 self.announce = Some((format!("tickwork: panel {state} (F1) and presented"), 2));
                 None
             }
-            (Key::Named(NamedKey::Space), _) | (_, PhysicalKey::Code(KeyCode::KeyP)) => Some(Control::TogglePause),
-            (Key::Named(NamedKey::Tab), _) => Some(Control::NextIntegrator),
-            (_, PhysicalKey::Code(KeyCode::Period)) => Some(Control::SingleStep),
-            (_, PhysicalKey::Code(KeyCode::NumpadAdd)) => Some(Control::Faster),
-            (_, PhysicalKey::Code(KeyCode::NumpadSubtract)) => Some(Control::Slower),
-            (_, PhysicalKey::Code(KeyCode::KeyR | KeyCode::F5)) => Some(Control::Reset),
-            (Key::Character(c), _) => match c.as_str() {
-                "+" | "=" => Some(Control::Faster),
-                "-" | "_" => Some(Control::Slower),
-                d if d.len() == 1 && ("1"..="9").contains(&d) => {
-                    Some(Control::Integrator(usize::from(d.as_bytes()[0] - b'1')))
-                }
-                _ => None,
-            },
-            _ => None,
+            Some(KeyAction::Control(control)) => Some(control),
+            None => None,
         };
         self.controls.extend(control);
     }
@@ -464,138 +346,6 @@ impl App<'_> {
         }
         Ok(())
     }
-}
-
-impl WindowState {
-    /// Reconfigures for a new inner size; 0x0 (minimised) keeps the old
-    /// surface and draws nothing until the window comes back.
-    fn resize(&mut self, width: u32, height: u32) -> Result<(), RunError> {
-        if width == 0 || height == 0 {
-            self.buffers = None;
-            return Ok(());
-        }
-        self.config.width = width;
-        self.config.height = height;
-        self.surface.configure(&self.gpu.device, &self.config);
-        self.buffers = Some(FrameBuffers::new(
-            &self.gpu,
-            width,
-            height,
-            self.config.format,
-            self.renderer.config().samples,
-        )?);
-        Ok(())
-    }
-}
-
-/// Draws the window's current view off-screen at the window's size and
-/// saves it as `screenshot_NNNN.png`, never overwriting an existing file.
-fn screenshot(state: &WindowState, source: &mut dyn FrameSource, options: &WindowOptions) -> Result<PathBuf, RunError> {
-    let (width, height) = (state.config.width, state.config.height);
-    let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
-    let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
-    let mut image = None;
-    source.with_view(options.hud, (width, height), &mut |view| {
-        image = Some(target.render(&state.gpu, &mut renderer, view)?);
-        Ok(())
-    })?;
-    let Some(image) = image else {
-        return Err(RenderError::Device("the frame was not drawn".into()).into());
-    };
-    std::fs::create_dir_all(&options.screenshot_dir).map_err(|e| RunError::io(&options.screenshot_dir, &e))?;
-    let path = (0..)
-        .map(|k| options.screenshot_dir.join(format!("screenshot_{k:04}.png")))
-        .find(|p| !p.exists())
-        .unwrap_or_else(|| options.screenshot_dir.join("screenshot.png"));
-    image.save(&path).map_err(|e| RunError::io(&path, &e))?;
-    Ok(path)
-}
-
-/// Lays out the panel, uploads its meshes and records its pass over
-/// `output` (loaded, not cleared); returns the upload command buffers.
-fn draw_panel(
-    panel: &mut Panel,
-    source: &dyn FrameSource,
-    chosen: &mut Vec<Control>,
-    state: &WindowState,
-    encoder: &mut wgpu::CommandEncoder,
-    output: &wgpu::TextureView,
-) -> Vec<wgpu::CommandBuffer> {
-    let raw = panel.input.take_egui_input(&state.window);
-    let mut full = panel.context.run_pass(raw, |ctx| source.panel(ctx, chosen));
-    panel
-        .input
-        .handle_platform_output(&state.window, std::mem::take(&mut full.platform_output));
-    let pixels_per_point = full.pixels_per_point;
-    let jobs = panel
-        .context
-        .tessellate(std::mem::take(&mut full.shapes), pixels_per_point);
-    let (device, queue) = (&state.gpu.device, &state.gpu.queue);
-    for (id, deltas) in &full.textures_delta.set {
-        for delta in deltas {
-            panel.renderer.update_texture(device, queue, *id, delta);
-        }
-    }
-    let screen = egui_wgpu::ScreenDescriptor {
-        size_in_pixels: [state.config.width, state.config.height],
-        pixels_per_point,
-    };
-    let commands = panel.renderer.update_buffers(device, queue, encoder, &jobs, &screen);
-    {
-        let mut pass = encoder
-            .begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("tickwork panel"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: output,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            })
-            .forget_lifetime();
-        panel.renderer.render(&mut pass, &jobs, &screen);
-    }
-    for id in &full.textures_delta.free {
-        panel.renderer.free_texture(id);
-    }
-    // Applied: egui checks that every delta was handled.
-    full.textures_delta.clear();
-    commands
-}
-
-/// The game key of a physical key, if it is one.
-fn game_key(key: PhysicalKey) -> Option<GameKey> {
-    let PhysicalKey::Code(code) = key else {
-        return None;
-    };
-    Some(match code {
-        KeyCode::ArrowLeft => GameKey::Left,
-        KeyCode::ArrowRight => GameKey::Right,
-        KeyCode::ArrowUp => GameKey::Up,
-        KeyCode::ArrowDown => GameKey::Down,
-        KeyCode::Space => GameKey::Space,
-        KeyCode::Enter | KeyCode::NumpadEnter => GameKey::Enter,
-        KeyCode::ShiftLeft | KeyCode::ShiftRight => GameKey::Shift,
-        KeyCode::KeyW => GameKey::W,
-        KeyCode::KeyA => GameKey::A,
-        KeyCode::KeyS => GameKey::S,
-        KeyCode::KeyD => GameKey::D,
-        KeyCode::KeyQ => GameKey::Q,
-        KeyCode::KeyE => GameKey::E,
-        KeyCode::KeyR => GameKey::R,
-        KeyCode::KeyF => GameKey::F,
-        KeyCode::KeyZ => GameKey::Z,
-        KeyCode::KeyX => GameKey::X,
-        KeyCode::KeyC => GameKey::C,
-        _ => return None,
-    })
 }
 
 impl ApplicationHandler for App<'_> {

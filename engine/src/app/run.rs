@@ -1,0 +1,278 @@
+//! [`run`]: a game in a window when a display is available, off-screen
+//! otherwise, with the shared command-line options; and [`exit_code`] for
+//! a game's `main`.
+
+use std::path::{Path, PathBuf};
+
+use super::game::Game;
+use super::options::RunOptions;
+use super::session::{GameSession, SessionOptions};
+use super::stage::{Settings, Stage};
+use super::window::display_available;
+use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
+use crate::clock::FixedCadence;
+use crate::input::Recording;
+use crate::render::{Gpu, RendererConfig};
+
+/// What a run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    /// Whether it ran in a window (else off-screen).
+    pub windowed: bool,
+    /// Frames shown or drawn.
+    pub frames: u64,
+    /// Fixed steps run.
+    pub ticks: u64,
+    /// Off-screen: the frames' directory.
+    pub out: Option<PathBuf>,
+    /// Off-screen: the GIF.
+    pub gif: Option<PathBuf>,
+    /// The recording written, if any.
+    pub recording: Option<PathBuf>,
+    /// The game's outcome line, if it has one.
+    pub outcome: Option<String>,
+}
+
+/// The renderer settings [`run`] draws a stage's frames `height` pixels
+/// tall with (for a test that draws a game as `run` does): the stage's
+/// background, and its HUD size from 540 px up, shrinking with smaller
+/// frames down to 10/16 of it, so a legend that fits a window fits a small
+/// GIF.
+#[must_use]
+pub fn renderer_config(stage: &Stage, height: u32) -> RendererConfig {
+    RendererConfig {
+        background: stage.background,
+        hud_size: stage.hud_size * (height as f32 / 540.0).clamp(10.0 / 16.0, 1.0),
+        ..RendererConfig::default()
+    }
+}
+
+/// A title as a file name: lower-case ASCII letters, digits and dashes.
+fn slug(title: &str) -> String {
+    title
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+/// `tickwork-out/<slug>`, or `-2`, `-3`, ... if that holds earlier frames.
+fn fresh_output_dir(title: &str) -> PathBuf {
+    let slug = slug(title);
+    let base = Path::new("tickwork-out");
+    (1..)
+        .map(|k| {
+            if k == 1 {
+                base.join(&slug)
+            } else {
+                base.join(format!("{slug}-{k}"))
+            }
+        })
+        .find(|dir| !dir.exists())
+        .unwrap_or_else(|| base.join(&slug))
+}
+
+/// Whether a file can be written at `path`: not a directory, in a directory
+/// that exists, and new unless `overwrite`.
+fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunError> {
+    let io = |message: String| RunError::Io {
+        path: path.to_path_buf(),
+        message,
+    };
+    if path.is_dir() {
+        return Err(io("is a directory; name a file".into()));
+    }
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty())
+        && !parent.is_dir()
+    {
+        return Err(io(format!("the directory {} does not exist", parent.display())));
+    }
+    if path.exists() && !overwrite {
+        return Err(RunError::Exists(path.to_path_buf()));
+    }
+    Ok(())
+}
+
+/// The most frames an off-screen run draws: a million (over four hours at
+/// 60 frames per second; `--frames 100000000` once stalled the run).
+pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
+
+/// Runs `game` with `options`: in a window when a display is available
+/// (and `--headless` is not given), else off-screen into PNG frames and a
+/// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
+/// Prints where files went and the game's outcome. Call it from `main`
+/// before starting threads of your own: it may quiet a Vulkan layer
+/// through the environment ([`quiet_device_select_layer`](crate::render::quiet_device_select_layer)).
+///
+/// # Errors
+/// [`RunError`] with what went wrong: a bad option or recording, no GPU
+/// adapter, a failed step, a file that exists (without `--force`).
+pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // Before any thread starts (a game's `main` calls `run` first).
+    crate::render::quiet_device_select_layer();
+    // Parallel steps from this thread then allocate nothing. An existing
+    // pool (the game used rayon first) is fine: steps run on it.
+    let _ = crate::threads::join_thread_pool();
+    // Where the recording goes is checked before the run: a run that failed
+    // to save at its end lost all the input it had taken.
+    if let Some(path) = &options.record {
+        check_output_file(path, options.force)?;
+    }
+    // So are the GIF, the frames' directory and their count.
+    if let Some(path) = &options.gif {
+        check_output_file(path, options.force)?;
+    }
+    let windowed = !options.headless && display_available();
+    if !windowed {
+        crate::app::offscreen::check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
+    }
+    let replay = options.replay.as_deref().map(Recording::load).transpose()?;
+    let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
+    let mut session = GameSession::new(
+        game,
+        SessionOptions {
+            settings: Settings {
+                integrator: options.integrator.clone(),
+                seed: options.seed,
+            },
+            hz: options.hz,
+            time_scale: options.time_scale,
+            record: options.record.clone(),
+            replay,
+            overwrite: options.force,
+        },
+    )?;
+    let title = session.game().title().to_owned();
+    let mut summary = RunSummary {
+        windowed,
+        frames: 0,
+        ticks: 0,
+        out: None,
+        gif: None,
+        recording: None,
+        outcome: None,
+    };
+    let shown = show(&mut session, &options, replay_ticks, &mut summary);
+    // The input so far is kept even when the run failed (a recording of the
+    // failure is what a bug report needs).
+    summary.ticks = crate::app::FrameSource::ticks(&session);
+    summary.recording = session.save_recording()?;
+    if let Some(path) = &summary.recording {
+        println!(
+            "tickwork: recorded {} ticks of input to {}",
+            summary.ticks,
+            path.display()
+        );
+    }
+    shown?;
+    summary.outcome = session.outcome();
+    if let Some(outcome) = &summary.outcome {
+        println!("{title}: {outcome}");
+    }
+    Ok(summary)
+}
+
+/// The window or off-screen part of [`run`].
+fn show<G: Game>(
+    session: &mut GameSession<G>,
+    options: &RunOptions,
+    replay_ticks: Option<(u64, f64)>,
+    summary: &mut RunSummary,
+) -> Result<(), RunError> {
+    let title = session.game().title().to_owned();
+    if summary.windowed {
+        let (width, height) = options.size.unwrap_or((1280, 720));
+        let panel = !options.no_panel && (options.panel || session.stage().panel);
+        let renderer = renderer_config(session.stage(), height);
+        let window = run_window(
+            session,
+            WindowOptions {
+                width,
+                height,
+                frames: options.frames,
+                hold_seconds: options.hold,
+                display_hz: options.display_hz,
+                screenshot_dir: PathBuf::from("."),
+                panel,
+                renderer,
+                ..WindowOptions::default()
+            },
+        )?;
+        summary.frames = window.frames;
+    } else {
+        let (width, height) = options.size.unwrap_or((640, 360));
+        let display_hz = options.display_hz.unwrap_or(60.0);
+        let frames = match (options.frames, replay_ticks) {
+            (Some(frames), _) => frames,
+            // Enough frames for every recorded tick: steps per frame are
+            // hz * time scale / display rate.
+            (None, Some((ticks, hz))) => {
+                let needed = (ticks as f64 * display_hz / (hz * options.time_scale)).ceil() + 1.0;
+                if needed.is_nan() || needed > MAX_OFFSCREEN_FRAMES as f64 {
+                    return Err(RunError::Io {
+                        path: options.replay.clone().unwrap_or_default(),
+                        message: format!(
+                            "replaying {ticks} ticks at {hz} Hz needs {} frames at {display_hz} frames per second, \
+                             past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames; replay with a higher \
+                             --time-scale or a lower --display-hz, or pass --frames",
+                            crate::clock::Number(needed)
+                        ),
+                    });
+                }
+                needed as u64
+            }
+            (None, None) => 300,
+        };
+        let out = options.out.clone().unwrap_or_else(|| fresh_output_dir(&title));
+        let gif = options
+            .gif
+            .clone()
+            .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
+        let gpu = Gpu::headless()?;
+        let mut runner = OffscreenRun::new(&gpu, width, height, renderer_config(session.stage(), height))?;
+        println!(
+            "tickwork: {title}: no display{}; drawing {frames} frames of {width}x{height} off-screen on {}",
+            if options.headless { " wanted (--headless)" } else { "" },
+            gpu.describe()
+        );
+        let done = runner.run(
+            session,
+            &mut FixedCadence::hz(display_hz),
+            frames,
+            &FrameOutput {
+                dir: Some(out.clone()),
+                gif: gif.clone(),
+                overwrite: options.force,
+                hud: true,
+            },
+            &mut |_| {},
+        )?;
+        summary.frames = done.frames;
+        println!(
+            "tickwork: wrote {} frames to {}/ and the GIF {}",
+            done.frames,
+            out.display(),
+            gif.as_deref().map_or_else(String::new, |g| g.display().to_string())
+        );
+        summary.out = Some(out);
+        summary.gif = gif;
+    }
+    Ok(())
+}
+
+/// The exit code of a run for a game's `main`: success, or the error
+/// printed to standard error (`error: ...`) and failure.
+pub fn exit_code(result: Result<RunSummary, RunError>) -> std::process::ExitCode {
+    match result {
+        Ok(_) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! What exists only while the window does: the GPU, the swap chain
+//! configured for the window's size (none while minimised to 0x0), the
+//! renderer and the panel's egui state; and screenshots drawn off-screen
+//! at the window's size.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use winit::dpi::PhysicalSize;
+use winit::event_loop::ActiveEventLoop;
+use winit::window::Window;
+
+use super::super::{FrameSource, RunError};
+use super::{App, WindowOptions};
+use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer};
+
+/// Everything that exists only while the window does.
+pub(super) struct WindowState {
+    pub(super) gpu: Gpu,
+    pub(super) surface: wgpu::Surface<'static>,
+    pub(super) config: wgpu::SurfaceConfiguration,
+    pub(super) renderer: Renderer,
+    pub(super) buffers: Option<FrameBuffers>,
+    // Dropped last: the surface refers to it.
+    pub(super) window: Arc<Window>,
+}
+
+/// The egui side of the window: context, winit input state, wgpu renderer.
+pub(super) struct Panel {
+    pub(super) context: egui::Context,
+    pub(super) input: egui_winit::State,
+    pub(super) renderer: egui_wgpu::Renderer,
+}
+
+impl App<'_> {
+    /// Opens the window, its surface and GPU, and the panel's renderer.
+    pub(super) fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
+        let attributes = Window::default_attributes()
+            .with_title(format!("Tickwork - {}", self.source.title()))
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| RunError::Window(e.to_string()))?,
+        );
+        // With the display handle, so that the GL backend finds an adapter
+        // compatible with the window's surface.
+        let descriptor =
+            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+        let backends = descriptor.backends;
+        let instance = wgpu::Instance::new(descriptor);
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| RenderError::Surface(e.to_string()))?;
+        let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(wgpu::TextureFormat::is_srgb)
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
+        let present_mode = if self.options.vsync {
+            wgpu::PresentMode::Fifo
+        } else {
+            [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
+                .into_iter()
+                .find(|m| caps.present_modes.contains(m))
+                .unwrap_or(wgpu::PresentMode::Fifo)
+        };
+        let size = window.inner_size();
+        // Copies into the surface let the splat path skip a full-screen pass.
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
+        let config = wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode,
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+            desired_maximum_frame_latency: 2,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        let renderer = Renderer::new(&gpu, format, self.options.renderer.clone())?;
+        let context = egui::Context::default();
+        self.panel = Some(Panel {
+            input: egui_winit::State::new(
+                context.clone(),
+                egui::ViewportId::ROOT,
+                &window,
+                Some(window.scale_factor() as f32),
+                None,
+                Some(gpu.device.limits().max_texture_dimension_2d as usize),
+            ),
+            context,
+            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
+        });
+        self.summary.adapter = gpu.describe();
+        self.summary.surface = format!("{format:?}, {present_mode:?}");
+        let mut state = WindowState {
+            gpu,
+            surface,
+            config,
+            renderer,
+            buffers: None,
+            window,
+        };
+        state.resize(size.width, size.height)?;
+        Ok(state)
+    }
+}
+
+impl WindowState {
+    /// Reconfigures for a new inner size; 0x0 (minimised) keeps the old
+    /// surface and draws nothing until the window comes back.
+    pub(super) fn resize(&mut self, width: u32, height: u32) -> Result<(), RunError> {
+        if width == 0 || height == 0 {
+            self.buffers = None;
+            return Ok(());
+        }
+        self.config.width = width;
+        self.config.height = height;
+        self.surface.configure(&self.gpu.device, &self.config);
+        self.buffers = Some(FrameBuffers::new(
+            &self.gpu,
+            width,
+            height,
+            self.config.format,
+            self.renderer.config().samples,
+        )?);
+        Ok(())
+    }
+}
+
+/// Draws the window's current view off-screen at the window's size and
+/// saves it as `screenshot_NNNN.png`, never overwriting an existing file.
+pub(super) fn screenshot(
+    state: &WindowState,
+    source: &mut dyn FrameSource,
+    options: &WindowOptions,
+) -> Result<PathBuf, RunError> {
+    let (width, height) = (state.config.width, state.config.height);
+    let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
+    let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
+    let mut image = None;
+    source.with_view(options.hud, (width, height), &mut |view| {
+        image = Some(target.render(&state.gpu, &mut renderer, view)?);
+        Ok(())
+    })?;
+    let Some(image) = image else {
+        return Err(RenderError::Device("the frame was not drawn".into()).into());
+    };
+    std::fs::create_dir_all(&options.screenshot_dir).map_err(|e| RunError::io(&options.screenshot_dir, &e))?;
+    let path = (0..)
+        .map(|k| options.screenshot_dir.join(format!("screenshot_{k:04}.png")))
+        .find(|p| !p.exists())
+        .unwrap_or_else(|| options.screenshot_dir.join("screenshot.png"));
+    image.save(&path).map_err(|e| RunError::io(&path, &e))?;
+    Ok(path)
+}
