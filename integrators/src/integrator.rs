@@ -38,6 +38,14 @@ pub struct MethodInfo {
     pub implicit: bool,
     /// The number of evaluations varies from step to step.
     pub variable_cost: bool,
+    /// Stepping disjoint sub-slices of a pointwise system separately (in
+    /// any order, on any thread, each with its own copy of the method)
+    /// gives bit-identical results to one whole-slice step: true for the
+    /// explicit self-starting methods, which keep no per-particle state
+    /// between steps. The engine then fuses its per-particle work
+    /// (colliders, the finiteness check) into cache-sized chunks and spreads
+    /// chunks over threads.
+    pub splits_pointwise: bool,
 }
 
 /// Counters a step reports, for diagnostics and cost comparisons.
@@ -163,16 +171,10 @@ pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
     /// The method's description (orders, cost, flags).
     fn info(&self) -> MethodInfo;
 
-    /// Whether stepping disjoint sub-slices separately (in any order, on any
-    /// thread, each with its own copy of the method) gives bit-identical
-    /// results to one whole-slice step, for a pointwise system.
-    ///
-    /// True for the explicit self-starting methods, which keep no per-particle
-    /// state between steps. The engine uses it to fuse its own per-particle
-    /// work (colliders, the finiteness check) into cache-sized chunks and to spread chunks
-    /// over threads. Default: false.
+    /// [`MethodInfo::splits_pointwise`] of this method (a property of the
+    /// registry entry, like every other).
     fn splits_pointwise(&self) -> bool {
-        false
+        self.info().splits_pointwise
     }
 
     /// Advances `positions` and `velocities` from time `t` to `t + dt`.

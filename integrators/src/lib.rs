@@ -43,7 +43,6 @@ mod block;
 mod chunks;
 mod history;
 mod integrator;
-pub mod methods;
 mod newton_krylov;
 mod registry;
 mod system;
@@ -52,28 +51,65 @@ mod vector;
 pub use block::Vec3x4;
 pub use chunks::CHUNK;
 pub use integrator::{Integrator, IntegratorState, MethodInfo, StepError, StepStats};
-pub use methods::adams_bashforth::AdamsBashforth;
-pub use methods::adams_bashforth2::AdamsBashforth2;
-pub use methods::adams_bashforth3::AdamsBashforth3;
-pub use methods::adams_bashforth4::AdamsBashforth4;
-pub use methods::beeman::Beeman;
-pub use methods::dormand_prince::DormandPrince;
-pub use methods::explicit_euler::ExplicitEuler;
-pub use methods::exponential_euler::ExponentialEuler;
-pub use methods::forest_ruth::ForestRuth;
-pub use methods::heun::Heun;
-pub use methods::implicit_drag_euler::ImplicitDragEuler;
-pub use methods::implicit_euler::ImplicitEuler;
-pub use methods::leapfrog::Leapfrog;
-pub use methods::midpoint::Midpoint;
-pub use methods::newmark_beta::NewmarkBeta;
-pub use methods::position_verlet::PositionVerlet;
-pub use methods::predictor_corrector_euler::PredictorCorrectorEuler;
-pub use methods::rk4::Rk4;
-pub use methods::semi_implicit_euler::SemiImplicitEuler;
-pub use methods::trapezoidal::Trapezoidal;
-pub use methods::velocity_verlet::VelocityVerlet;
 pub use newton_krylov::NewtonKrylovConfig;
-pub use registry::{METHODS, UnknownMethod, build, find};
+pub use registry::{UnknownMethod, build, find};
 pub use system::System;
 pub use vector::{Real, Vector};
+
+/// Registers the methods in one place. Each entry names a method's file
+/// (under `methods/`) and type, and the registry entries it gives: an
+/// `INFO` constant and the constructor that builds it. From this one list
+/// come the `methods` modules, the re-exports of the types, [`METHODS`]
+/// (in the list's order) and the constructor behind [`build`]; adding a
+/// method is one line here and its file.
+macro_rules! methods {
+    ($($module:ident :: $ty:ident { $($info:ident => $constructor:ident),* $(,)? }),* $(,)?) => {
+        /// One file per method. Each opens with its update formula, order,
+        /// cost and stability, then its registry entry and implementation.
+        pub mod methods {
+            $(pub mod $module;)*
+        }
+
+        $(pub use methods::$module::$ty;)*
+
+        /// Every method, in the order of the lecture (first-order,
+        /// second-order, higher-order), then the methods beyond it.
+        pub const METHODS: &[MethodInfo] = &[$($(methods::$module::$info,)*)*];
+
+        /// The method registered under the canonical `name`.
+        fn construct<V: Vector>(name: &str) -> Option<Box<dyn Integrator<V>>> {
+            $($(if name == methods::$module::$info.name {
+                return Some(Box::new(methods::$module::$ty::$constructor()));
+            })*)*
+            None
+        }
+    };
+}
+
+methods! {
+    explicit_euler::ExplicitEuler { INFO => new },
+    semi_implicit_euler::SemiImplicitEuler { INFO => new },
+    implicit_euler::ImplicitEuler { INFO => new },
+    implicit_drag_euler::ImplicitDragEuler { INFO => new },
+    predictor_corrector_euler::PredictorCorrectorEuler { INFO => new },
+    exponential_euler::ExponentialEuler { INFO => new },
+    midpoint::Midpoint { INFO => new },
+    heun::Heun { INFO => new },
+    trapezoidal::Trapezoidal { INFO => new },
+    leapfrog::Leapfrog { INFO => new },
+    position_verlet::PositionVerlet { INFO => new },
+    velocity_verlet::VelocityVerlet { INFO => new },
+    beeman::Beeman { INFO => new },
+    newmark_beta::NewmarkBeta {
+        INFO => new,
+        LINEAR_ACCELERATION => linear_acceleration,
+        CENTRAL_DIFFERENCE => central_difference,
+    },
+    rk4::Rk4 { INFO => new },
+    adams_bashforth::AdamsBashforth {},
+    adams_bashforth2::AdamsBashforth2 { INFO => new },
+    adams_bashforth3::AdamsBashforth3 { INFO => new },
+    adams_bashforth4::AdamsBashforth4 { INFO => new },
+    forest_ruth::ForestRuth { INFO => new },
+    dormand_prince::DormandPrince { INFO => new },
+}

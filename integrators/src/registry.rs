@@ -1,56 +1,12 @@
-//! Every method by name: the table `tickwork integrators` prints, and the
-//! constructor behind `--integrator NAME`.
+//! Every method by name: the lookup behind `--integrator NAME` and the
+//! table `tickwork integrators` prints (the list itself is the `methods!`
+//! invocation in `lib.rs`).
 
 use core::fmt;
 
 use crate::integrator::{Integrator, MethodInfo};
-use crate::methods::*;
 use crate::vector::Vector;
-
-/// The registry in one list: each method's entry and its default
-/// constructor, in the order of the lecture (first-order, second-order,
-/// higher-order), then the methods beyond it. Generates [`METHODS`] and the
-/// constructor behind [`build`], so a method is registered in one place.
-macro_rules! registry {
-    ($($info:expr => $constructor:expr,)*) => {
-        /// Every method, in the order of the lecture (first-order,
-        /// second-order, higher-order), then the methods beyond it.
-        pub const METHODS: &[MethodInfo] = &[$($info),*];
-
-        /// The method registered under the canonical `name`.
-        fn construct<V: Vector>(name: &str) -> Option<Box<dyn Integrator<V>>> {
-            $(if name == $info.name {
-                return Some(Box::new($constructor));
-            })*
-            None
-        }
-    };
-}
-
-registry! {
-    explicit_euler::INFO => explicit_euler::ExplicitEuler::new(),
-    semi_implicit_euler::INFO => semi_implicit_euler::SemiImplicitEuler::new(),
-    implicit_euler::INFO => implicit_euler::ImplicitEuler::new(),
-    implicit_drag_euler::INFO => implicit_drag_euler::ImplicitDragEuler::new(),
-    predictor_corrector_euler::INFO => predictor_corrector_euler::PredictorCorrectorEuler::new(),
-    exponential_euler::INFO => exponential_euler::ExponentialEuler::new(),
-    midpoint::INFO => midpoint::Midpoint::new(),
-    heun::INFO => heun::Heun::new(),
-    trapezoidal::INFO => trapezoidal::Trapezoidal::new(),
-    leapfrog::INFO => leapfrog::Leapfrog::new(),
-    position_verlet::INFO => position_verlet::PositionVerlet::new(),
-    velocity_verlet::INFO => velocity_verlet::VelocityVerlet::new(),
-    beeman::INFO => beeman::Beeman::new(),
-    newmark_beta::INFO => newmark_beta::NewmarkBeta::new(),
-    newmark_beta::LINEAR_ACCELERATION => newmark_beta::NewmarkBeta::linear_acceleration(),
-    newmark_beta::CENTRAL_DIFFERENCE => newmark_beta::NewmarkBeta::central_difference(),
-    rk4::INFO => rk4::Rk4::new(),
-    adams_bashforth2::INFO => adams_bashforth2::AdamsBashforth2::new(),
-    adams_bashforth3::INFO => adams_bashforth3::AdamsBashforth3::new(),
-    adams_bashforth4::INFO => adams_bashforth4::AdamsBashforth4::new(),
-    forest_ruth::INFO => forest_ruth::ForestRuth::new(),
-    dormand_prince::INFO => dormand_prince::DormandPrince::new(),
-}
+use crate::{METHODS, construct};
 
 /// A name that matches no method.
 #[derive(Clone, Debug, PartialEq, Eq)]

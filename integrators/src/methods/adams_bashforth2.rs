@@ -31,6 +31,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: false,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Adams-Bashforth 2. See the [module documentation](self).

@@ -32,6 +32,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: false,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Adams-Bashforth 4. See the [module documentation](self).

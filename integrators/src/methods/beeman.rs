@@ -45,6 +45,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: false,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Beeman. See the [module documentation](self).

@@ -32,6 +32,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Explicit Euler. See the [module documentation](self).
@@ -53,9 +54,6 @@ impl<V: Vector> Integrator<V> for ExplicitEuler<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

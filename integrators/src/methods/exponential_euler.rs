@@ -45,6 +45,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// `(e^-z, phi1(z), phi2(z))` in `f64`, accurate for every `z`.
@@ -91,9 +92,6 @@ impl<V: Vector> Integrator<V> for ExponentialEuler<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

@@ -41,6 +41,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Forest-Ruth. See the [module documentation](self).
@@ -62,9 +63,6 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

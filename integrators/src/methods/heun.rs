@@ -37,6 +37,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Improved Euler (Heun). See the [module documentation](self).
@@ -64,9 +65,6 @@ impl<V: Vector> Integrator<V> for Heun<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

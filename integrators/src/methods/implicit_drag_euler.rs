@@ -48,6 +48,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Semi-implicit Euler with backward-Euler drag. See the [module documentation](self).
@@ -69,9 +70,6 @@ impl<V: Vector> Integrator<V> for ImplicitDragEuler<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

@@ -45,6 +45,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: true,
     variable_cost: true,
+    splits_pointwise: false,
 };
 
 /// Implicit Euler. See the [module documentation](self).

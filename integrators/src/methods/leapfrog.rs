@@ -49,6 +49,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Leapfrog. See the [module documentation](self).

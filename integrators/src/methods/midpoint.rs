@@ -33,6 +33,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Explicit midpoint. See the [module documentation](self).
@@ -60,9 +61,6 @@ impl<V: Vector> Integrator<V> for Midpoint<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

@@ -51,6 +51,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: true,
     variable_cost: true,
+    splits_pointwise: false,
 };
 
 /// Registry entry for linear acceleration (`beta = 1/6, gamma = 1/2`).

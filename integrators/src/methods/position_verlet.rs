@@ -48,6 +48,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: false,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Position Verlet. See the [module documentation](self).

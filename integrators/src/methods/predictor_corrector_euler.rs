@@ -35,6 +35,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Predictor-corrector backward Euler. See the [module documentation](self).
@@ -62,9 +63,6 @@ impl<V: Vector> Integrator<V> for PredictorCorrectorEuler<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

@@ -42,6 +42,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// The four stages of RK4 with their scratch buffers, computed for all
@@ -240,9 +241,6 @@ impl<V: Vector> Integrator<V> for Rk4<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

@@ -33,6 +33,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: true,
 };
 
 /// Semi-implicit Euler. See the [module documentation](self).
@@ -54,9 +55,6 @@ impl<V: Vector> Integrator<V> for SemiImplicitEuler<V> {
         INFO
     }
 
-    fn splits_pointwise(&self) -> bool {
-        true
-    }
 
     fn step(
         &mut self,

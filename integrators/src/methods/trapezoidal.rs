@@ -38,6 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: true,
     variable_cost: true,
+    splits_pointwise: false,
 };
 
 /// Trapezoidal rule. See the [module documentation](self).

@@ -47,6 +47,7 @@ pub const INFO: MethodInfo = MethodInfo {
     self_starting: true,
     implicit: false,
     variable_cost: false,
+    splits_pointwise: false,
 };
 
 /// Velocity Verlet. See the [module documentation](self).
