@@ -246,6 +246,40 @@ fn a_kinematic_box_moves_by_its_velocity_and_hands_it_to_what_it_hits() {
 }
 
 #[test]
+fn a_kinematic_plane_rises_and_hands_its_speed_to_what_it_hits() {
+    let mut w = World::default();
+    let piston = w.add_collider(Plane {
+        speed: 2.0,
+        ..Plane::floor(0.0, bouncy())
+    });
+    w.report_contacts(piston).expect("in the world");
+    let ball = w
+        .spawn(Particle {
+            position: Vec3::new(0.0, 0.5, 0.0),
+            radius: 0.1,
+            ..Particle::default()
+        })
+        .expect("valid");
+    let mut hits = Vec::new();
+    for _ in 0..30 {
+        step(&mut w);
+        hits.extend(w.contacts().iter().map(|c| (c.touched, c.normal)));
+    }
+    let offset = w.collider::<Plane>(piston).expect("a plane").offset;
+    assert!((offset - 1.0).abs() < 1e-5, "rose 2 m/s for 0.5 s: at {offset}");
+    // The same law as the box: u + e u = 3.6 m/s for a ball at rest, once.
+    let v = w.velocity(ball).expect("alive").y;
+    assert!((v - 3.6).abs() < 1e-4, "ball at {v} m/s");
+    assert_eq!(hits, [(Touched::Collider(piston), Vec3::Y)]);
+    // Drawn a quarter step after the last, three quarters of a step below.
+    let drawn = w
+        .collider::<Plane>(piston)
+        .expect("a plane")
+        .interpolated_offset(0.25, DT as f32);
+    assert!((drawn - (offset - 2.0 * 0.75 * DT as f32)).abs() < 1e-6, "{drawn}");
+}
+
+#[test]
 fn collider_handles_change_remove_and_refuse_with_a_message() {
     let mut w = World::default();
     w.add_force(Gravity::EARTH);
@@ -265,6 +299,7 @@ fn collider_handles_change_remove_and_refuse_with_a_message() {
         normal: Vec3::NEG_Y,
         offset: -5.0,
         material: bouncy(),
+        speed: 0.0,
     };
     let wall = w.add_collider(ceiling);
     assert!(wall != brick && wall != floor);

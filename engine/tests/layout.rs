@@ -46,11 +46,13 @@ fn scene(method: &str, threshold: usize, plain: bool) -> World {
             restitution: 0.9,
             friction: 0.0,
         },
+        speed: 0.0,
     });
     w.add_collider(Plane {
         normal: Vec3::new(1.0, 1.0, 0.0).normalize(),
         offset: -3.0,
         material: Material::default(),
+        speed: 0.0,
     });
     w.add_collider(BoxCollider {
         min: Vec3::splat(-5.0),
@@ -187,6 +189,7 @@ fn facts_scene(threshold: usize, plain: bool) -> World {
             restitution: 0.8,
             friction: 0.0,
         },
+        speed: 0.0,
     });
     if plain {
         w.add_collider(ForcePlainPath);

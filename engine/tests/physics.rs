@@ -395,6 +395,7 @@ fn particle_slides_down_an_inclined_plane_at_g_sin_theta() {
             restitution: 0.0,
             friction: 0.0,
         },
+        speed: 0.0,
     });
     let p = w
         .spawn(Particle {

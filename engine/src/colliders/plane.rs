@@ -1,4 +1,6 @@
-//! An infinite plane: particles stay on the side its normal points to.
+//! An infinite plane: particles stay on the side its normal points to; at
+//! rest, or kinematic (moved along its normal each step: a piston, a
+//! rising floor).
 
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
@@ -16,17 +18,30 @@ pub struct Plane {
     pub offset: f32,
     /// Bounce and friction.
     pub material: Material,
+    /// Speed along the normal in m/s (default zero: at rest; moving along
+    /// itself would change nothing). Each step first moves the plane,
+    /// `offset += speed dt`, then resolves contacts in its frame, where it
+    /// is at rest: `v' = u + response(v - u)` with `u = speed n`.
+    pub speed: f32,
 }
 
 impl Plane {
-    /// A floor at height `y`.
+    /// A floor at height `y`, at rest.
     #[must_use]
     pub fn floor(y: f32, material: Material) -> Self {
         Self {
             normal: Vec3::Y,
             offset: y,
             material,
+            speed: 0.0,
         }
+    }
+
+    /// The offset a frame `alpha` steps past the last one shows a moving
+    /// plane at: between its last two steps (as particles are drawn).
+    #[must_use]
+    pub fn interpolated_offset(&self, alpha: f32, dt: f32) -> f32 {
+        self.offset - self.speed * dt * (1.0 - alpha)
     }
 }
 
@@ -236,6 +251,9 @@ impl Collider for Plane {
     }
 
     fn resolve_blocks(&self, c: BlockColumns<'_>) -> bool {
+        if self.speed != 0.0 {
+            return false;
+        }
         match axis_of(self.normal) {
             Some((0, sign)) if sign < 0.0 => self.resolve_axis_blocks::<0, true>(c),
             Some((0, _)) => self.resolve_axis_blocks::<0, false>(c),
@@ -248,7 +266,22 @@ impl Collider for Plane {
         true
     }
 
-    fn resolve_range(&self, c: ContactColumns<'_>) {
+    fn resolve_range(&self, mut c: ContactColumns<'_>) {
+        let n = Vec3A::from(self.normal);
+        if self.speed != 0.0 {
+            // Moving: the contact in the plane's frame, where it is at rest.
+            let u = n * self.speed;
+            for (x, v, r, w) in c.rows() {
+                let gap = n.dot(*x) - self.offset - r;
+                let mut relative = *v - u;
+                let before = relative;
+                resolve(x, &mut relative, n, gap, w > 0.0, self.material);
+                if relative != before {
+                    *v = relative + u;
+                }
+            }
+            return;
+        }
         // Floors and walls are usually axis-aligned: their contact needs no
         // dot products, which halves the collider's cost (measured).
         let frictionless = self.material.friction == 0.0;
@@ -260,13 +293,17 @@ impl Collider for Plane {
             Some((1, sign)) => self.resolve_axis::<1>(c, sign),
             Some((_, sign)) => self.resolve_axis::<2>(c, sign),
             None => {
-                let n = Vec3A::from(self.normal);
-                let mut c = c;
                 for (x, v, r, w) in c.rows() {
                     let gap = n.dot(*x) - self.offset - r;
                     resolve(x, v, n, gap, w > 0.0, self.material);
                 }
             }
+        }
+    }
+
+    fn advance(&mut self, dt: f32) {
+        if self.speed != 0.0 {
+            self.offset += self.speed * dt;
         }
     }
 }
@@ -308,6 +345,7 @@ mod tests {
                 normal,
                 offset: 0.1,
                 material,
+                speed: 0.0,
             };
             let n = 23; // five blocks of four and a padded tail of three
             let mut x: Vec<Vec3A> = (0..n).map(|_| Vec3A::new(random(), random(), random()) * 0.3).collect();

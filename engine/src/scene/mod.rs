@@ -291,6 +291,7 @@ impl Scene {
                         normal: unit,
                         offset: offset.0,
                         material: material_of(material),
+                        speed: 0.0,
                     });
                 }
                 ColliderSpec::Box {
