@@ -15,6 +15,11 @@ pub use tickwork_integrators as integrators;
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
 
+/// The guide's examples, run as doctests too.
+#[doc = include_str!("../docs/guide.md")]
+#[cfg(doctest)]
+pub struct GuideDoctests;
+
 pub use tickwork_engine::app::{exit_code, run};
 
 /// What a game needs, in one import: `use tickwork::prelude::*;`.
