@@ -288,6 +288,32 @@ fn engine_errors_convert_into_game_errors_with_their_messages() {
     assert!(message.source().is_none());
 }
 
+/// Lays out `session`'s control panel in a headless egui, opens the
+/// integrator menu of world number `world` and clicks `method` in it;
+/// returns the controls the panel gave back.
+fn choose_in_panel(session: &GameSession<Probe>, world: usize, method: &str) -> Vec<Control> {
+    use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
+    let chosen = std::cell::RefCell::new(Vec::new());
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(900.0, 700.0))
+        .build_ui(|ui| session.panel(ui.ctx(), &mut chosen.borrow_mut()));
+    let menus: Vec<_> = harness.get_all_by_role(egui::accesskit::Role::ComboBox).collect();
+    assert_eq!(
+        menus.len(),
+        session.stage().worlds.len(),
+        "one integrator menu per world"
+    );
+    menus[world].click();
+    harness.run();
+    // Far down the list of 22, out of the menu's view: clicked as a screen
+    // reader would, not at a pixel.
+    harness.get_by_label(method).click_accesskit();
+    harness.run();
+    drop(harness);
+    chosen.into_inner()
+}
+
 /// The world hashes and integrators of a session's stage.
 fn stage_state(game: &GameSession<Probe>) -> Vec<(u64, &'static str)> {
     game.stage()
@@ -324,10 +350,14 @@ fn a_replay_repeats_an_integrator_switch_made_from_the_panel_at_its_tick() {
         .expect("registered");
     for frame in 0..90u64 {
         if frame == 40 {
-            // What the panel's integrator menu returns for the second world;
-            // the runner applies it between frames, like every control.
-            live.control(Control::WorldIntegrator { world: 1, method: rk4 })
-                .expect("switches");
+            // The second world's integrator menu in the control panel, clicked
+            // open and set to rk4; the runner applies what the panel returns
+            // between frames, like every control.
+            let chosen = choose_in_panel(&live, 1, "rk4");
+            assert_eq!(chosen, [Control::WorldIntegrator { world: 1, method: rk4 }]);
+            for control in chosen {
+                live.control(control).expect("switches");
+            }
         }
         live.advance(if frame % 3 == 0 { 0.03 } else { 0.011 }).expect("steps");
     }

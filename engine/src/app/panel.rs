@@ -130,8 +130,9 @@ pub(super) fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<
                 ui.end_row();
                 for (index, row) in worlds.iter().enumerate() {
                     let [r, g, b, _] = row.colour;
-                    ui.colored_label(egui::Color32::from_rgb(r, g, b), row.label);
+                    let name = ui.colored_label(egui::Color32::from_rgb(r, g, b), row.label).id;
                     ui.add_enabled_ui(!row.fixed, |ui| {
+                        // Named by its world's label, for screen readers (and tests).
                         egui::ComboBox::from_id_salt(("integrator", index))
                             .selected_text(row.integrator)
                             .show_ui(ui, |ui| {
@@ -147,7 +148,9 @@ pub(super) fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<
                                         });
                                     }
                                 }
-                            });
+                            })
+                            .response
+                            .labelled_by(name);
                     });
                     ui.label(row.particles.to_string());
                     ui.label(format!("{:+.2e}", row.energy.latest()));
