@@ -26,6 +26,16 @@ fn step(w: &mut World) {
     .expect("the step succeeds");
 }
 
+/// A ball of radius 0.1 at rest half a metre up (no gravity).
+fn resting_ball(w: &mut World) -> tickwork_engine::Entity {
+    w.spawn(Particle {
+        position: Vec3::new(0.0, 0.5, 0.0),
+        radius: 0.1,
+        ..Particle::default()
+    })
+    .expect("valid")
+}
+
 fn bouncy() -> Material {
     Material {
         restitution: 0.8,
@@ -211,13 +221,7 @@ fn a_kinematic_box_moves_by_its_velocity_and_hands_it_to_what_it_hits() {
         ..BoxCollider::solid(Vec3::new(-1.0, -0.2, -1.0), Vec3::new(1.0, 0.0, 1.0), bouncy())
     });
     w.report_contacts(paddle).expect("in the world");
-    let ball = w
-        .spawn(Particle {
-            position: Vec3::new(0.0, 0.5, 0.0),
-            radius: 0.1,
-            ..Particle::default()
-        })
-        .expect("valid");
+    let ball = resting_ball(&mut w);
     let mut hit_at = None;
     for k in 0..30 {
         step(&mut w);
@@ -253,13 +257,7 @@ fn a_kinematic_plane_rises_and_hands_its_speed_to_what_it_hits() {
         ..Plane::floor(0.0, bouncy())
     });
     w.report_contacts(piston).expect("in the world");
-    let ball = w
-        .spawn(Particle {
-            position: Vec3::new(0.0, 0.5, 0.0),
-            radius: 0.1,
-            ..Particle::default()
-        })
-        .expect("valid");
+    let ball = resting_ball(&mut w);
     let mut hits = Vec::new();
     for _ in 0..30 {
         step(&mut w);

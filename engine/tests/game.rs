@@ -286,6 +286,23 @@ fn engine_errors_convert_into_game_errors_with_their_messages() {
     let message: GameError = "no such level".into();
     assert_eq!(message.to_string(), "no such level");
     assert!(message.source().is_none());
+    // A game's own reads and parses convert too, keeping their source.
+    fn level(text: &str) -> Result<u32, GameError> {
+        Ok(text.trim().parse::<u32>()?)
+    }
+    let parse = level("three").expect_err("not a number");
+    assert!(matches!(parse, GameError::Other(_)), "{parse:?}");
+    assert_eq!(parse.to_string(), "invalid digit found in string");
+    assert!(parse.source().is_some());
+    #[derive(Debug)]
+    struct Tilt;
+    impl std::fmt::Display for Tilt {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("the table tilted")
+        }
+    }
+    impl std::error::Error for Tilt {}
+    assert_eq!(GameError::other(Tilt).to_string(), "the table tilted");
 }
 
 /// Lays out `session`'s control panel in a headless egui, opens the

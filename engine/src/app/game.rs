@@ -33,13 +33,23 @@ pub enum GameError {
     Engine(Box<dyn std::error::Error + Send + Sync + 'static>),
     /// The game's own message (a bad setting, a world that could not be built).
     Message(String),
+    /// The game's own error of another type ([`GameError::other`]; `?` on
+    /// a file read or a number parse lands here too).
+    Other(Box<dyn std::error::Error + Send + Sync + 'static>),
+}
+
+impl GameError {
+    /// Wraps a game's own error type, keeping it as the source.
+    pub fn other(error: impl std::error::Error + Send + Sync + 'static) -> Self {
+        Self::Other(Box::new(error))
+    }
 }
 
 impl fmt::Display for GameError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Simulation { world, error } => write!(f, "world \"{world}\": {error}"),
-            Self::Engine(error) => write!(f, "{error}"),
+            Self::Engine(error) | Self::Other(error) => write!(f, "{error}"),
             Self::Message(message) => f.write_str(message),
         }
     }
@@ -49,7 +59,7 @@ impl std::error::Error for GameError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Simulation { error, .. } => Some(error),
-            Self::Engine(error) => Some(error.as_ref()),
+            Self::Engine(error) | Self::Other(error) => Some(error.as_ref()),
             Self::Message(_) => None,
         }
     }
@@ -66,6 +76,19 @@ impl From<&str> for GameError {
         Self::Message(message.to_owned())
     }
 }
+
+/// A game's file reads and number parses, into [`GameError::Other`].
+macro_rules! other_errors {
+    ($($error:ty),* $(,)?) => {
+        $(impl From<$error> for GameError {
+            fn from(error: $error) -> Self {
+                Self::other(error)
+            }
+        })*
+    };
+}
+
+other_errors!(std::io::Error, std::num::ParseIntError, std::num::ParseFloatError);
 
 /// `From` for each engine error a game's code can meet, into
 /// [`GameError::Engine`].
