@@ -453,5 +453,72 @@ fn history_on_a_floor(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, engine_step, resting_minutes, lanes, crowd, history_on_a_floor);
+/// FNV-1a a byte at a time over a world's particle columns: what
+/// `state_hash` was before it fed whole runs to xxh3 (the reference the
+/// new hash is measured against, in the same run).
+fn fnv_columns(w: &World) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut bytes = |bytes: &[u8]| {
+        for &b in bytes {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    let p = w.particles();
+    for column in [&p.position, &p.velocity, &p.previous_position] {
+        for x in column.iter() {
+            for v in x.to_array() {
+                bytes(&v.to_le_bytes());
+            }
+        }
+    }
+    for column in [&p.inverse_mass, &p.radius, &p.lifetime] {
+        for v in column {
+            bytes(&v.to_le_bytes());
+        }
+    }
+    for v in &p.born {
+        bytes(&v.to_le_bytes());
+    }
+    h
+}
+
+/// The state hash (what a rollback session checksums every frame) at 1k and
+/// 100k particles, beside the byte-wise FNV it replaced and a copy of the
+/// same columns' bytes (the memory-bandwidth reference), in one run.
+fn checksum(c: &mut Criterion) {
+    for n in [1_000, 100_000] {
+        let world = rain(n, "semi_implicit_euler", false);
+        let mut group = c.benchmark_group(format!("engine_checksum_{n}"));
+        group.throughput(Throughput::Elements(n as u64));
+        group.sample_size(20);
+        group.warm_up_time(Duration::from_millis(300));
+        group.measurement_time(Duration::from_secs(2));
+        group.bench_function("state_hash", |b| b.iter(|| black_box(&world).state_hash()));
+        group.bench_function("fnv_bytewise_columns", |b| b.iter(|| fnv_columns(black_box(&world))));
+        let p = world.particles();
+        let source: Vec<f32> = p
+            .position
+            .iter()
+            .chain(p.velocity.iter())
+            .chain(p.previous_position.iter())
+            .flat_map(|x| x.to_array())
+            .chain(p.inverse_mass.iter().chain(&p.radius).chain(&p.lifetime).copied())
+            .collect();
+        let mut copy = vec![0.0f32; source.len()];
+        group.bench_function("copy_same_bytes", |b| {
+            b.iter(|| copy.copy_from_slice(black_box(&source)));
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(
+    benches,
+    engine_step,
+    resting_minutes,
+    lanes,
+    crowd,
+    history_on_a_floor,
+    checksum
+);
 criterion_main!(benches);

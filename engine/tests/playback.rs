@@ -73,7 +73,12 @@ fn integrators_switch_by_number_and_in_turn_and_reset_keeps_the_choice() {
 
     let rk4 = METHODS.iter().position(|m| m.name == "rk4").expect("registered");
     playback.control(Control::Integrator(rk4)).expect("rk4");
-    let initial = projectile().world().state_hash();
+    // The initial state with the viewer's method (the hash covers the method).
+    let initial = {
+        let mut fresh = projectile();
+        fresh.control(Control::Integrator(rk4)).expect("rk4");
+        fresh.world().state_hash()
+    };
     for _ in 0..30 {
         playback.advance(1.0 / 60.0).expect("frame");
     }

@@ -23,6 +23,7 @@ macro_rules! clone_fields {
     };
 }
 
+mod checksum;
 mod colliders;
 pub(crate) mod column;
 mod components;

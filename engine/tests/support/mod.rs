@@ -14,3 +14,22 @@ impl tickwork_engine::Collider for ForcePlainPath {
         false
     }
 }
+
+/// The state hash `w` would have without its [`ForcePlainPath`] colliders
+/// (which change the path a step takes, not its physics), leaving them in
+/// place: what a plain-path run is compared with a fused run by.
+pub fn hash_without_plain_path(w: &mut tickwork_engine::World) -> u64 {
+    let ids: Vec<_> = w
+        .colliders()
+        .filter(|(_, c)| c.name() == "force-plain-path")
+        .map(|(id, _)| id)
+        .collect();
+    for id in &ids {
+        w.remove_collider(*id).expect("in the world");
+    }
+    let hash = w.state_hash();
+    for _ in &ids {
+        w.add_collider(ForcePlainPath);
+    }
+    hash
+}
