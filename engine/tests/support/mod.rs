@@ -18,6 +18,7 @@ impl tickwork_engine::Collider for ForcePlainPath {
 /// The state hash `w` would have without its [`ForcePlainPath`] colliders
 /// (which change the path a step takes, not its physics), leaving them in
 /// place: what a plain-path run is compared with a fused run by.
+#[allow(dead_code)] // each test binary compiles this module; not all use it
 pub fn hash_without_plain_path(w: &mut tickwork_engine::World) -> u64 {
     let ids: Vec<_> = w
         .colliders()
