@@ -24,7 +24,7 @@
 use core::ops::Range;
 
 use crate::integrator::fit;
-use crate::vector::Vector;
+use crate::vector::{Real, Vector};
 
 /// Depth of history per particle, and the state each particle had when the
 /// last step ended.
@@ -50,6 +50,14 @@ impl<V: Vector> Default for History<V> {
 }
 
 impl<V: Vector> History<V> {
+    /// Shows the history's state (see [`Integrator::visit_state`](crate::Integrator::visit_state)).
+    pub(crate) fn visit(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        vectors(&self.last_positions);
+        vectors(&self.last_velocities);
+        bytes(&self.depth);
+        bytes(&self.last_dt.map_or(f64::NAN, V::Real::to_f64).to_le_bytes());
+    }
+
     /// Brings the history in line with the state about to be stepped and
     /// returns how many particles have less than `required` steps of history.
     pub(crate) fn sync(&mut self, dt: V::Real, x: &[V], v: &[V], required: u8) -> usize {

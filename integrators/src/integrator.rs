@@ -177,6 +177,16 @@ pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
         self.info().splits_pointwise
     }
 
+    /// Shows everything the method remembers from one step to the next
+    /// (history, cached accelerations, the adaptive step it proposed), in a
+    /// fixed order, for checksums: each per-particle buffer to `vectors`,
+    /// every other value as little-endian bytes to `bytes`. Scratch that the
+    /// next step overwrites before reading is left out. Default: nothing,
+    /// for the methods that keep no state between steps.
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        let _ = (vectors, bytes);
+    }
+
     /// Advances `positions` and `velocities` from time `t` to `t + dt`.
     ///
     /// # Errors

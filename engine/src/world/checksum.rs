@@ -8,10 +8,10 @@
 //! (their parameters and state: a kinematic paddle's place, a game's
 //! thrust; Rust prints each float as the shortest text that reads back to
 //! the same bits, so the text is as exact as the bits); the emitters
-//! (their owed fraction too); the random generator; the integrator's name.
-//! Not covered: the integrator's history buffers (history methods keep
-//! earlier accelerations; a difference there reaches the positions a step
-//! later).
+//! (their owed fraction too); the random generator; the integrator's name
+//! and everything it remembers between steps (history, cached
+//! accelerations: `Integrator::visit_state`). Not covered: the angular
+//! integrator's scratch (the angular methods keep no history).
 //!
 //! How: xxh3 (64 bits), fed whole runs of words: the vector columns are
 //! staged block by block through a stack buffer (the last block's padding
@@ -90,6 +90,17 @@ impl StateHasher {
         }
     }
 
+    /// A method's per-particle vectors, `x, y, z` each, staged.
+    fn vectors(&mut self, values: &[glam::Vec3A]) {
+        let mut stage = [0.0f32; 12 * STAGE];
+        for chunk in values.chunks(4 * STAGE) {
+            for (k, v) in chunk.iter().enumerate() {
+                stage[3 * k..3 * k + 3].copy_from_slice(&v.to_array());
+            }
+            self.f32s(&stage[..3 * chunk.len()]);
+        }
+    }
+
     /// A value's `Debug` text, streamed without a buffer.
     fn debug(&mut self, value: &dyn fmt::Debug) {
         use fmt::Write as _;
@@ -163,6 +174,11 @@ impl World {
             h.debug(emitter);
         }
         h.bytes(self.integrator.info().name.as_bytes());
+        // What the method remembers (two passes: the closures cannot both
+        // borrow the hasher; each pass keeps the method's own order).
+        self.integrator
+            .visit_state(&mut |vectors| h.vectors(vectors), &mut |_| {});
+        self.integrator.visit_state(&mut |_| {}, &mut |bytes| h.bytes(bytes));
         h.u64(rand::Rng::next_u64(&mut self.rng.clone()));
         h.0.digest()
     }
@@ -215,6 +231,44 @@ mod tests {
         ] {
             assert_ne!(changed.state_hash(), base, "{what}");
         }
+    }
+
+    #[test]
+    fn a_history_method_s_memory_is_in_the_hash() {
+        // Two worlds at the same state, one of which has just stepped with
+        // position Verlet (it remembers the previous positions) and been put
+        // back to the other's columns: the positions agree, the history not.
+        let config = crate::WorldConfig {
+            integrator: "position_verlet".into(),
+            ..crate::WorldConfig::default()
+        };
+        let fresh = || {
+            let mut w = World::new(config.clone()).expect("registered");
+            w.add_force(Gravity::EARTH);
+            w.spawn(Particle::default()).expect("valid");
+            w
+        };
+        let (mut stepped, mut other) = (fresh(), fresh());
+        let step = |w: &mut World, tick| {
+            w.step(crate::FixedStep {
+                tick,
+                time: tick as f64 / 60.0,
+                dt: 1.0 / 60.0,
+            })
+            .expect("a finite step")
+        };
+        for tick in 0..3 {
+            step(&mut stepped, tick);
+            step(&mut other, tick);
+        }
+        assert_eq!(stepped.state_hash(), other.state_hash());
+        stepped.integrator = tickwork_integrators::build("position_verlet").expect("registered");
+        assert_eq!(stepped.particles().position.get(0), other.particles().position.get(0));
+        assert_ne!(
+            stepped.state_hash(),
+            other.state_hash(),
+            "a fresh method has no history"
+        );
     }
 
     #[test]

@@ -68,6 +68,14 @@ impl<V: Vector, const K: usize> AdamsBashforth<V, K> {
 }
 
 impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        for past in self.past_v.iter().chain(&self.past_a) {
+            vectors(past);
+        }
+        bytes(&(self.newest as u64).to_le_bytes());
+        self.history.visit(vectors, bytes);
+    }
+
     fn info(&self) -> MethodInfo {
         match K {
             2 => super::adams_bashforth2::INFO,

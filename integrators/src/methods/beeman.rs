@@ -72,6 +72,12 @@ impl<V: Vector> Beeman<V> {
 }
 
 impl<V: Vector> Integrator<V> for Beeman<V> {
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        vectors(&self.accel);
+        vectors(&self.accel_previous);
+        self.history.visit(vectors, bytes);
+    }
+
     fn info(&self) -> MethodInfo {
         INFO
     }

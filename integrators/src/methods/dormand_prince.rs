@@ -205,6 +205,11 @@ impl<V: Vector> DormandPrince<V> {
 }
 
 impl<V: Vector> Integrator<V> for DormandPrince<V> {
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        let _ = vectors; // the stages are scratch, rewritten every sub-step
+        bytes(&self.next_fraction.to_le_bytes());
+    }
+
     fn info(&self) -> MethodInfo {
         INFO
     }

@@ -69,6 +69,12 @@ impl<V: Vector> PositionVerlet<V> {
 }
 
 impl<V: Vector> Integrator<V> for PositionVerlet<V> {
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        vectors(&self.previous_x);
+        vectors(&self.accel);
+        self.history.visit(vectors, bytes);
+    }
+
     fn info(&self) -> MethodInfo {
         INFO
     }

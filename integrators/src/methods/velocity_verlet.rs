@@ -73,6 +73,11 @@ impl<V: Vector> VelocityVerlet<V> {
 }
 
 impl<V: Vector> Integrator<V> for VelocityVerlet<V> {
+    fn visit_state(&self, vectors: &mut dyn FnMut(&[V]), bytes: &mut dyn FnMut(&[u8])) {
+        vectors(&self.accel);
+        self.history.visit(vectors, bytes);
+    }
+
     fn info(&self) -> MethodInfo {
         INFO
     }
