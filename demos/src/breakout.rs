@@ -48,7 +48,7 @@ pub enum Play {
 }
 
 /// The Breakout game.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Breakout {
     /// Whether the game moves the paddle and serves itself.
     pub autopilot: bool,

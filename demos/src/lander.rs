@@ -71,7 +71,7 @@ pub enum Flight {
 }
 
 /// The lander game.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Lander {
     /// The world, once set up.
     moon: Option<WorldId>,

@@ -370,3 +370,49 @@ fn a_recording_that_cannot_be_saved_is_refused_before_the_run() {
         assert!(!out.exists(), "{record}: frames were drawn before the refusal");
     }
 }
+
+/// Runs `binary` under `--sync-test 7` with `extra`; returns its output.
+fn sync_test(binary: &str, extra: &[&str]) -> String {
+    let output = Command::new(binary)
+        .args(["--sync-test", "7"])
+        .args(extra)
+        .output()
+        .expect("runs");
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{binary}:\n{stdout}\n{}", text(&output.stderr));
+    stdout
+}
+
+#[test]
+fn every_demo_re_simulates_to_the_same_states_under_a_rollback_sync_test() {
+    for (binary, name) in [
+        (env!("CARGO_BIN_EXE_orbits"), "orbits"),
+        (env!("CARGO_BIN_EXE_fountain"), "fountain"),
+        (env!("CARGO_BIN_EXE_cloth"), "cloth"),
+        (env!("CARGO_BIN_EXE_tops"), "tops"),
+        (env!("CARGO_BIN_EXE_breakout"), "breakout"),
+    ] {
+        let stdout = sync_test(binary, &["--frames", "90"]);
+        assert!(
+            stdout.contains(&format!(
+                "tickwork: {name}: sync test passed: 90 ticks, each rolled back 7 ticks"
+            )),
+            "{stdout}"
+        );
+    }
+    // The lander on its recording: the same landing and crash as the replay,
+    // every tick of it rolled back and re-simulated.
+    let replay = recording();
+    let stdout = sync_test(
+        env!("CARGO_BIN_EXE_lander"),
+        &["--replay", replay.to_str().expect("utf-8")],
+    );
+    assert!(
+        stdout.contains("tickwork: lander: sync test passed: 723 ticks"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("lander: crashed (missed the pad), score 677"),
+        "{stdout}"
+    );
+}

@@ -21,6 +21,7 @@ const MASS: f32 = 0.02;
 /// The three cloths: integrator and horizontal offset.
 const CLOTHS: [(&str, f32); 3] = [("explicit_euler", -4.6), ("implicit_euler", 0.0), ("newmark_beta", 4.6)];
 
+#[derive(Clone)]
 struct Cloth {
     stiff: bool,
 }

@@ -12,7 +12,7 @@ use tickwork::prelude::*;
 const RATE: f32 = 6_000.0;
 const LIFETIME: f32 = 3.4;
 
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Fountain {
     /// Sway of the side jets, radians (Left/Right).
     sway: f32,

@@ -16,6 +16,7 @@ const A: f32 = 2.0;
 const E: f32 = 0.6;
 const PERIOD: f32 = 3.0;
 
+#[derive(Clone)]
 struct Orbits;
 
 /// Colours around the hue circle, `k` of `n`.

@@ -16,6 +16,7 @@ use tickwork::prelude::*;
 /// Angular methods, side by side, and their x offset (m).
 const SIDES: [(&str, f32); 2] = [("quaternion_euler", -2.2), ("exponential_map", 2.2)];
 
+#[derive(Clone)]
 struct Tops;
 
 impl Game for Tops {

@@ -64,6 +64,12 @@ pub struct RunOptions {
     /// Start with the control panel hidden (F1 toggles it).
     #[arg(long)]
     pub no_panel: bool,
+    /// Run headless under a rollback sync test instead: every tick, roll
+    /// back this many ticks (1-7) and re-simulate, failing at the first tick
+    /// whose state differs (with `--replay`, its inputs; `--frames` ticks,
+    /// default 300 or the recording's).
+    #[arg(long, value_name = "TICKS", conflicts_with = "record")]
+    pub sync_test: Option<usize>,
 }
 
 impl Default for RunOptions {
@@ -85,6 +91,7 @@ impl Default for RunOptions {
             force: false,
             panel: false,
             no_panel: false,
+            sync_test: None,
         }
     }
 }

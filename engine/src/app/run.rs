@@ -112,7 +112,7 @@ pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 /// # Errors
 /// [`RunError`] with what went wrong: a bad option or recording, no GPU
 /// adapter, a failed step, a file that exists (without `--force`).
-pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     // Before any thread starts (a game's `main` calls `run` first).
     crate::render::quiet_device_select_layer();
     // Parallel steps from this thread then allocate nothing. An existing
@@ -133,6 +133,8 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
+    // A sync test drives the ticks itself, with the recording's inputs.
+    let replay_inputs = options.sync_test.and(replay.clone());
     let mut session = GameSession::new(
         game,
         SessionOptions {
@@ -148,6 +150,9 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
         },
     )?;
     let title = session.game().title().to_owned();
+    if let Some(distance) = options.sync_test {
+        return sync_test_run(&mut session, distance, &options, replay_inputs.as_ref());
+    }
     let mut summary = RunSummary {
         windowed,
         frames: 0,
@@ -175,6 +180,55 @@ pub fn run<G: Game>(game: G, options: RunOptions) -> Result<RunSummary, RunError
         println!("{title}: {outcome}");
     }
     Ok(summary)
+}
+
+/// `--sync-test`: the game headless under a rollback sync test, for
+/// `--frames` ticks (default: the recording's, or 300), with the
+/// recording's inputs if one is given.
+fn sync_test_run<G: Game + Clone + 'static>(
+    session: &mut GameSession<G>,
+    distance: usize,
+    options: &RunOptions,
+    recording: Option<&Recording>,
+) -> Result<RunSummary, RunError> {
+    let ticks = options.frames.or(recording.map(|r| r.ticks)).unwrap_or(300);
+    let (mut cursor, mut input) = (0, crate::input::TickInput::default());
+    let report = super::sync_test(session, distance, ticks, |tick| {
+        input = input.carried();
+        if let Some(recording) = recording {
+            while let Some((at, recorded)) = recording.inputs.get(cursor) {
+                if *at > tick {
+                    break;
+                }
+                if *at == tick {
+                    input = *recorded;
+                }
+                cursor += 1;
+            }
+        }
+        input
+    })?;
+    println!(
+        "tickwork: {}: sync test passed: {} ticks, each rolled back {} ticks and re-simulated to the same state \
+         (checksum {:016x})",
+        session.game().title(),
+        report.ticks,
+        report.check_distance,
+        report.checksum
+    );
+    let outcome = session.outcome();
+    if let Some(outcome) = &outcome {
+        println!("{}: {outcome}", session.game().title());
+    }
+    Ok(RunSummary {
+        windowed: false,
+        frames: 0,
+        ticks: report.ticks,
+        out: None,
+        gif: None,
+        recording: None,
+        outcome,
+    })
 }
 
 /// The window or off-screen part of [`run`].

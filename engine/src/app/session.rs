@@ -338,6 +338,28 @@ impl<G: Game> GameSession<G> {
         input
     }
 
+    /// One fixed step of the game: [`Game::fixed_update`] with `input`,
+    /// then every world of the stage.
+    pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, input: &TickInput) -> Result<(), RunError> {
+        self.game
+            .fixed_update(&mut self.stage, &step, input)
+            .map_err(RunError::Game)?;
+        for shown in &mut self.stage.worlds {
+            shown.step(step).map_err(|error| {
+                RunError::Game(GameError::Simulation {
+                    world: shown.label.clone(),
+                    error,
+                })
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The game, to save and load it (rollback).
+    pub(super) fn game_mut(&mut self) -> &mut G {
+        &mut self.game
+    }
+
     /// Replays the recorded controls of `tick` (before its input).
     fn replay_controls(&mut self, tick: u64) -> Result<(), RunError> {
         let InputMode::Replay {
@@ -447,17 +469,7 @@ impl<G: Game> FrameSource for GameSession<G> {
         for step in frame.fixed_steps() {
             self.replay_controls(step.tick)?;
             let input = self.tick_input(step.tick, step.time + step.dt);
-            self.game
-                .fixed_update(&mut self.stage, &step, &input)
-                .map_err(RunError::Game)?;
-            for shown in &mut self.stage.worlds {
-                shown.step(step).map_err(|error| {
-                    RunError::Game(GameError::Simulation {
-                        world: shown.label.clone(),
-                        error,
-                    })
-                })?;
-            }
+            self.run_tick(step, &input)?;
         }
         self.last = frame;
         self.game.update(&mut self.stage, &self.last);
