@@ -42,7 +42,10 @@ pub struct Rollback<G>(PhantomData<G>);
 impl<G: Game + Clone + 'static> Config for Rollback<G> {
     type Input = TickInput;
     type InputPredictor = PredictRepeatLast;
-    type State = SavedTick<G>;
+    /// Optional so that a save can take the slot's earlier state out and
+    /// copy into its buffers (GGRS reuses its slots; no world is allocated
+    /// again once every slot has held one).
+    type State = Option<SavedTick<G>>;
     type Address = std::net::SocketAddr;
 }
 
@@ -54,6 +57,22 @@ impl<G: Game + Clone> GameSession<G> {
             worlds: self.stage().worlds.iter().map(|w| w.world.snapshot()).collect(),
             failures: self.stage().worlds.iter().map(|w| w.failure.clone()).collect(),
         }
+    }
+
+    /// Overwrites `saved` with the state now, reusing its buffers (a
+    /// world's snapshot copies into the last one's columns).
+    pub fn save_tick_into(&self, saved: &mut SavedTick<G>) {
+        let worlds = &self.stage().worlds;
+        saved.worlds.truncate(worlds.len());
+        for (k, shown) in worlds.iter().enumerate() {
+            match saved.worlds.get_mut(k) {
+                Some(snapshot) => shown.world.snapshot_into(snapshot),
+                None => saved.worlds.push(shown.world.snapshot()),
+            }
+        }
+        saved.failures.clear();
+        saved.failures.extend(worlds.iter().map(|w| w.failure.clone()));
+        saved.game.clone_from(self.game());
     }
 
     /// Puts a saved state back (the worlds' buffers reused).
@@ -164,16 +183,25 @@ pub fn sync_test<G: Game + Clone + 'static>(
             match request {
                 GgrsRequest::SaveGameState { cell, frame } => {
                     let checksum = u128::from(session.checksum());
-                    cell.save(frame, Some(session.save_tick()), Some(checksum));
+                    let earlier = cell.data().and_then(|mut slot| slot.as_mut_dangerous().take());
+                    let saved = match earlier {
+                        Some(mut saved) => {
+                            session.save_tick_into(&mut saved);
+                            saved
+                        }
+                        None => session.save_tick(),
+                    };
+                    cell.save(frame, Some(Some(saved)), Some(checksum));
                 }
                 GgrsRequest::LoadGameState { cell, frame } => {
-                    let saved = cell.load().ok_or_else(|| {
+                    let missing = || {
                         RunError::Game(GameError::Message(format!(
                             "sync test: no state was saved for tick {frame}"
                         )))
-                    })?;
-                    session.load_tick(&saved)?;
-                    tick = u64::try_from(frame).unwrap_or(0);
+                    };
+                    let slot = cell.data().ok_or_else(missing)?;
+                    session.load_tick(slot.as_ref().ok_or_else(missing)?)?;
+                    tick = u64::try_from(frame).map_err(|_| missing())?;
                 }
                 GgrsRequest::AdvanceFrame { inputs } => {
                     let input = inputs.first().map(|(input, _)| *input).unwrap_or_default();

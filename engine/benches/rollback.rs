@@ -1,0 +1,79 @@
+//! The rollback budget: what one GGRS frame costs a game of N particles.
+//! GGRS's worst frame at a prediction window of 8 is about 1 load + 9
+//! advances + 9 saves (each with a checksum) inside a 16.7 ms frame; this
+//! measures each part on a falling-particle game (gravity, drag, a floor,
+//! semi-implicit Euler), saving into reused buffers as the sync test does.
+//!
+//! Run: `cargo bench -p tickwork-engine --bench rollback`; the worst frame is
+//! `load + 9 (step + save + checksum)` of the medians.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::Vec3;
+use tickwork_engine::app::{Game, GameError, GameSession, SessionOptions, Settings, Stage};
+use tickwork_engine::input::TickInput;
+use tickwork_engine::{Gravity, LinearDrag, Material, Particle, Plane, World};
+
+/// `n` particles on a lattice falling onto a floor.
+#[derive(Clone)]
+struct Rain(usize);
+
+impl Game for Rain {
+    fn title(&self) -> &str {
+        "rain"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _: &Settings) -> Result<(), GameError> {
+        let mut world = World::default();
+        world.add_force(Gravity::EARTH);
+        world.add_force(LinearDrag { rate: 0.1 });
+        world.add_collider(Plane::floor(
+            0.0,
+            Material {
+                restitution: 0.8,
+                friction: 0.0,
+            },
+        ));
+        for i in 0..self.0 {
+            let (a, b) = ((i % 317) as f32 * 0.05, (i / 317) as f32 * 0.05);
+            world.spawn(Particle {
+                position: Vec3::new(a, 1.0 + b, 0.0),
+                ..Particle::default()
+            })?;
+        }
+        stage.add_world("rain", world);
+        Ok(())
+    }
+}
+
+fn budget(c: &mut Criterion) {
+    let input = TickInput::default();
+    for n in [10_000, 70_000, 100_000] {
+        let mut session = GameSession::new(Rain(n), SessionOptions::default()).expect("a session");
+        let mut group = c.benchmark_group(format!("rollback_{n}"));
+        group.sample_size(20);
+        group.warm_up_time(Duration::from_millis(300));
+        group.measurement_time(Duration::from_secs(2));
+        let mut saved = session.save_tick();
+        let mut tick = 0;
+        group.bench_function("step", |b| {
+            b.iter(|| {
+                session.step_tick(tick, &input).expect("steps");
+                tick += 1;
+            });
+        });
+        group.bench_function("save_into", |b| {
+            b.iter(|| session.save_tick_into(black_box(&mut saved)))
+        });
+        group.bench_function("load", |b| {
+            b.iter(|| session.load_tick(black_box(&saved)).expect("loads"))
+        });
+        group.bench_function("checksum", |b| b.iter(|| black_box(&session).checksum()));
+        group.finish();
+    }
+}
+
+criterion_group!(benches, budget);
+criterion_main!(benches);
