@@ -41,34 +41,34 @@ impl StateHasher {
         self.bytes(&value.to_le_bytes());
     }
 
-    fn f32s(&mut self, values: &[f32]) {
+    /// Primitive words (`f32`, `f64`, `u64`) as their little-endian bytes:
+    /// as they lie in memory on little-endian machines, each reversed on
+    /// big-endian ones.
+    fn words<T: bytemuck::Pod>(&mut self, values: &[T]) {
         if cfg!(target_endian = "little") {
             self.bytes(bytemuck::cast_slice(values));
         } else {
-            for v in values {
-                self.bytes(&v.to_le_bytes());
+            for value in values {
+                let native = bytemuck::bytes_of(value);
+                let mut little = [0u8; 8];
+                for (to, from) in little.iter_mut().zip(native.iter().rev()) {
+                    *to = *from;
+                }
+                self.bytes(&little[..native.len()]);
             }
         }
+    }
+
+    fn f32s(&mut self, values: &[f32]) {
+        self.words(values);
     }
 
     fn f64s(&mut self, values: &[f64]) {
-        if cfg!(target_endian = "little") {
-            self.bytes(bytemuck::cast_slice(values));
-        } else {
-            for v in values {
-                self.bytes(&v.to_le_bytes());
-            }
-        }
+        self.words(values);
     }
 
     fn u64s(&mut self, values: &[u64]) {
-        if cfg!(target_endian = "little") {
-            self.bytes(bytemuck::cast_slice(values));
-        } else {
-            for v in values {
-                self.u64(*v);
-            }
-        }
+        self.words(values);
     }
 
     /// The rows of a vector column: whole blocks staged (x, y, z lanes),
