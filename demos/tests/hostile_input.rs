@@ -165,6 +165,15 @@ const GAME_CASES: &[(&[&str], &[&str])] = &[
     (&["--replay", "{file}"], &["{file}: line 1, column 1"]),
     (&["--replay", "{missing}/r.ron"], &["{missing}/r.ron"]),
     (&["--bogus"], &["unexpected argument '--bogus'"]),
+    (
+        &["--sync-test", "0"],
+        &["--sync-test 0: the check distance must be 1 to 7 ticks"],
+    ),
+    (&["--sync-test", "-2"], &["--sync-test", "-2"]),
+    (
+        &["--sync-test", "3", "--record", "{missing}/r.ron"],
+        &["--sync-test", "--record", "cannot be used with"],
+    ),
 ];
 
 #[test]
@@ -176,6 +185,7 @@ fn every_demo_refuses_bad_options_and_files_without_touching_its_outputs() {
         ("cloth", env!("CARGO_BIN_EXE_cloth")),
         ("tops", env!("CARGO_BIN_EXE_tops")),
         ("lander", env!("CARGO_BIN_EXE_lander")),
+        ("breakout", env!("CARGO_BIN_EXE_breakout")),
     ] {
         let sandbox = Sandbox::new(name);
         // Off-screen, into `{out}`: a case wrongly accepted leaves frames there.

@@ -29,7 +29,7 @@ pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
 pub use options::{MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_size};
 pub use playback::{Playback, PlaybackError};
 pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, sync_test};
-pub use run::{MAX_OFFSCREEN_FRAMES, RunSummary, exit_code, renderer_config, run};
+pub use run::{MAX_OFFSCREEN_FRAMES, MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config, run};
 pub use session::{GameSession, SessionOptions};
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 // RunError and FrameSource are defined below.

@@ -68,7 +68,7 @@ pub struct RunOptions {
     /// back this many ticks (1-7) and re-simulate, failing at the first tick
     /// whose state differs (with `--replay`, its inputs; `--frames` ticks,
     /// default 300 or the recording's).
-    #[arg(long, value_name = "TICKS", conflicts_with = "record")]
+    #[arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true)]
     pub sync_test: Option<usize>,
 }
 

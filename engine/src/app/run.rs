@@ -182,6 +182,10 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     Ok(summary)
 }
 
+/// The most ticks `--sync-test` runs: a million (over four hours of play at
+/// 60 Hz, each tick simulated up to eight times).
+pub const MAX_SYNC_TEST_TICKS: u64 = 1_000_000;
+
 /// `--sync-test`: the game headless under a rollback sync test, for
 /// `--frames` ticks (default: the recording's, or 300), with the
 /// recording's inputs if one is given.
@@ -192,6 +196,13 @@ fn sync_test_run<G: Game + Clone + 'static>(
     recording: Option<&Recording>,
 ) -> Result<RunSummary, RunError> {
     let ticks = options.frames.or(recording.map(|r| r.ticks)).unwrap_or(300);
+    if ticks > MAX_SYNC_TEST_TICKS {
+        return Err(RunError::Limit(format!(
+            "--sync-test runs {ticks} ticks, past the limit of {MAX_SYNC_TEST_TICKS} (MAX_SYNC_TEST_TICKS: each tick \
+             is simulated {} times); pass a smaller --frames",
+            distance + 1
+        )));
+    }
     let (mut cursor, mut input) = (0, crate::input::TickInput::default());
     let report = super::sync_test(session, distance, ticks, |tick| {
         input = input.carried();
