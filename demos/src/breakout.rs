@@ -123,12 +123,12 @@ impl Breakout {
     /// Removes the bricks the ball touched in the last step, and aims the
     /// ball by where it met the paddle (the ends send it out at 60 degrees).
     fn hits(&mut self, world: &mut World, paddle_x: f32) -> Result<(), GameError> {
-        for contact in world.contacts().to_vec() {
-            let Touched::Collider(id) = contact.touched else {
+        for k in 0..world.contacts().len() {
+            let Touched::Collider(id) = world.contacts()[k].touched else {
                 continue;
             };
             if id == self.paddle {
-                let angle = ((contact.point.x - paddle_x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
+                let angle = ((world.contacts()[k].point.x - paddle_x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
                 world.set_velocity(self.ball, BALL.1 * Vec3::new(angle.sin(), angle.cos(), 0.0))?;
             } else if let Some(k) = self.bricks.iter().position(|(brick, _)| *brick == id) {
                 let (brick, row) = self.bricks.remove(k);
@@ -167,18 +167,19 @@ impl Game for Breakout {
         let x = paddle.centre().x;
         self.hits(world, x)?;
         let ball = world.position(self.ball)?;
-        // Where the paddle heads: the autopilot's aim, the pointer, or the keys.
-        let target = if self.autopilot {
-            Some(ball.x + 0.6 * (step.tick as f32 * 0.013).sin())
-        } else {
-            input.pointer_at().map(|p| p.x)
-        };
+        // Where the paddle heads: the autopilot's aim, the keys while held,
+        // else the pointer.
         let held = |a, b| f32::from(u8::from(input.held(a) || input.held(b)));
+        let keys = held(Key::Right, Key::D) - held(Key::Left, Key::A);
+        let target = match () {
+            () if self.autopilot => Some(ball.x + 0.6 * (step.tick as f32 * 0.013).sin()),
+            () if keys != 0.0 => None,
+            () => input.pointer_at().map(|p| p.x),
+        };
         let dt = step.dt as f32;
-        let speed = target.map_or(
-            PADDLE_SPEED * (held(Key::Right, Key::D) - held(Key::Left, Key::A)),
-            |t| ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED),
-        );
+        let speed = target.map_or(PADDLE_SPEED * keys, |t| {
+            ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED)
+        });
         // Stop at the walls.
         let reach = ARENA.0 - PADDLE.x;
         paddle.velocity.x = ((x + speed * dt).clamp(-reach, reach) - x) / dt;

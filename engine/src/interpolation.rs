@@ -78,7 +78,10 @@ pub fn slerp(previous: Quat, current: Quat, t: f32) -> Quat {
     if t <= 1.0 {
         previous.slerp(current, t)
     } else {
-        let (axis, angle) = (current * previous.inverse()).to_axis_angle();
+        // The shorter way round, as slerp turns (q and -q are one rotation).
+        let delta = current * previous.inverse();
+        let delta = if delta.w < 0.0 { -delta } else { delta };
+        let (axis, angle) = delta.to_axis_angle();
         (Quat::from_axis_angle(axis, angle * (t - 1.0)) * current).normalize()
     }
 }
@@ -102,8 +105,10 @@ pub struct Interpolated {
 }
 
 impl Interpolated {
-    /// At rest at `position` moving at `velocity`: drawn there whatever
-    /// the alpha until the next step.
+    /// At `position`, moving at `velocity`, with no earlier step: drawn at
+    /// `position` by [`lerp`](Self::lerp) whatever the alpha until the next
+    /// step (Hermite, from one point with a velocity at both ends, moves a
+    /// little about it).
     #[must_use]
     pub fn at(position: Vec3, velocity: Vec3) -> Self {
         Self {
@@ -135,9 +140,10 @@ impl Interpolated {
         lerp(self.previous.0, self.current.0, t)
     }
 
-    /// Drawn by [`hermite`] at `t` through a step of `dt` seconds.
+    /// Drawn by [`hermite`] through a step of `dt` seconds, at `t` (the
+    /// arguments in the free function's order).
     #[must_use]
-    pub fn hermite(&self, t: f32, dt: f32) -> Vec3 {
+    pub fn hermite(&self, dt: f32, t: f32) -> Vec3 {
         hermite(self.previous.0, self.previous.1, self.current.0, self.current.1, dt, t)
     }
 }
@@ -164,7 +170,7 @@ mod tests {
         tracked.step_to(x1, v1);
         for t in [0.0f32, 0.25, 0.5, 0.9, 1.0] {
             let exact = projectile(t * dt).0;
-            assert!(tracked.hermite(t, dt).abs_diff_eq(exact, 1e-6), "t = {t}");
+            assert!(tracked.hermite(dt, t).abs_diff_eq(exact, 1e-6), "t = {t}");
             // The chord runs g dt^2 t (1 - t) / 2 below the arc.
             let sag = 9.81 * dt * dt * t * (1.0 - t) / 2.0;
             assert!((exact.y - tracked.lerp(t).y - sag).abs() < 1e-6, "t = {t}");

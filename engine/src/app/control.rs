@@ -23,7 +23,8 @@ pub enum Control {
     Faster,
     /// Halve the time scale, down to 1/16 (`-`).
     Slower,
-    /// Set the time scale (the panel), within 1/16..=16.
+    /// Set the time scale (the panel offers 1/16 to 16; the clock accepts
+    /// what its `time_scale` range allows and refuses the rest by name).
     TimeScale(f64),
     /// Set the fixed steps per second (the panel).
     Rate(f64),

@@ -176,7 +176,9 @@ pub fn sync_test<G: Game + Clone + 'static>(
         .with_max_prediction_window(check_distance + 1)
         .start_synctest_session()
         .map_err(ggrs)?;
-    let mut tick = session.ticks();
+    // GGRS counts frames from 0; the session's ticks go on from where it is.
+    let start = session.ticks();
+    let mut tick = start;
     for _ in 0..ticks {
         rollback.add_local_input(0, input(tick)).map_err(ggrs)?;
         for request in rollback.advance_frame().map_err(ggrs)? {
@@ -201,7 +203,7 @@ pub fn sync_test<G: Game + Clone + 'static>(
                     };
                     let slot = cell.data().ok_or_else(missing)?;
                     session.load_tick(slot.as_ref().ok_or_else(missing)?)?;
-                    tick = u64::try_from(frame).map_err(|_| missing())?;
+                    tick = start + u64::try_from(frame).map_err(|_| missing())?;
                 }
                 GgrsRequest::AdvanceFrame { inputs } => {
                     let input = inputs.first().map(|(input, _)| *input).unwrap_or_default();

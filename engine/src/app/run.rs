@@ -195,6 +195,13 @@ fn sync_test_run<G: Game + Clone + 'static>(
     options: &RunOptions,
     recording: Option<&Recording>,
 ) -> Result<RunSummary, RunError> {
+    if let Some(recording) = recording.filter(|r| !r.controls.is_empty()) {
+        return Err(RunError::Game(super::GameError::Message(format!(
+            "--sync-test replays a recording's inputs, not its {} integrator switches; record a run without \
+             switching integrators to sync-test it",
+            recording.controls.len()
+        ))));
+    }
     let ticks = options.frames.or(recording.map(|r| r.ticks)).unwrap_or(300);
     if ticks > MAX_SYNC_TEST_TICKS {
         return Err(RunError::Limit(format!(
@@ -275,15 +282,18 @@ fn show<G: Game>(
         let frames = match (options.frames, replay_ticks) {
             (Some(frames), _) => frames,
             // Enough frames for every recorded tick: steps per frame are
-            // hz * time scale / display rate.
+            // hz * time scale / display rate, at most the clock's cap per
+            // frame (past it the clock drops time, not steps of the replay).
             (None, Some((ticks, hz))) => {
-                let needed = (ticks as f64 * display_hz / (hz * options.time_scale)).ceil() + 1.0;
+                let cap = f64::from(crate::clock::ClockConfig::default().max_steps_per_frame);
+                let per_frame = (hz * options.time_scale / display_hz).min(cap);
+                let needed = (ticks as f64 / per_frame).ceil() + 1.0;
                 if needed.is_nan() || needed > MAX_OFFSCREEN_FRAMES as f64 {
                     return Err(RunError::Io {
                         path: options.replay.clone().unwrap_or_default(),
                         message: format!(
                             "replaying {ticks} ticks at {hz} Hz needs {} frames at {display_hz} frames per second, \
-                             past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames; replay with a higher \
+                             past the limit of {MAX_OFFSCREEN_FRAMES} off-screen frames (8 steps a frame at most); replay with a higher \
                              --time-scale or a lower --display-hz, or pass --frames",
                             crate::clock::Number(needed)
                         ),

@@ -480,9 +480,8 @@ impl<G: Game> FrameSource for GameSession<G> {
         if let Control::Rate(hz) = control {
             // A recording stores one rate (the panel greys it out then).
             if self.is_recording() || self.replay().is_some() {
-                return Err(RunError::Game(GameError::Message(format!(
-                    "cannot change the rate to {hz} Hz while recording or replaying: a recording has one rate"
-                ))));
+                println!("tickwork: the rate stays as it is while recording or replaying ({hz} Hz ignored)");
+                return Ok(());
             }
             self.stage.rate = Rate::hz_f64(hz)?;
         }
@@ -558,7 +557,8 @@ impl<G: Game> FrameSource for GameSession<G> {
     }
 
     fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
-        let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, self.is_recording());
+        let rate_fixed = self.is_recording() || self.replay().is_some();
+        let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, rate_fixed);
         let rows: Vec<WorldRow<'_>> = self
             .stage
             .worlds

@@ -161,14 +161,29 @@ impl Recording {
             }
             previous = Some(*tick);
         }
+        if let Some(k) = self
+            .inputs
+            .iter()
+            .position(|(_, input)| input.pointer.is_some_and(|p| !p.iter().all(|c| c.is_finite())))
+        {
+            return Err((
+                "inputs",
+                format!(
+                    "entry {k}: the pointer must be a finite world point, got {:?}",
+                    self.inputs[k].1.pointer
+                ),
+            ));
+        }
         let mut previous = 0;
         for (k, (tick, control)) in self.controls.iter().enumerate() {
-            if *tick >= self.ticks || *tick < previous {
+            // A control may come after the last tick (a switch just
+            // before the run ended), never later.
+            if *tick > self.ticks || *tick < previous {
                 return Err((
                     "controls",
                     format!(
-                        "entry {k} is at tick {tick}: ticks must not fall and must stay below the recording's {} \
-                         ticks",
+                        "entry {k} is at tick {tick}: ticks must not fall and must stay at or below the recording's \
+                         {} ticks",
                         self.ticks
                     ),
                 ));

@@ -16,10 +16,11 @@ pub struct TickInput {
     /// even if released before it ran (fire, restart).
     #[serde(default)]
     pub pressed: KeySet,
-    /// Where the mouse pointer is, as `[x, y]` in world metres on the
-    /// `z = 0` plane (none before it has moved over the window, or where
-    /// the view does not see that plane). A world point, not a pixel, so a
-    /// replay at another window size steers the same way.
+    /// Where the mouse pointer last was over the window, as `[x, y]` in
+    /// world metres on the `z = 0` plane (none before it first moved over
+    /// a part of the view that sees that plane; kept when it leaves). A
+    /// world point, not a pixel, so a replay at another window size steers
+    /// the same way.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pointer: Option<[f32; 2]>,
 }

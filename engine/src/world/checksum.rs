@@ -149,10 +149,24 @@ impl World {
         h.f64s(&[p.lifetimes.lived]);
         h.u64s(&p.teleported_at);
         h.bytes(bytemuck::cast_slice(&p.colour));
-        for (q, w) in self.rigid.orientation.iter().zip(&self.rigid.angular_velocity) {
-            h.f32s(&q.to_array());
-            h.f32s(&w.to_array());
+        // Each list with its length first, so that items cannot shift from
+        // one list into the next unseen.
+        let rigid = &self.rigid;
+        h.u64(rigid.len() as u64);
+        for body in 0..rigid.len() {
+            h.u64(u64::from(rigid.owner[body]));
+            for q in [rigid.orientation[body], rigid.previous_orientation[body]] {
+                h.f32s(&q.to_array());
+            }
+            for v in [
+                rigid.angular_velocity[body],
+                rigid.inertia[body],
+                rigid.half_extents[body],
+            ] {
+                h.f32s(&v.to_array());
+            }
         }
+        h.u64(self.contacts.len() as u64);
         for c in &self.contacts {
             h.u64(c.entity.to_bits());
             h.u64(match c.touched {
@@ -163,13 +177,16 @@ impl World {
             h.f32s(&c.normal.to_array());
             h.f32s(&[c.impulse]);
         }
+        h.u64(self.forces.len() as u64);
         for force in &self.forces {
             h.debug(force);
         }
+        h.u64(self.colliders().count() as u64);
         for (id, collider) in self.colliders() {
             h.u64(id.0);
             h.debug(&collider);
         }
+        h.u64(self.emitters.len() as u64);
         for emitter in &self.emitters {
             h.debug(emitter);
         }

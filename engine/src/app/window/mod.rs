@@ -213,7 +213,8 @@ impl App<'_> {
         if let Some(key) = game_key(event.physical_key)
             && self.source.takes_input()
         {
-            if !event.repeat {
+            // Releases were forwarded before the panel saw the event.
+            if down && !event.repeat {
                 self.events.push((InputEvent::Key { key, down }, Instant::now()));
             }
             return;
@@ -246,6 +247,11 @@ impl App<'_> {
     /// Hands the frame's input events and controls to the source: the
     /// start of the next frame is a tick boundary.
     fn hand_over(&mut self) -> Result<(), RunError> {
+        // Controls first: a restart forgets the events waiting before it,
+        // not this frame's (a key released now must reach the new run).
+        for control in self.controls.drain(..) {
+            self.source.control(control)?;
+        }
         let now = Instant::now();
         let span = now.duration_since(self.frame_started).as_secs_f64();
         for (event, at) in self.events.drain(..) {
@@ -257,9 +263,6 @@ impl App<'_> {
             self.source.input(event, arrival);
         }
         self.frame_started = now;
-        for control in self.controls.drain(..) {
-            self.source.control(control)?;
-        }
         Ok(())
     }
 
@@ -369,6 +372,29 @@ impl ApplicationHandler for App<'_> {
             WindowEvent::KeyboardInput { event, .. }
                 if matches!(event.logical_key, Key::Named(NamedKey::F1 | NamedKey::F12 | NamedKey::Escape))
         );
+        // A release always reaches the game, even one the panel takes (a
+        // button let go over it): else the game's key would stay held.
+        if self.source.takes_input() {
+            let released = match &event {
+                WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Released => {
+                    game_key(event.physical_key)
+                }
+                WindowEvent::MouseInput {
+                    state: ElementState::Released,
+                    button,
+                    ..
+                } => match button {
+                    MouseButton::Left => Some(GameKey::MouseLeft),
+                    MouseButton::Right => Some(GameKey::MouseRight),
+                    MouseButton::Middle => Some(GameKey::MouseMiddle),
+                    _ => None,
+                },
+                _ => None,
+            };
+            if let Some(key) = released {
+                self.events.push((InputEvent::Key { key, down: false }, Instant::now()));
+            }
+        }
         if self.panel_visible
             && !runner_key
             && let (Some(panel), Some(state)) = (self.panel.as_mut(), self.state.as_ref())
@@ -403,8 +429,10 @@ impl ApplicationHandler for App<'_> {
                     MouseButton::Middle => GameKey::MouseMiddle,
                     _ => return,
                 };
-                let down = state == ElementState::Pressed;
-                self.events.push((InputEvent::Key { key, down }, Instant::now()));
+                // Releases were forwarded before the panel saw the event.
+                if state == ElementState::Pressed {
+                    self.events.push((InputEvent::Key { key, down: true }, Instant::now()));
+                }
             }
             WindowEvent::MouseInput {
                 state,
