@@ -34,7 +34,7 @@ const ELASTIC: Material = Material {
 };
 
 /// How the game stands.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Play {
     /// The ball rides the paddle until served.
     #[default]
@@ -84,18 +84,15 @@ impl Breakout {
         })?;
         let (half, top) = ARENA;
         // Open at the bottom: the walls' box reaches far below the paddle.
-        let walls = BoxCollider::container(Vec3::new(-half, -20.0, -1.0), Vec3::new(half, top, 1.0), ELASTIC);
-        court.add_collider(walls);
+        let (low, high) = (Vec3::new(-half, -20.0, -1.0), Vec3::new(half, top, 1.0));
+        court.add_collider(BoxCollider::container(low, high, ELASTIC));
         self.bricks.clear();
         let width = 2.0 * half / COLUMNS as f32;
         for row in 0..ROWS.len() {
             for column in 0..COLUMNS {
                 let min = Vec3::new(-half + column as f32 * width + 0.08, top - 2.1 - 0.6 * row as f32, -1.0);
-                let brick = court.add_collider(BoxCollider::solid(
-                    min,
-                    min + Vec3::new(width - 0.16, 0.45, 2.0),
-                    ELASTIC,
-                ));
+                let max = min + Vec3::new(width - 0.16, 0.45, 2.0);
+                let brick = court.add_collider(BoxCollider::solid(min, max, ELASTIC));
                 court.report_contacts(brick)?;
                 self.bricks.push((brick, row));
             }
@@ -228,6 +225,13 @@ impl Game for Breakout {
             .colour(colour)
             .anchor(Anchor::Centre);
         Ok(())
+    }
+
+    fn state_hash(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut hasher = std::hash::DefaultHasher::new();
+        (self.play, self.score, self.lives, &self.bricks).hash(&mut hasher);
+        hasher.finish()
     }
 
     fn outcome(&self, _stage: &Stage) -> Option<String> {

@@ -142,3 +142,39 @@ fn a_check_distance_past_the_window_is_refused_by_name() {
         "--sync-test 9: the check distance must be 1 to 7 ticks (GGRS's prediction window)"
     );
 }
+
+/// A score counted in an `Rc` that clones share: no world sees it, only
+/// the game's `state_hash`.
+#[derive(Clone, Default)]
+struct Scorer {
+    score: Rc<Cell<u32>>,
+}
+
+impl Game for Scorer {
+    fn title(&self) -> &str {
+        "scorer"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _: &Settings) -> Result<(), GameError> {
+        stage.add_world("empty", World::default());
+        Ok(())
+    }
+
+    fn fixed_update(&mut self, _: &mut Stage, _: &FixedStep, _: &TickInput) -> Result<(), GameError> {
+        self.score.set(self.score.get() + 1);
+        Ok(())
+    }
+
+    fn state_hash(&self) -> u64 {
+        u64::from(self.score.get())
+    }
+}
+
+#[test]
+fn a_game_s_own_state_that_diverges_is_caught_through_its_state_hash() {
+    let mut game = GameSession::new(Scorer::default(), SessionOptions::default()).expect("a session");
+    let error = sync_test(&mut game, 3, 50, |_| TickInput::default())
+        .expect_err("the shared score is not rolled back")
+        .to_string();
+    assert!(error.starts_with("sync test failed at tick "), "{error}");
+}

@@ -157,6 +157,14 @@ pub trait Game {
         Ok(())
     }
 
+    /// A hash of the game's own simulated state that its worlds do not
+    /// hold (score, lives, which bricks are left), mixed into the rollback
+    /// checksum so that a sync test also sees it diverge. Default 0: the
+    /// game's state shows only through its worlds.
+    fn state_hash(&self) -> u64 {
+        0
+    }
+
     /// A line printed when a run ends (score, outcome); none by default.
     fn outcome(&self, stage: &Stage) -> Option<String> {
         let _ = stage;

@@ -113,12 +113,16 @@ impl<G: Game + Clone> GameSession<G> {
         self.run_tick(step, input)
     }
 
-    /// The checksum of every world's state, in stage order.
+    /// The checksum of every world's state, in stage order, and of the
+    /// game's own ([`Game::state_hash`]).
     #[must_use]
     pub fn checksum(&self) -> u64 {
-        self.stage().worlds.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, w| {
-            (h ^ w.world.state_hash()).wrapping_mul(0x0000_0100_0000_01b3)
-        })
+        let worlds = self.stage().worlds.iter().map(|w| w.world.state_hash());
+        core::iter::once(self.game().state_hash())
+            .chain(worlds)
+            .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+                (h ^ x).wrapping_mul(0x0000_0100_0000_01b3)
+            })
     }
 }
 
