@@ -155,6 +155,7 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
         cursor: (0.0, 0.0),
         events: Vec::new(),
         controls: Vec::new(),
+        physical_down: [0; GameKey::ALL.len()],
         frame_started: Instant::now(),
         hold_started: None,
         screenshot: false,
@@ -184,6 +185,8 @@ struct App<'a> {
     events: Vec<(InputEvent, Instant)>,
     /// Controls from keys and the panel, applied before the next frame's steps.
     controls: Vec<Control>,
+    /// Physical keys down per game key (two Shift keys are one game key).
+    physical_down: [u8; GameKey::ALL.len()],
     /// When the coming frame began (the last `advance`).
     frame_started: Instant,
     hold_started: Option<std::time::Instant>,
@@ -215,7 +218,11 @@ impl App<'_> {
         {
             // Releases were forwarded before the panel saw the event.
             if down && !event.repeat {
-                self.events.push((InputEvent::Key { key, down }, Instant::now()));
+                let held = &mut self.physical_down[key as usize];
+                if *held == 0 {
+                    self.events.push((InputEvent::Key { key, down }, Instant::now()));
+                }
+                *held = held.saturating_add(1);
             }
             return;
         }
@@ -392,7 +399,13 @@ impl ApplicationHandler for App<'_> {
                 _ => None,
             };
             if let Some(key) = released {
-                self.events.push((InputEvent::Key { key, down: false }, Instant::now()));
+                // Up only when the last of its physical keys is (left and
+                // right Shift are one game key).
+                let down = &mut self.physical_down[key as usize];
+                *down = down.saturating_sub(1);
+                if *down == 0 {
+                    self.events.push((InputEvent::Key { key, down: false }, Instant::now()));
+                }
             }
         }
         if self.panel_visible
