@@ -212,18 +212,10 @@ fn sync_test_run<G: Game + Clone + 'static>(
     }
     let (mut cursor, mut input) = (0, crate::input::TickInput::default());
     let report = super::sync_test(session, distance, ticks, |tick| {
-        input = input.carried();
-        if let Some(recording) = recording {
-            while let Some((at, recorded)) = recording.inputs.get(cursor) {
-                if *at > tick {
-                    break;
-                }
-                if *at == tick {
-                    input = *recorded;
-                }
-                cursor += 1;
-            }
-        }
+        input = match recording {
+            Some(recording) => recording.input_at(&mut cursor, tick, input.carried()),
+            None => input.carried(),
+        };
         input
     })?;
     println!(

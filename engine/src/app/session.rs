@@ -307,16 +307,7 @@ impl<G: Game> GameSession<G> {
         let carried = self.input.carried();
         let input = match &mut self.mode {
             InputMode::Replay { recording, cursor, .. } => {
-                let mut input = carried;
-                while let Some((at, recorded)) = recording.inputs.get(*cursor) {
-                    if *at > tick {
-                        break;
-                    }
-                    if *at == tick {
-                        input = *recorded;
-                    }
-                    *cursor += 1;
-                }
+                let input = recording.input_at(cursor, tick, carried);
                 if tick >= recording.ticks && !self.replay_done {
                     self.replay_done = true;
                     println!("tickwork: the replay ended at tick {tick}; the keyboard is ignored");

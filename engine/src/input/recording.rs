@@ -84,6 +84,24 @@ pub struct Recording {
 }
 
 impl Recording {
+    /// The recorded input of `tick`, or `carried` (the last tick's held
+    /// keys) if the recording has none for it. `cursor` is where the
+    /// previous call stopped: ask ticks in increasing order, from 0.
+    #[must_use]
+    pub fn input_at(&self, cursor: &mut usize, tick: u64, carried: TickInput) -> TickInput {
+        let mut input = carried;
+        while let Some((at, recorded)) = self.inputs.get(*cursor) {
+            if *at > tick {
+                break;
+            }
+            if *at == tick {
+                input = *recorded;
+            }
+            *cursor += 1;
+        }
+        input
+    }
+
     /// Reads a recording written by a run with `--record`.
     ///
     /// # Errors
