@@ -138,7 +138,7 @@ impl EnergyTrace {
     }
 }
 
-/// What [`Game::setup`] is told by the command line.
+/// What [`Game::setup`](super::Game::setup) is told by the command line.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
     /// `--integrator`, as given (the runner also applies it to every world

@@ -452,7 +452,7 @@ impl Renderer {
 
     /// Forgets what was uploaded, so the next frame uploads the world again
     /// (needed only if the world was edited through a path that does not
-    /// count as a change, which none of [`World`]'s methods is).
+    /// count as a change, which none of [`World`](crate::World)'s methods is).
     pub fn invalidate(&mut self) {
         self.uploaded.clear();
     }

@@ -4,7 +4,7 @@ use core::fmt;
 
 use super::{Entity, EntityError, SpawnError};
 
-/// Settings of a new [`World`].
+/// Settings of a new [`World`](super::World).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldConfig {
     /// The integrator, by registry name or alias (default: `"semi_implicit_euler"`).
