@@ -8,3 +8,4 @@ pub mod breakout;
 pub mod cli;
 pub mod lab;
 pub mod lander;
+pub mod rally;

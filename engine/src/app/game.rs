@@ -140,6 +140,32 @@ pub trait Game {
         Ok(())
     }
 
+    /// How many players the game has (default 1; at most
+    /// [`Recording::MAX_PLAYERS`](crate::input::Recording::MAX_PLAYERS)).
+    /// Player 0 plays from this machine; in a networked match each player
+    /// plays from their own, and [`fixed_update_players`](Game::fixed_update_players)
+    /// sees local and remote players alike.
+    fn players(&self) -> usize {
+        1
+    }
+
+    /// Once per fixed step with every player's input of the tick, by player
+    /// number (`inputs.len()` is [`players`](Game::players)). The default
+    /// gives player 0's to [`fixed_update`](Game::fixed_update): a game of
+    /// one player implements that one instead.
+    ///
+    /// # Errors
+    /// A [`GameError`] stops the run with its message.
+    fn fixed_update_players(
+        &mut self,
+        stage: &mut Stage,
+        step: &FixedStep,
+        inputs: &[TickInput],
+    ) -> Result<(), GameError> {
+        let input = inputs.first().copied().unwrap_or_default();
+        self.fixed_update(stage, step, &input)
+    }
+
     /// Once per displayed frame, after its fixed steps (camera, cosmetics;
     /// frame timing varies, so nothing here may change the simulation).
     fn update(&mut self, stage: &mut Stage, frame: &Frame) {

@@ -7,6 +7,7 @@ mod control;
 mod draw;
 mod frame_rate;
 mod game;
+mod network;
 mod offscreen;
 mod options;
 mod panel;
@@ -25,10 +26,11 @@ pub use clap;
 pub use control::Control;
 pub use draw::{Draw, Viewport};
 pub use game::{Game, GameError};
+pub use network::{ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MatchReport, NetOptions, NetSession, Peer, Welcome};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
 pub use options::{MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_size};
 pub use playback::{Playback, PlaybackError};
-pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, sync_test};
+pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
 pub use run::{MAX_OFFSCREEN_FRAMES, MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config, run};
 pub use session::{GameSession, SessionOptions};
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
@@ -116,6 +118,9 @@ pub enum RunError {
     Exists(PathBuf),
     /// The game failed (its set-up, a step, its own error).
     Game(GameError),
+    /// A networked match failed: the other player not found, gone, or out
+    /// of step (a desync, with the tick and both checksums).
+    Network(String),
     /// A request past one of the engine's limits: the message names the
     /// limit and what to do instead.
     Limit(String),
@@ -136,6 +141,7 @@ impl fmt::Display for RunError {
             Self::Game(e) => e.fmt(f),
             Self::Window(message) => write!(f, "cannot open a window: {message}"),
             Self::Limit(message) => f.write_str(message),
+            Self::Network(message) => write!(f, "network: {message}"),
             Self::Exists(path) => write!(f, "{}: exists; pass --force to overwrite it", path.display()),
             Self::Io { path, message } => write!(f, "{}: {message}", path.display()),
         }

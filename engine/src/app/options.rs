@@ -70,6 +70,34 @@ pub struct RunOptions {
     /// default 300 or the recording's).
     #[arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true)]
     pub sync_test: Option<usize>,
+    /// Host a two-player match on this UDP port (0: any free port, printed)
+    /// and play player 1 (the other player runs `--join`).
+    #[arg(long, value_name = "PORT", conflicts_with_all = ["join", "sync_test"])]
+    pub host: Option<u16>,
+    /// Join the match hosted at this address (`192.168.1.20:7000`) and play
+    /// player 2, with the host's seed, rate and integrator.
+    #[arg(long, value_name = "ADDR", conflicts_with = "sync_test")]
+    pub join: Option<std::net::SocketAddr>,
+    /// In a match: play this side from a recording of one player's input
+    /// (`--record` of a run alone) instead of the keyboard (tests, bots).
+    #[arg(long, value_name = "FILE", conflicts_with = "replay")]
+    pub script: Option<PathBuf>,
+    /// In a match: ticks a player's input waits before it counts; hides
+    /// that much latency without a rollback (0-8).
+    #[arg(long, default_value_t = 2, value_name = "TICKS")]
+    pub input_delay: usize,
+    /// In a match: ticks this side runs ahead on predicted input before it
+    /// waits for the other player (0-16; 0 is lockstep).
+    #[arg(long, default_value_t = 8, value_name = "TICKS")]
+    pub max_prediction: usize,
+    /// In a match: delay, jitter and loss laid on what this side sends,
+    /// `LATENCY_MS,JITTER_MS,LOSS[,SEED]` (for example `60,20,0.05`), to
+    /// try a bad network on one machine.
+    #[arg(long, value_name = "SPEC")]
+    pub impair: Option<super::Impairment>,
+    /// In a match: seconds to wait for the other player to join or answer.
+    #[arg(long, default_value_t = 60.0, value_parser = positive_f64)]
+    pub wait_seconds: f64,
 }
 
 impl Default for RunOptions {
@@ -92,7 +120,37 @@ impl Default for RunOptions {
             panel: false,
             no_panel: false,
             sync_test: None,
+            host: None,
+            join: None,
+            script: None,
+            input_delay: 2,
+            max_prediction: 8,
+            impair: None,
+            wait_seconds: 60.0,
         }
+    }
+}
+
+impl RunOptions {
+    /// The networked side of these options: the peer (`--host`, `--join`)
+    /// and how the match is played, if a match was asked for.
+    #[must_use]
+    pub fn network(&self) -> Option<(super::Peer, super::NetOptions)> {
+        let peer = match (self.host, self.join) {
+            (Some(port), _) => super::Peer::Host { port },
+            (None, Some(host)) => super::Peer::Join { host },
+            (None, None) => return None,
+        };
+        Some((
+            peer,
+            super::NetOptions {
+                input_delay: self.input_delay,
+                max_prediction: self.max_prediction,
+                impairment: self.impair,
+                wait_seconds: self.wait_seconds,
+                ..super::NetOptions::default()
+            },
+        ))
     }
 }
 

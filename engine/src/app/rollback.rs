@@ -23,7 +23,8 @@ use super::game::{Game, GameError};
 use super::session::GameSession;
 use super::{FrameSource, RunError};
 use crate::clock::FixedStep;
-use crate::input::TickInput;
+use crate::input::{KeySet, TickInput};
+use serde::{Deserialize, Serialize};
 use crate::world::Snapshot;
 
 /// A game's simulated state at a tick boundary.
@@ -34,13 +35,47 @@ pub struct SavedTick<G> {
     failures: Vec<Option<String>>,
 }
 
+/// A player's [`TickInput`] as GGRS sends it: of one fixed size, since
+/// GGRS splits a packet's inputs by size (a `TickInput`'s serde form lists
+/// key names and leaves out an absent pointer, so its size varies).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WireInput {
+    held: u32,
+    pressed: u32,
+    pointer: [f32; 2],
+    has_pointer: bool,
+}
+
+impl From<TickInput> for WireInput {
+    fn from(input: TickInput) -> Self {
+        Self {
+            held: input.held.bits(),
+            pressed: input.pressed.bits(),
+            pointer: input.pointer.unwrap_or_default(),
+            has_pointer: input.pointer.is_some(),
+        }
+    }
+}
+
+impl From<WireInput> for TickInput {
+    /// Unknown key bits are dropped and a pointer that is not finite is
+    /// none, the same on every machine (the bytes are the same).
+    fn from(wire: WireInput) -> Self {
+        Self {
+            held: KeySet::from_bits(wire.held),
+            pressed: KeySet::from_bits(wire.pressed),
+            pointer: (wire.has_pointer && wire.pointer.iter().all(|c| c.is_finite())).then_some(wire.pointer),
+        }
+    }
+}
+
 /// GGRS's configuration for a Tickwork game: the input is a player's
-/// [`TickInput`], the state a [`SavedTick`].
+/// [`TickInput`] (as a [`WireInput`]), the state a [`SavedTick`].
 #[derive(Debug)]
 pub struct Rollback<G>(PhantomData<G>);
 
 impl<G: Game + Clone + 'static> Config for Rollback<G> {
-    type Input = TickInput;
+    type Input = WireInput;
     type InputPredictor = PredictRepeatLast;
     /// Optional so that a save can take the slot's earlier state out and
     /// copy into its buffers (GGRS reuses its slots; no world is allocated
@@ -98,32 +133,112 @@ impl<G: Game + Clone> GameSession<G> {
         Ok(())
     }
 
-    /// Runs fixed step number `tick` with `input`, outside the clock (a
-    /// rollback session decides which tick runs and with what).
+    /// Runs fixed step number `tick` with every player's input, outside
+    /// the clock (a rollback session decides which tick runs and with what).
     ///
     /// # Errors
     /// [`RunError::Game`] if the game or a world fails.
-    pub fn step_tick(&mut self, tick: u64, input: &TickInput) -> Result<(), RunError> {
+    pub fn step_tick(&mut self, tick: u64, inputs: &[TickInput]) -> Result<(), RunError> {
         let timeline = self.clock().timeline();
         let step = FixedStep {
             tick,
             time: timeline.time_of(tick),
             dt: self.clock().dt(),
         };
-        self.run_tick(step, input)
+        self.run_tick(step, inputs)
+    }
+}
+
+/// Where a rollback session stands and what it did: the next tick to run,
+/// the rollbacks and the ticks simulated again.
+#[derive(Debug)]
+pub(super) struct RollbackCursor {
+    /// The session's tick at GGRS's frame 0.
+    start: u64,
+    /// The next tick to run (the stage's state is at its start).
+    pub tick: u64,
+    /// The furthest tick run so far.
+    furthest: u64,
+    /// States loaded (each a rollback).
+    pub rollbacks: u64,
+    /// Ticks run again after a rollback.
+    pub resimulated: u64,
+    /// Every player's input of the tick being run (reused).
+    inputs: Vec<TickInput>,
+}
+
+impl RollbackCursor {
+    /// A cursor whose GGRS frame 0 is the session's tick `start`.
+    pub(super) fn new(start: u64) -> Self {
+        Self {
+            start,
+            tick: start,
+            furthest: start,
+            rollbacks: 0,
+            resimulated: 0,
+            inputs: Vec::new(),
+        }
     }
 
-    /// The checksum of every world's state, in stage order, and of the
-    /// game's own ([`Game::state_hash`]).
-    #[must_use]
-    pub fn checksum(&self) -> u64 {
-        let worlds = self.stage().worlds.iter().map(|w| w.world.state_hash());
-        core::iter::once(self.game().state_hash())
-            .chain(worlds)
-            .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
-                (h ^ x).wrapping_mul(0x0000_0100_0000_01b3)
-            })
+    /// The session's tick of GGRS frame `frame`.
+    fn tick_of(&self, frame: ggrs::Frame) -> Result<u64, RunError> {
+        u64::try_from(frame)
+            .map(|f| self.start + f)
+            .map_err(|_| RunError::Game(GameError::Message(format!("rollback: GGRS asked for frame {frame}"))))
     }
+}
+
+/// Fulfils GGRS's requests in order: saves the state (with its checksum)
+/// into the slot's reused buffers, loads a saved one, or runs a tick with
+/// the players' inputs. `saved(tick, state, checksum)` sees every save,
+/// `advanced(tick, inputs)` every tick run.
+pub(super) fn fulfil<G: Game + Clone + 'static>(
+    session: &mut GameSession<G>,
+    requests: Vec<GgrsRequest<Rollback<G>>>,
+    cursor: &mut RollbackCursor,
+    mut saved: impl FnMut(u64, &SavedTick<G>, u64),
+    mut advanced: impl FnMut(u64, &[TickInput]),
+) -> Result<(), RunError> {
+    for request in requests {
+        match request {
+            GgrsRequest::SaveGameState { cell, frame } => {
+                let checksum = session.checksum();
+                let earlier = cell.data().and_then(|mut slot| slot.as_mut_dangerous().take());
+                let state = match earlier {
+                    Some(mut state) => {
+                        session.save_tick_into(&mut state);
+                        state
+                    }
+                    None => session.save_tick(),
+                };
+                saved(cursor.tick_of(frame)?, &state, checksum);
+                cell.save(frame, Some(Some(state)), Some(u128::from(checksum)));
+            }
+            GgrsRequest::LoadGameState { cell, frame } => {
+                let missing = || {
+                    RunError::Game(GameError::Message(format!(
+                        "rollback: no state was saved for frame {frame}"
+                    )))
+                };
+                let slot = cell.data().ok_or_else(missing)?;
+                session.load_tick(slot.as_ref().ok_or_else(missing)?)?;
+                cursor.tick = cursor.tick_of(frame)?;
+                cursor.rollbacks += 1;
+            }
+            GgrsRequest::AdvanceFrame { inputs } => {
+                cursor.inputs.clear();
+                cursor.inputs.extend(inputs.iter().map(|(input, _)| TickInput::from(*input)));
+                session.step_tick(cursor.tick, &cursor.inputs)?;
+                advanced(cursor.tick, &cursor.inputs);
+                if cursor.tick < cursor.furthest {
+                    cursor.resimulated += 1;
+                }
+                cursor.tick += 1;
+                cursor.furthest = cursor.furthest.max(cursor.tick);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// What a sync test did.
@@ -142,7 +257,8 @@ pub const MAX_CHECK_DISTANCE: usize = 7;
 
 /// Runs `session` for `ticks` ticks under GGRS's `SyncTestSession`, rolling
 /// back `check_distance` ticks (1 to [`MAX_CHECK_DISTANCE`]) every tick and
-/// re-simulating with the same inputs; `input(tick)` gives each tick's input.
+/// re-simulating with the same inputs; `input(tick, player)` gives each
+/// player's input of each tick, for every player of the game.
 ///
 /// # Errors
 /// [`RunError::Game`] naming the first tick whose re-simulated state
@@ -152,7 +268,7 @@ pub fn sync_test<G: Game + Clone + 'static>(
     session: &mut GameSession<G>,
     check_distance: usize,
     ticks: u64,
-    mut input: impl FnMut(u64) -> TickInput,
+    mut input: impl FnMut(u64, usize) -> TickInput,
 ) -> Result<SyncTestReport, RunError> {
     if !(1..=MAX_CHECK_DISTANCE).contains(&check_distance) {
         return Err(RunError::Limit(format!(
@@ -173,49 +289,25 @@ pub fn sync_test<G: Game + Clone + 'static>(
         ))),
         other => RunError::Game(GameError::Message(format!("sync test: {other}"))),
     };
+    let players = session.players();
     let mut rollback = SessionBuilder::<Rollback<G>>::new()
-        .with_num_players(1)
+        .with_num_players(players)
         .map_err(ggrs)?
         .with_check_distance(check_distance)
         .with_max_prediction_window(check_distance + 1)
         .start_synctest_session()
         .map_err(ggrs)?;
     // GGRS counts frames from 0; the session's ticks go on from where it is.
-    let start = session.ticks();
-    let mut tick = start;
+    let mut cursor = RollbackCursor::new(FrameSource::ticks(session));
     for _ in 0..ticks {
-        rollback.add_local_input(0, input(tick)).map_err(ggrs)?;
-        for request in rollback.advance_frame().map_err(ggrs)? {
-            match request {
-                GgrsRequest::SaveGameState { cell, frame } => {
-                    let checksum = u128::from(session.checksum());
-                    let earlier = cell.data().and_then(|mut slot| slot.as_mut_dangerous().take());
-                    let saved = match earlier {
-                        Some(mut saved) => {
-                            session.save_tick_into(&mut saved);
-                            saved
-                        }
-                        None => session.save_tick(),
-                    };
-                    cell.save(frame, Some(Some(saved)), Some(checksum));
-                }
-                GgrsRequest::LoadGameState { cell, frame } => {
-                    let missing = || {
-                        RunError::Game(GameError::Message(format!(
-                            "sync test: no state was saved for tick {frame}"
-                        )))
-                    };
-                    let slot = cell.data().ok_or_else(missing)?;
-                    session.load_tick(slot.as_ref().ok_or_else(missing)?)?;
-                    tick = start + u64::try_from(frame).map_err(|_| missing())?;
-                }
-                GgrsRequest::AdvanceFrame { inputs } => {
-                    let input = inputs.first().map(|(input, _)| *input).unwrap_or_default();
-                    session.step_tick(tick, &input)?;
-                    tick += 1;
-                }
-            }
+        let tick = cursor.tick;
+        for player in 0..players {
+            rollback
+                .add_local_input(player, input(tick, player).into())
+                .map_err(ggrs)?;
         }
+        let requests = rollback.advance_frame().map_err(ggrs)?;
+        fulfil(session, requests, &mut cursor, |_, _, _| {}, |_, _| {})?;
     }
     Ok(SyncTestReport {
         ticks,

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::game::Game;
+use super::network::{Lobby, NetOptions, NetSession, Peer};
 use super::options::RunOptions;
 use super::session::{GameSession, SessionOptions};
 use super::stage::{Settings, Stage};
@@ -31,6 +32,10 @@ pub struct RunSummary {
     pub recording: Option<PathBuf>,
     /// The game's outcome line, if it has one.
     pub outcome: Option<String>,
+    /// The checksum of the final state (every world and the game's own),
+    /// for comparing runs: printed by off-screen runs, sync tests and
+    /// headless matches.
+    pub checksum: Option<u64>,
 }
 
 /// The renderer settings [`run`] draws a stage's frames `height` pixels
@@ -132,6 +137,23 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
         crate::app::offscreen::check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
+    if let Some((peer, net)) = options.network() {
+        if replay.is_some() {
+            return Err(RunError::Limit(
+                "--replay plays a whole run back alone; in a match, --script plays this side's input from a recording"
+                    .into(),
+            ));
+        }
+        let script = options.script.as_deref().map(Recording::load).transpose()?;
+        return network_run(game, peer, &net, &options, windowed, script);
+    }
+    if options.script.is_some() {
+        return Err(RunError::Limit(
+            "--script plays one side of a networked match: pass --host PORT or --join ADDR with it (to play a \
+             recording back alone, use --replay)"
+                .into(),
+        ));
+    }
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
     // A sync test drives the ticks itself, with the recording's inputs.
     let replay_inputs = options.sync_test.and(replay.clone());
@@ -141,6 +163,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
             settings: Settings {
                 integrator: options.integrator.clone(),
                 seed: options.seed,
+                networked: false,
             },
             hz: options.hz,
             time_scale: options.time_scale,
@@ -161,6 +184,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
         gif: None,
         recording: None,
         outcome: None,
+        checksum: None,
     };
     let shown = show(&mut session, &options, replay_ticks, &mut summary);
     // The input so far is kept even when the run failed (a recording of the
@@ -175,7 +199,117 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
         );
     }
     shown?;
+    if !summary.windowed {
+        let checksum = session.checksum();
+        println!(
+            "tickwork: {title}: the final state at tick {} has checksum {checksum:016x}",
+            summary.ticks
+        );
+        summary.checksum = Some(checksum);
+    }
     summary.outcome = session.outcome();
+    if let Some(outcome) = &summary.outcome {
+        println!("{title}: {outcome}");
+    }
+    Ok(summary)
+}
+
+/// The ticks a headless match plays without `--frames`: 600 (ten seconds
+/// at 60 Hz).
+pub const DEFAULT_MATCH_TICKS: u64 = 600;
+
+/// `--host` or `--join`: finds the other player, then plays the match in
+/// the window, or headless for `--frames` ticks; saves both players'
+/// inputs with `--record`.
+fn network_run<G: Game + Clone + 'static>(
+    game: G,
+    peer: Peer,
+    net: &NetOptions,
+    options: &RunOptions,
+    windowed: bool,
+    script: Option<Recording>,
+) -> Result<RunSummary, RunError> {
+    let title = game.title().to_owned();
+    let lobby = Lobby::bind(peer)?;
+    match peer {
+        Peer::Host { .. } => println!(
+            "tickwork: {title}: hosting on port {}; the other player joins with --join <this machine's address>:{}",
+            lobby.local_addr()?.port(),
+            lobby.local_addr()?.port()
+        ),
+        Peer::Join { host } => println!("tickwork: {title}: joining {host}"),
+    }
+    let mut session = NetSession::start(
+        game,
+        lobby,
+        SessionOptions {
+            settings: Settings {
+                integrator: options.integrator.clone(),
+                seed: options.seed,
+                networked: true,
+            },
+            hz: options.hz,
+            time_scale: 1.0,
+            record: None,
+            replay: None,
+            overwrite: options.force,
+        },
+        net,
+        script,
+    )?;
+    let mut summary = RunSummary {
+        windowed,
+        frames: 0,
+        ticks: 0,
+        out: None,
+        gif: None,
+        recording: None,
+        outcome: None,
+        checksum: None,
+    };
+    let played = if windowed {
+        let (width, height) = options.size.unwrap_or((1280, 720));
+        let renderer = renderer_config(session.session().stage(), height);
+        run_window(
+            &mut session,
+            WindowOptions {
+                width,
+                height,
+                frames: options.frames,
+                hold_seconds: options.hold,
+                display_hz: options.display_hz,
+                screenshot_dir: PathBuf::from("."),
+                panel: false,
+                renderer,
+                ..WindowOptions::default()
+            },
+        )
+        .map(|window| summary.frames = window.frames)
+    } else {
+        let ticks = options.frames.unwrap_or(DEFAULT_MATCH_TICKS);
+        session.play_headless(ticks).map(|report| {
+            println!(
+                "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} \
+                 ticks waited for the other player, {} were skipped to let it catch up",
+                report.ticks, report.checksum, report.rollbacks, report.resimulated, report.waits, report.skipped
+            );
+            summary.checksum = Some(report.checksum);
+        })
+    };
+    summary.ticks = crate::app::FrameSource::ticks(&session);
+    // The confirmed inputs are kept even when the match failed.
+    if let Some(path) = &options.record {
+        let recording = session.recording();
+        recording.save(path, options.force)?;
+        println!(
+            "tickwork: recorded both players' inputs of {} ticks to {}",
+            recording.ticks,
+            path.display()
+        );
+        summary.recording = Some(path.clone());
+    }
+    played?;
+    summary.outcome = session.session().outcome();
     if let Some(outcome) = &summary.outcome {
         println!("{title}: {outcome}");
     }
@@ -210,13 +344,15 @@ fn sync_test_run<G: Game + Clone + 'static>(
             distance + 1
         )));
     }
-    let (mut cursor, mut input) = (0, crate::input::TickInput::default());
-    let report = super::sync_test(session, distance, ticks, |tick| {
-        input = match recording {
-            Some(recording) => recording.input_at(&mut cursor, tick, input.carried()),
+    let players = session.players();
+    let (mut cursors, mut inputs) = (vec![0; players], vec![crate::input::TickInput::default(); players]);
+    let report = super::sync_test(session, distance, ticks, |tick, player| {
+        let input = &mut inputs[player];
+        *input = match recording {
+            Some(recording) => recording.input_of(player, &mut cursors[player], tick, input.carried()),
             None => input.carried(),
         };
-        input
+        *input
     })?;
     println!(
         "tickwork: {}: sync test passed: {} ticks, each rolled back {} ticks and re-simulated to the same state \
@@ -238,6 +374,7 @@ fn sync_test_run<G: Game + Clone + 'static>(
         gif: None,
         recording: None,
         outcome,
+        checksum: Some(report.checksum),
     })
 }
 

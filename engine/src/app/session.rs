@@ -27,10 +27,11 @@ use tickwork_integrators::build;
 enum InputMode {
     /// The player; recorded if `record` is set.
     Live { record: Option<(Recording, PathBuf)> },
-    /// A recording, replayed from `cursor` (inputs) and `next_control`.
+    /// A recording, replayed from `cursors` (inputs, by player) and
+    /// `next_control`.
     Replay {
         recording: Recording,
-        cursor: usize,
+        cursors: Vec<usize>,
         next_control: usize,
     },
 }
@@ -74,8 +75,8 @@ pub struct GameSession<G: Game> {
     last: Frame,
     /// The player's events, waiting for the steps of their time.
     queue: InputQueue,
-    /// The last step's input, carried into the next.
-    input: TickInput,
+    /// The last step's input of every player, carried into the next.
+    inputs: Vec<TickInput>,
     mode: InputMode,
     draw: Draw,
     frame_rate: FrameRate,
@@ -136,6 +137,21 @@ impl<G: Game> GameSession<G> {
             options.hz = Some(recording.hz);
             options.settings.seed = recording.seed;
             options.settings.integrator.clone_from(&recording.integrator);
+            options.settings.networked = recording.players() > 1;
+        }
+        let players = game.players();
+        let recorded = options.replay.as_ref().map_or(1, Recording::players);
+        if !(1..=Recording::MAX_PLAYERS).contains(&players) || recorded > players {
+            return Err(RunError::Game(GameError::Message(format!(
+                "\"{}\" has {players} players{}: a game has 1 to {} (Recording::MAX_PLAYERS)",
+                game.title(),
+                if recorded > players {
+                    format!(", but the recording holds {recorded}")
+                } else {
+                    String::new()
+                },
+                Recording::MAX_PLAYERS
+            ))));
         }
         if let Some(path) = &options.record
             && path.exists()
@@ -151,7 +167,7 @@ impl<G: Game> GameSession<G> {
         let mode = match options.replay.take() {
             Some(recording) => InputMode::Replay {
                 recording,
-                cursor: 0,
+                cursors: vec![0; players],
                 next_control: 0,
             },
             None => InputMode::Live { record: None },
@@ -169,7 +185,7 @@ impl<G: Game> GameSession<G> {
             clock,
             last,
             queue: InputQueue::default(),
-            input: TickInput::default(),
+            inputs: vec![TickInput::default(); players],
             mode,
             draw: Draw::default(),
             frame_rate: FrameRate::default(),
@@ -220,29 +236,26 @@ impl<G: Game> GameSession<G> {
         })?;
         self.last = self.clock.advance(0.0)?;
         self.stage = stage;
-        self.input = TickInput::default();
+        self.inputs.fill(TickInput::default());
         self.queue.restart();
         match &mut self.mode {
             InputMode::Live { record } => {
                 *record = self.options.record.clone().map(|path| {
                     (
-                        Recording {
-                            game: self.game.title().to_owned(),
-                            hz: rate.hz_value(),
-                            seed: self.options.settings.seed,
-                            integrator: self.options.settings.integrator.clone(),
-                            ticks: 0,
-                            inputs: Vec::new(),
-                            controls: Vec::new(),
-                        },
+                        Recording::new(
+                            self.game.title(),
+                            rate.hz_value(),
+                            self.options.settings.seed,
+                            self.options.settings.integrator.clone(),
+                        ),
                         path,
                     )
                 });
             }
             InputMode::Replay {
-                cursor, next_control, ..
+                cursors, next_control, ..
             } => {
-                *cursor = 0;
+                cursors.fill(0);
                 *next_control = 0;
             }
         }
@@ -301,20 +314,27 @@ impl<G: Game> GameSession<G> {
         self.clock.time() + self.clock.backlog()
     }
 
-    /// The input of the step `tick` ending at simulated time `end`:
-    /// replayed, or the player's events of its time window (and recorded).
-    fn tick_input(&mut self, tick: u64, end: f64) -> TickInput {
-        let carried = self.input.carried();
-        let input = match &mut self.mode {
-            InputMode::Replay { recording, cursor, .. } => {
-                let input = recording.input_at(cursor, tick, carried);
+    /// Takes the inputs of the step `tick` ending at simulated time `end`
+    /// into `self.inputs`: replayed, or the player's events of its time
+    /// window (and recorded) for player 0 and the default for the others.
+    fn take_tick_inputs(&mut self, tick: u64, end: f64) {
+        match &mut self.mode {
+            InputMode::Replay { recording, cursors, .. } => {
+                for (player, (input, cursor)) in self.inputs.iter_mut().zip(cursors.iter_mut()).enumerate() {
+                    *input = recording.input_of(player, cursor, tick, input.carried());
+                }
                 if tick >= recording.ticks && !self.replay_done {
                     self.replay_done = true;
-                    println!("tickwork: the replay ended at tick {tick}; the keyboard is ignored");
+                    // The state now is the recorded run's last: its checksum
+                    // compares a replay with the run (or match) it recorded.
+                    println!(
+                        "tickwork: the replay ended at tick {tick} with checksum {:016x}; the keyboard is ignored",
+                        checksum_of(&self.game, &self.stage)
+                    );
                 }
-                input
             }
             InputMode::Live { record } => {
+                let carried = self.inputs[0].carried();
                 let input = self.queue.tick(end);
                 if let Some((recording, _)) = record {
                     if input != carried {
@@ -322,18 +342,23 @@ impl<G: Game> GameSession<G> {
                     }
                     recording.ticks = tick + 1;
                 }
-                input
+                self.inputs[0] = input;
             }
-        };
-        self.input = input;
-        input
+        }
     }
 
-    /// One fixed step of the game: [`Game::fixed_update`] with `input`,
-    /// then every world of the stage.
-    pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, input: &TickInput) -> Result<(), RunError> {
+    /// This machine's input of the step ending at simulated time `end`,
+    /// from the window's events (a networked session sends it to the
+    /// other players rather than recording it here).
+    pub(super) fn local_input(&mut self, end: f64) -> TickInput {
+        self.queue.tick(end)
+    }
+
+    /// One fixed step of the game: [`Game::fixed_update_players`] with
+    /// every player's input, then every world of the stage.
+    pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, inputs: &[TickInput]) -> Result<(), RunError> {
         self.game
-            .fixed_update(&mut self.stage, &step, input)
+            .fixed_update_players(&mut self.stage, &step, inputs)
             .map_err(RunError::Game)?;
         for shown in &mut self.stage.worlds {
             shown.step(step).map_err(|error| {
@@ -344,6 +369,40 @@ impl<G: Game> GameSession<G> {
             })?;
         }
         Ok(())
+    }
+
+    /// Feeds a frame of `seconds` to the clock, gives the frame's input
+    /// events their simulated times, and says which steps are due.
+    pub(super) fn advance_clock(&mut self, seconds: f64) -> Result<Frame, RunError> {
+        let from = self.present();
+        let frame = self.clock.advance(seconds)?;
+        self.queue.stamp(from, self.present());
+        self.frame_rate.record(seconds);
+        Ok(frame)
+    }
+
+    /// Ends a frame whose steps ran: [`Game::update`] once.
+    pub(super) fn finish_frame(&mut self, frame: Frame) {
+        self.last = frame;
+        self.game.update(&mut self.stage, &self.last);
+    }
+
+    /// The clock, to give back steps a rollback session could not run.
+    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
+        &mut self.clock
+    }
+
+    /// The checksum of every world's state, in stage order, and of the
+    /// game's own ([`Game::state_hash`]).
+    #[must_use]
+    pub fn checksum(&self) -> u64 {
+        checksum_of(&self.game, &self.stage)
+    }
+
+    /// Players the game has.
+    #[must_use]
+    pub fn players(&self) -> usize {
+        self.inputs.len()
     }
 
     /// The game, to save and load it (rollback).
@@ -447,23 +506,32 @@ impl<G: Game> GameSession<G> {
     }
 }
 
+/// The game's [`Game::state_hash`] and every world's
+/// [`World::state_hash`](crate::World::state_hash), in stage order, mixed
+/// by FNV-1a over the words.
+fn checksum_of(game: &impl Game, stage: &Stage) -> u64 {
+    let worlds = stage.worlds.iter().map(|w| w.world.state_hash());
+    core::iter::once(game.state_hash())
+        .chain(worlds)
+        .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| (h ^ x).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
 impl<G: Game> FrameSource for GameSession<G> {
     fn title(&self) -> String {
         self.game.title().to_owned()
     }
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
-        let from = self.present();
-        let frame = self.clock.advance(seconds)?;
-        self.queue.stamp(from, self.present());
-        self.frame_rate.record(seconds);
+        let frame = self.advance_clock(seconds)?;
         for step in frame.fixed_steps() {
             self.replay_controls(step.tick)?;
-            let input = self.tick_input(step.tick, step.time + step.dt);
-            self.run_tick(step, &input)?;
+            self.take_tick_inputs(step.tick, step.time + step.dt);
+            let inputs = core::mem::take(&mut self.inputs);
+            let ran = self.run_tick(step, &inputs);
+            self.inputs = inputs;
+            ran?;
         }
-        self.last = frame;
-        self.game.update(&mut self.stage, &self.last);
+        self.finish_frame(frame);
         Ok(())
     }
 

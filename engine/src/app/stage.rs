@@ -146,6 +146,11 @@ pub struct Settings {
     pub integrator: Option<String>,
     /// `--seed` (default 0).
     pub seed: u64,
+    /// Whether every player's input comes from a player: a networked
+    /// match, or the replay of one (default false: only player 0's comes
+    /// from this machine, and a game of more players drives or idles the
+    /// others itself). The same on every peer, so a game may branch on it.
+    pub networked: bool,
 }
 
 /// Worlds up to this many particles sample their energy every step (for

@@ -444,6 +444,25 @@ impl FixedClock {
         self.frame(n, 0.0, 0.0, first_tick)
     }
 
+    /// Gives back `steps` of the last frame's steps that were not run (a
+    /// rollback session waiting for the other player): their time goes back
+    /// into the accumulator and is due again next frame, up to one frame's
+    /// cap of steps (`max_steps_per_frame`); past that it is dropped, as a
+    /// hitch would be. Returns the real seconds dropped.
+    pub fn defer(&mut self, steps: u32) -> f64 {
+        let steps = steps.min(u32::try_from(self.tick).unwrap_or(u32::MAX));
+        self.tick -= u64::from(steps);
+        let step_units = self.step_units();
+        let cap = u128::from(self.config.max_steps_per_frame) * step_units;
+        let wanted = self.accumulator + u128::from(steps) * step_units;
+        self.accumulator = wanted.min(cap + self.accumulator % step_units);
+        let dropped_units = wanted - self.accumulator;
+        let (_, denom) = self.timeline.rate.fraction();
+        let dropped = (dropped_units / u128::from(denom)) as f64 / 1e9 / self.config.time_scale;
+        self.dropped_total += dropped;
+        dropped
+    }
+
     fn frame(&self, steps: u32, dropped: f64, real_seconds: f64, first_tick: u64) -> Frame {
         let simulated = f64::from(steps) * self.timeline.rate.step_seconds();
         Frame {

@@ -96,6 +96,21 @@ impl KeySet {
         self.0 == 0
     }
 
+    /// The set as a bit mask, bit `k` for the key numbered `k` (a fixed-size
+    /// form for the network).
+    #[must_use]
+    pub fn bits(self) -> u32 {
+        self.0
+    }
+
+    /// The set of a bit mask from [`bits`](Self::bits); bits that name no
+    /// key are dropped.
+    #[must_use]
+    pub fn from_bits(bits: u32) -> Self {
+        let known = Key::ALL.iter().fold(0, |mask, key| mask | key.bit());
+        Self(bits & known)
+    }
+
     /// The keys in the set, in [`Key::ALL`] order.
     pub fn iter(self) -> impl Iterator<Item = Key> {
         Key::ALL.into_iter().filter(move |k| self.contains(*k))

@@ -81,16 +81,77 @@ pub struct Recording {
     /// that tick's input, in order. Absent in recordings without any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub controls: Vec<(u64, RecordedControl)>,
+    /// The inputs of players 1, 2, ... of a networked match, each in the
+    /// form of `inputs` (which holds player 0's). Absent in one-player
+    /// recordings.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub other_players: Vec<Vec<(u64, TickInput)>>,
 }
 
 impl Recording {
-    /// The recorded input of `tick`, or `carried` (the last tick's held
-    /// keys) if the recording has none for it. `cursor` is where the
-    /// previous call stopped: ask ticks in increasing order, from 0.
+    /// The most players a recording holds (and a game has): 8.
+    pub const MAX_PLAYERS: usize = 8;
+
+    /// An empty recording of `game` at `hz` steps per second.
+    #[must_use]
+    pub fn new(game: &str, hz: f64, seed: u64, integrator: Option<String>) -> Self {
+        Self {
+            game: game.to_owned(),
+            hz,
+            seed,
+            integrator,
+            ticks: 0,
+            inputs: Vec::new(),
+            controls: Vec::new(),
+            other_players: Vec::new(),
+        }
+    }
+
+    /// Players whose input the recording holds (1, or more for a match).
+    #[must_use]
+    pub fn players(&self) -> usize {
+        1 + self.other_players.len()
+    }
+
+    /// The recorded inputs of `player` (0 is `inputs`), if it has any.
+    #[must_use]
+    pub fn inputs_of(&self, player: usize) -> Option<&[(u64, TickInput)]> {
+        match player {
+            0 => Some(&self.inputs),
+            _ => self.other_players.get(player - 1).map(Vec::as_slice),
+        }
+    }
+
+    /// The mutable inputs of `player`, adding empty lists up to it.
+    pub fn inputs_of_mut(&mut self, player: usize) -> &mut Vec<(u64, TickInput)> {
+        match player {
+            0 => &mut self.inputs,
+            _ => {
+                if self.other_players.len() < player {
+                    self.other_players.resize_with(player, Vec::new);
+                }
+                &mut self.other_players[player - 1]
+            }
+        }
+    }
+
+    /// Player 0's recorded input of `tick` (see [`input_of`](Self::input_of)).
     #[must_use]
     pub fn input_at(&self, cursor: &mut usize, tick: u64, carried: TickInput) -> TickInput {
+        self.input_of(0, cursor, tick, carried)
+    }
+
+    /// The recorded input of `player` at `tick`, or `carried` (the last
+    /// tick's held keys) if the recording has none for it (the default
+    /// input for a player it does not hold). `cursor` is where the
+    /// previous call stopped: ask ticks in increasing order, from 0.
+    #[must_use]
+    pub fn input_of(&self, player: usize, cursor: &mut usize, tick: u64, carried: TickInput) -> TickInput {
+        let Some(inputs) = self.inputs_of(player) else {
+            return TickInput::default();
+        };
         let mut input = carried;
-        while let Some((at, recorded)) = self.inputs.get(*cursor) {
+        while let Some((at, recorded)) = inputs.get(*cursor) {
             if *at > tick {
                 break;
             }
@@ -166,31 +227,42 @@ impl Recording {
                 ),
             ));
         }
-        let mut previous = None;
-        for (k, (tick, _)) in self.inputs.iter().enumerate() {
-            if *tick >= self.ticks || previous.is_some_and(|p| *tick <= p) {
-                return Err((
-                    "inputs",
-                    format!(
-                        "entry {k} is at tick {tick}: ticks must rise and stay below the recording's {} ticks",
-                        self.ticks
-                    ),
-                ));
-            }
-            previous = Some(*tick);
-        }
-        if let Some(k) = self
-            .inputs
-            .iter()
-            .position(|(_, input)| input.pointer.is_some_and(|p| !p.iter().all(|c| c.is_finite())))
-        {
+        if self.players() > Self::MAX_PLAYERS {
             return Err((
-                "inputs",
+                "other_players",
                 format!(
-                    "entry {k}: the pointer must be a finite world point, got {:?}",
-                    self.inputs[k].1.pointer
+                    "{} players, past the limit of {} (Recording::MAX_PLAYERS)",
+                    self.players(),
+                    Self::MAX_PLAYERS
                 ),
             ));
+        }
+        for player in 0..self.players() {
+            let field = if player == 0 { "inputs" } else { "other_players" };
+            let who = if player == 0 { String::new() } else { format!("player {player}: ") };
+            let inputs = self.inputs_of(player).unwrap_or_default();
+            let mut previous = None;
+            for (k, (tick, input)) in inputs.iter().enumerate() {
+                if *tick >= self.ticks || previous.is_some_and(|p| *tick <= p) {
+                    return Err((
+                        field,
+                        format!(
+                            "{who}entry {k} is at tick {tick}: ticks must rise and stay below the recording's {} ticks",
+                            self.ticks
+                        ),
+                    ));
+                }
+                previous = Some(*tick);
+                if input.pointer.is_some_and(|p| !p.iter().all(|c| c.is_finite())) {
+                    return Err((
+                        field,
+                        format!(
+                            "{who}entry {k}: the pointer must be a finite world point, got {:?}",
+                            input.pointer
+                        ),
+                    ));
+                }
+            }
         }
         let mut previous = 0;
         for (k, (tick, control)) in self.controls.iter().enumerate() {

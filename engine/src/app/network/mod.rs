@@ -1,0 +1,25 @@
+//! Two players over the network with rollback, on GGRS: a [`Lobby`] finds
+//! the other player over UDP, a [`NetSession`] plays the match (every
+//! machine runs the whole simulation, predicts the other's input, and
+//! rolls back to re-run ticks when the real input differs), and an
+//! [`ImpairedSocket`] makes the link as bad as asked, the same way every
+//! run, for tests on one machine.
+//!
+//! Where it sits in the data flow: input per tick -> GGRS (sends ours,
+//! predicts theirs) -> save, load and run ticks (GGRS's requests, on the
+//! [`GameSession`]) -> the clock, which is given back the
+//! ticks GGRS could not run yet. What a save holds is
+//! [`SavedTick`](crate::app::SavedTick): the game (a clone), every world's
+//! snapshot, and which worlds froze.
+//!
+//! [`GameSession`]: crate::app::GameSession
+
+mod impairment;
+mod lobby;
+mod session;
+mod transport;
+
+pub use impairment::{ImpairedSocket, Impairment, ImpairmentCounts};
+pub use lobby::{Lobby, Peer};
+pub use session::{MatchReport, NetOptions, NetSession};
+pub use transport::Welcome;

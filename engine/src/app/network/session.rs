@@ -1,0 +1,595 @@
+//! [`NetSession`]: a game of two players over the network, each machine
+//! running the whole simulation under GGRS's `P2PSession`.
+//!
+//! Per displayed frame: GGRS reads the network; the clock says how many
+//! ticks are due; for each, this machine's input goes to GGRS, which
+//! answers with requests (roll back to a saved tick, run ticks again with
+//! the inputs that arrived, save, run the new tick with the remote input
+//! predicted). When GGRS has to wait for the other player (this side is
+//! a prediction window ahead), the due ticks go back to the clock
+//! ([`FixedClock::defer`](crate::clock::FixedClock::defer)) and run on a
+//! later frame: no time is lost, no tick is run twice from the clock.
+//! GGRS's advice to let the other side catch up (`WaitRecommendation`)
+//! skips that many due ticks instead.
+//!
+//! A match of `--frames N` ticks ends when this side knows tick N's state
+//! for certain (every input before it confirmed and any rollback through
+//! it done) and the other side says it does too (or has gone).
+
+use std::cell::RefCell;
+use std::net::SocketAddr;
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use ggrs::{DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, P2PSession, PlayerType, SessionBuilder, SessionState};
+
+use super::impairment::{ImpairedSocket, Impairment};
+use super::lobby::{Lobby, Peer};
+use super::transport::{ControlMessage, Shared, UdpTransport, Welcome};
+use crate::app::rollback::{Rollback, RollbackCursor, SavedTick, fulfil};
+use crate::app::stage::Settings;
+use crate::app::{Control, FrameSource, Game, GameError, GameSession, RunError, SessionOptions};
+use crate::input::{InputEvent, Recording, TickInput};
+use crate::render::{Camera, FrameView, RenderError};
+
+/// How a match is played over the network.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NetOptions {
+    /// Ticks a player's input waits before it counts (default 2): hides
+    /// that much latency without a rollback, at the price of that much lag.
+    pub input_delay: usize,
+    /// Ticks a side runs ahead on predicted input before it waits for the
+    /// other (default 8, GGRS's default; 0 is lockstep).
+    pub max_prediction: usize,
+    /// Delay, jitter and loss laid on what this side sends (default none).
+    pub impairment: Option<Impairment>,
+    /// How long to wait for the other player to join, answer or
+    /// synchronise, in seconds (default 60).
+    pub wait_seconds: f64,
+    /// Ticks between the peers' checksum comparisons (default 10: six a
+    /// second at 60 Hz).
+    pub desync_interval: u32,
+}
+
+impl Default for NetOptions {
+    fn default() -> Self {
+        Self {
+            input_delay: 2,
+            max_prediction: 8,
+            impairment: None,
+            wait_seconds: 60.0,
+            desync_interval: 10,
+        }
+    }
+}
+
+impl NetOptions {
+    /// The longest input delay: 8 ticks (past it the lag is plain to feel).
+    pub const MAX_INPUT_DELAY: usize = 8;
+    /// The widest prediction window: 16 ticks (a rollback then re-runs up
+    /// to 16 ticks in one frame).
+    pub const MAX_PREDICTION: usize = 16;
+    /// The longest wait for the other player: a day.
+    pub const MAX_WAIT_SECONDS: f64 = 86_400.0;
+
+    /// Checks every field's range.
+    ///
+    /// # Errors
+    /// [`RunError::Limit`] naming the field, its value and the range.
+    pub fn check(&self) -> Result<(), RunError> {
+        let limit = |field: &str, value: String, range: String| {
+            Err(RunError::Limit(format!("{field} {value}: accepted {range}")))
+        };
+        if self.input_delay > Self::MAX_INPUT_DELAY {
+            return limit(
+                "--input-delay",
+                self.input_delay.to_string(),
+                format!("0 to {} ticks (NetOptions::MAX_INPUT_DELAY)", Self::MAX_INPUT_DELAY),
+            );
+        }
+        if self.max_prediction > Self::MAX_PREDICTION {
+            return limit(
+                "--max-prediction",
+                self.max_prediction.to_string(),
+                format!("0 to {} ticks (NetOptions::MAX_PREDICTION)", Self::MAX_PREDICTION),
+            );
+        }
+        if !(self.wait_seconds > 0.0 && self.wait_seconds <= Self::MAX_WAIT_SECONDS) {
+            return limit(
+                "--wait-seconds",
+                self.wait_seconds.to_string(),
+                format!("above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)", Self::MAX_WAIT_SECONDS),
+            );
+        }
+        if self.desync_interval == 0 {
+            return limit("desync_interval", "0".into(), "at least 1 tick".into());
+        }
+        if let Some(impairment) = &self.impairment {
+            impairment.check().map_err(|e| RunError::Limit(format!("--impair: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+/// What a match did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatchReport {
+    /// The tick the match ended at (its final state is at the start of it).
+    pub ticks: u64,
+    /// The final state's checksum (the same on both sides).
+    pub checksum: u64,
+    /// States loaded to correct a misprediction.
+    pub rollbacks: u64,
+    /// Ticks run again after those loads.
+    pub resimulated: u64,
+    /// Due ticks that waited for the other player (prediction window full).
+    pub waits: u64,
+    /// Ticks skipped on GGRS's advice, to let the other side catch up.
+    pub skipped: u64,
+    /// The game's outcome line.
+    pub outcome: Option<String>,
+}
+
+/// A local player's input read from a recording instead of the keyboard.
+#[derive(Debug)]
+struct Script {
+    recording: Recording,
+    cursor: usize,
+    input: TickInput,
+}
+
+/// A game in a networked match. See the [module docs](self).
+pub struct NetSession<G: Game + Clone + 'static> {
+    session: GameSession<G>,
+    p2p: P2PSession<Rollback<G>>,
+    local: usize,
+    remote: SocketAddr,
+    shared: Rc<RefCell<Shared>>,
+    cursor: RollbackCursor,
+    /// This side's input given to GGRS for a tick not yet run.
+    pending: Option<TickInput>,
+    script: Option<Script>,
+    /// Every player's input of every tick run, `players` a tick: after the
+    /// match, the confirmed inputs (a misprediction was run again).
+    played: Vec<TickInput>,
+    /// Ticks whose inputs are all confirmed and were run with them.
+    certain_ticks: u64,
+    skip: u32,
+    end: Option<u64>,
+    /// The last save of tick `end`, and its checksum.
+    final_state: Option<(SavedTick<G>, u64)>,
+    settled: bool,
+    remote_gone: bool,
+    waits: u64,
+    skipped: u64,
+    started: Instant,
+    wait: Duration,
+}
+
+impl<G: Game + Clone + 'static> std::fmt::Debug for NetSession<G> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NetSession")
+            .field("session", &self.session)
+            .field("local", &self.local)
+            .field("remote", &self.remote)
+            .field("tick", &self.cursor.tick)
+            .finish_non_exhaustive()
+    }
+}
+
+fn ggrs_error(error: GgrsError) -> RunError {
+    RunError::Network(format!("GGRS: {error}"))
+}
+
+impl<G: Game + Clone + 'static> NetSession<G> {
+    /// Finds the other player from `lobby` and starts the match: the host's
+    /// seed, rate and integrator (from `options`) are the joiner's too.
+    /// `script` plays this side's input from a recording (tests, bots).
+    ///
+    /// # Errors
+    /// [`RunError::Network`] if the other player is not found in time or
+    /// plays another game, [`RunError::Limit`] for options out of range,
+    /// [`RunError::Game`] for a game that does not have two players or
+    /// whose set-up fails.
+    pub fn start(
+        game: G,
+        lobby: Lobby,
+        options: SessionOptions,
+        net: &NetOptions,
+        script: Option<Recording>,
+    ) -> Result<Self, RunError> {
+        net.check()?;
+        let title = game.title().to_owned();
+        if game.players() != 2 {
+            return Err(RunError::Game(GameError::Message(format!(
+                "\"{title}\" has {} player(s); a networked match (--host, --join) needs a game of 2",
+                game.players()
+            ))));
+        }
+        if let Some(script) = &script
+            && (script.game != title || script.players() != 1)
+        {
+            return Err(RunError::Game(GameError::Message(format!(
+                "the recording is of {} player(s) of \"{}\"; a networked match plays one player's recording of \
+                 \"{title}\" for this side",
+                script.players(),
+                script.game
+            ))));
+        }
+        let wait = Duration::from_secs_f64(net.wait_seconds);
+        let started = Instant::now();
+        let peer = lobby.peer();
+        let own = Welcome {
+            game: title.clone(),
+            seed: options.settings.seed,
+            hz: options.hz,
+            integrator: options.settings.integrator.clone(),
+        };
+        let connection = lobby.connect(own.clone(), wait)?;
+        let welcome = connection.welcome;
+        if let Peer::Join { host } = peer {
+            if welcome.game != title {
+                return Err(RunError::Network(format!(
+                    "the host at {host} plays \"{}\", not \"{title}\"",
+                    welcome.game
+                )));
+            }
+            let differs = [
+                ("--seed", own.seed != 0 && own.seed != welcome.seed),
+                ("--hz", own.hz.is_some() && own.hz != welcome.hz),
+                ("--integrator", own.integrator.is_some() && own.integrator != welcome.integrator),
+            ];
+            if let Some((flag, _)) = differs.iter().find(|d| d.1) {
+                return Err(RunError::Network(format!(
+                    "{flag} differs from the host's (seed {}, hz {}, integrator {}): a joiner plays with the \
+                     host's settings; leave {flag} out",
+                    welcome.seed,
+                    welcome.hz.map_or_else(|| "the game's".to_owned(), |hz| hz.to_string()),
+                    welcome.integrator.as_deref().unwrap_or("the game's"),
+                )));
+            }
+        }
+        let session = GameSession::new(
+            game,
+            SessionOptions {
+                settings: Settings {
+                    integrator: welcome.integrator.clone(),
+                    seed: welcome.seed,
+                    networked: true,
+                },
+                hz: welcome.hz,
+                record: None,
+                replay: None,
+                ..options
+            },
+        )?;
+        let shared = Rc::new(RefCell::new(Shared {
+            welcome: matches!(peer, Peer::Host { .. }).then(|| ControlMessage::Welcome(welcome.clone()).encode()),
+            ..Shared::default()
+        }));
+        let transport = UdpTransport::new(connection.socket, connection.remote, Rc::clone(&shared))
+            .map_err(|e| RunError::Network(e.to_string()))?;
+        let fps = session.clock().timeline().rate().hz_value().round().max(1.0) as usize;
+        let local = peer.player();
+        let builder = SessionBuilder::<Rollback<G>>::new()
+            .with_num_players(2)
+            .map_err(ggrs_error)?
+            .with_input_delay(net.input_delay)
+            .with_max_prediction_window(net.max_prediction)
+            .with_desync_detection_mode(DesyncDetection::On {
+                interval: net.desync_interval,
+            })
+            .with_fps(fps)
+            .map_err(ggrs_error)?
+            .add_player(PlayerType::Local, local)
+            .map_err(ggrs_error)?
+            .add_player(PlayerType::Remote(connection.remote), 1 - local)
+            .map_err(ggrs_error)?;
+        let p2p = match net.impairment {
+            Some(impairment) => builder.start_p2p_session(ImpairedSocket::new(transport, impairment)),
+            None => builder.start_p2p_session(transport),
+        }
+        .map_err(ggrs_error)?;
+        Ok(Self {
+            session,
+            p2p,
+            local,
+            remote: connection.remote,
+            shared,
+            cursor: RollbackCursor::new(0),
+            pending: None,
+            script: script.map(|recording| Script {
+                recording,
+                cursor: 0,
+                input: TickInput::default(),
+            }),
+            played: Vec::new(),
+            certain_ticks: 0,
+            skip: 0,
+            end: None,
+            final_state: None,
+            settled: false,
+            remote_gone: false,
+            waits: 0,
+            skipped: 0,
+            started,
+            wait,
+        })
+    }
+
+    /// The game session underneath (the stage, the clock, the game).
+    #[must_use]
+    pub fn session(&self) -> &GameSession<G> {
+        &self.session
+    }
+
+    /// This side's player number (the host 0, the joiner 1).
+    #[must_use]
+    pub fn local_player(&self) -> usize {
+        self.local
+    }
+
+    /// Ends the match at tick `ticks` (else it runs until the window closes).
+    pub fn end_at(&mut self, ticks: u64) {
+        self.end = Some(ticks);
+    }
+
+    /// Whether the match is over: this side knows the final state, and the
+    /// other says so too or has gone.
+    #[must_use]
+    pub fn is_over(&self) -> bool {
+        self.settled && (self.remote_gone || self.shared.borrow().remote_done)
+    }
+
+    /// This side's input of the tick ending at simulated time `end`.
+    fn next_local_input(&mut self, end: f64) -> TickInput {
+        let tick = self.cursor.tick;
+        match &mut self.script {
+            Some(script) => {
+                script.input = script.recording.input_at(&mut script.cursor, tick, script.input.carried());
+                script.input
+            }
+            None => self.session.local_input(end),
+        }
+    }
+
+    /// Reads GGRS's events: a desync or a lost peer ends the match.
+    fn handle_events(&mut self) -> Result<(), RunError> {
+        let tick = self.cursor.tick;
+        for event in self.p2p.events() {
+            match event {
+                GgrsEvent::Synchronized { addr } => println!("tickwork: connected to {addr}"),
+                GgrsEvent::WaitRecommendation { skip_frames } => self.skip += skip_frames,
+                GgrsEvent::NetworkInterrupted {
+                    addr,
+                    disconnect_timeout,
+                } if !self.settled => {
+                    println!("tickwork: no word from {addr}; it is dropped in {disconnect_timeout} ms unless it answers");
+                }
+                GgrsEvent::Disconnected { .. } if self.settled => self.remote_gone = true,
+                GgrsEvent::Disconnected { addr } => {
+                    return Err(RunError::Network(format!(
+                        "the other player ({addr}) disconnected at tick {tick}"
+                    )));
+                }
+                GgrsEvent::DesyncDetected {
+                    frame,
+                    local_checksum,
+                    remote_checksum,
+                    addr,
+                } => {
+                    return Err(RunError::Network(format!(
+                        "desync at tick {frame}: this side's checksum is {local_checksum:016x}, the other's ({addr}) \
+                         {remote_checksum:016x}; the two simulations differ (something the game does is not \
+                         deterministic or not in its saved state: run it with --sync-test to find it)"
+                    )));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Gives GGRS this side's input for the next tick and fulfils its
+    /// requests; false if GGRS is waiting (not synchronised yet, or a
+    /// prediction window ahead), so the tick did not run.
+    fn try_tick(&mut self, end_time: f64) -> Result<bool, RunError> {
+        if self.p2p.current_state() != SessionState::Running {
+            if self.started.elapsed() > self.wait {
+                return Err(RunError::Network(format!(
+                    "could not synchronise with {} within {} s (NetOptions::wait_seconds; raise it with \
+                     --wait-seconds)",
+                    self.remote,
+                    self.wait.as_secs_f64()
+                )));
+            }
+            return Ok(false);
+        }
+        let input = match self.pending {
+            Some(input) => input,
+            None => self.next_local_input(end_time),
+        };
+        self.pending = Some(input);
+        self.p2p.add_local_input(self.local, input.into()).map_err(ggrs_error)?;
+        // Whether tick `end`'s state is certain once this call's rollback
+        // (if any) is done: every input before it confirmed.
+        let end = self.end;
+        let confirmed = u64::try_from(self.p2p.confirmed_frame()).map_or(0, |f| f + 1);
+        let certain_before = confirmed.min(self.cursor.tick);
+        let certain = end.is_some_and(|end| certain_before >= end);
+        let requests = self.p2p.advance_frame().map_err(ggrs_error)?;
+        let advanced = requests.iter().any(|r| matches!(r, GgrsRequest::AdvanceFrame { .. }));
+        let players = 2;
+        let (final_state, played) = (&mut self.final_state, &mut self.played);
+        fulfil(
+            &mut self.session,
+            requests,
+            &mut self.cursor,
+            |tick, state, checksum| {
+                if Some(tick) == end {
+                    match final_state {
+                        Some((kept, sum)) => {
+                            kept.clone_from(state);
+                            *sum = checksum;
+                        }
+                        None => *final_state = Some((state.clone(), checksum)),
+                    }
+                }
+            },
+            |tick, inputs| {
+                let at = usize::try_from(tick).unwrap_or(usize::MAX).saturating_mul(players);
+                if played.len() < at + players {
+                    played.resize(at + players, TickInput::default());
+                }
+                played[at..at + players].copy_from_slice(inputs);
+            },
+        )?;
+        self.certain_ticks = self.certain_ticks.max(certain_before);
+        if certain && self.final_state.is_some() && !self.settled {
+            self.settled = true;
+            self.shared.borrow_mut().local_done = true;
+        }
+        if advanced {
+            self.pending = None;
+        } else {
+            self.waits += 1;
+        }
+        Ok(advanced)
+    }
+
+    /// Plays the match without a window until it is over at tick `ticks`,
+    /// in real time (a frame whenever a tick is due), and puts the stage
+    /// at the final state.
+    ///
+    /// # Errors
+    /// [`RunError::Network`] for a desync, a lost or silent peer; a game
+    /// or world failure.
+    pub fn play_headless(&mut self, ticks: u64) -> Result<MatchReport, RunError> {
+        self.end_at(ticks);
+        let dt = Duration::from_secs_f64(self.session.clock().dt());
+        let mut last = Instant::now();
+        while !self.is_over() {
+            let now = Instant::now();
+            self.advance((now - last).as_secs_f64())?;
+            last = now;
+            // Frame pacing, as a display's vsync would: the next tick is due
+            // a step after this one; GGRS is read again then.
+            std::thread::sleep(dt.saturating_sub(last.elapsed()).min(Duration::from_millis(4)));
+        }
+        self.finish()
+    }
+
+    /// Puts the stage at the final state and reports the match.
+    fn finish(&mut self) -> Result<MatchReport, RunError> {
+        let (state, checksum) = self.final_state.as_ref().ok_or_else(|| {
+            RunError::Network("the match ended before its final state was known".into())
+        })?;
+        let checksum = *checksum;
+        let state = state.clone();
+        self.session.load_tick(&state)?;
+        Ok(MatchReport {
+            ticks: self.end.unwrap_or(self.cursor.tick),
+            checksum,
+            rollbacks: self.cursor.rollbacks,
+            resimulated: self.cursor.resimulated,
+            waits: self.waits,
+            skipped: self.skipped,
+            outcome: self.session.outcome(),
+        })
+    }
+
+    /// Both players' inputs up to the end of the match, as a recording
+    /// that `--replay` plays back to the same final state.
+    #[must_use]
+    pub fn recording(&self) -> Recording {
+        let clock = self.session.clock();
+        let settings = self.session.stage().settings();
+        let mut recording = Recording::new(
+            self.session.game().title(),
+            clock.timeline().rate().hz_value(),
+            settings.seed,
+            settings.integrator.clone(),
+        );
+        let players = 2;
+        let certain = match self.end {
+            Some(end) if self.settled => end,
+            _ => self.certain_ticks,
+        };
+        let ticks = certain.min((self.played.len() / players) as u64);
+        recording.ticks = ticks;
+        for player in 0..players {
+            let inputs = recording.inputs_of_mut(player);
+            let mut carried = TickInput::default();
+            for tick in 0..ticks {
+                let input = self.played[tick as usize * players + player];
+                if input != carried {
+                    inputs.push((tick, input));
+                }
+                carried = input.carried();
+            }
+        }
+        recording
+    }
+}
+
+impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
+    fn title(&self) -> String {
+        format!("{} (player {})", self.session.game().title(), self.local + 1)
+    }
+
+    fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
+        self.p2p.poll_remote_clients();
+        self.handle_events()?;
+        let frame = self.session.advance_clock(seconds)?;
+        let mut ran = 0;
+        for step in frame.fixed_steps() {
+            if self.skip > 0 {
+                // Not run and not given back: this side slows down by a tick.
+                self.skip -= 1;
+                self.skipped += 1;
+                ran += 1;
+                continue;
+            }
+            if !self.try_tick(step.time + step.dt)? {
+                break;
+            }
+            ran += 1;
+        }
+        if ran < frame.steps {
+            self.session.clock_mut().defer(frame.steps - ran);
+        }
+        self.session.finish_frame(frame);
+        Ok(())
+    }
+
+    fn control(&mut self, control: Control) -> Result<(), RunError> {
+        // Both sides must run the same ticks with the same integrators.
+        println!("tickwork: {control:?} is not available in a networked match");
+        Ok(())
+    }
+
+    fn takes_input(&self) -> bool {
+        self.script.is_none()
+    }
+
+    fn input(&mut self, event: InputEvent, arrival: f64) {
+        self.session.input(event, arrival);
+    }
+
+    fn ticks(&self) -> u64 {
+        self.cursor.tick
+    }
+
+    fn camera_mut(&mut self) -> &mut Camera {
+        self.session.camera_mut()
+    }
+
+    fn with_view(
+        &mut self,
+        hud: bool,
+        size: (u32, u32),
+        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
+    ) -> Result<(), RunError> {
+        self.session.with_view(hud, size, render)
+    }
+}
