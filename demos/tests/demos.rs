@@ -391,6 +391,7 @@ fn every_demo_re_simulates_to_the_same_states_under_a_rollback_sync_test() {
         (env!("CARGO_BIN_EXE_cloth"), "cloth"),
         (env!("CARGO_BIN_EXE_tops"), "tops"),
         (env!("CARGO_BIN_EXE_breakout"), "breakout"),
+        (env!("CARGO_BIN_EXE_rally"), "rally"),
     ] {
         let stdout = sync_test(binary, &["--frames", "90"]);
         assert!(
