@@ -190,7 +190,10 @@ impl Game for Rally {
                 let points = self.score[0] + self.score[1];
                 let angle = (f32::from(u8::try_from(points % 5).unwrap_or(0)) - 2.0) * 12f32.to_radians();
                 let towards = if side == 0 { -1.0 } else { 1.0 };
-                world.set_velocity(self.ball, self.speed * Vec3::new(towards * angle.cos(), angle.sin(), 0.0))?;
+                world.set_velocity(
+                    self.ball,
+                    self.speed * Vec3::new(towards * angle.cos(), angle.sin(), 0.0),
+                )?;
                 self.play = Play::Rallying;
             }
             Play::Serving { wait, side } => {
@@ -229,13 +232,20 @@ impl Game for Rally {
         for y in (0..9).map(|k| k as f32 + 0.25) {
             draw.line(Vec3::new(0.0, y, 0.0), Vec3::new(0.0, y + 0.5, 0.0), [70, 80, 95, 255]);
         }
-        draw.line(Vec3::new(-half, 0.0, 0.0), Vec3::new(half, 0.0, 0.0), [90, 100, 120, 255]);
-        draw.line(Vec3::new(-half, top, 0.0), Vec3::new(half, top, 0.0), [90, 100, 120, 255]);
-        for side in 0..2 {
-            let x = if side == 0 { -2.0 } else { 2.0 };
-            draw.text(self.score[side].to_string(), Vec3::new(x, top - 1.0, 0.0))
+        draw.line(
+            Vec3::new(-half, 0.0, 0.0),
+            Vec3::new(half, 0.0, 0.0),
+            [90, 100, 120, 255],
+        );
+        draw.line(
+            Vec3::new(-half, top, 0.0),
+            Vec3::new(half, top, 0.0),
+            [90, 100, 120, 255],
+        );
+        for ((score, colour), x) in self.score.iter().zip(COLOURS).zip([-2.0, 2.0]) {
+            draw.text(score.to_string(), Vec3::new(x, top - 1.0, 0.0))
                 .size(40.0)
-                .colour(COLOURS[side])
+                .colour(colour)
                 .anchor(Anchor::Centre);
         }
         draw.hud = if self.computer {

@@ -166,7 +166,7 @@ fn the_integrator_option_takes_one_name_and_says_why_not_a_list() {
             SessionOptions {
                 settings: Settings {
                     integrator: Some(integrator.into()),
-                    seed: 0,
+                    ..Settings::default()
                 },
                 ..SessionOptions::default()
             },

@@ -152,7 +152,10 @@ fn a_match_over_loopback_and_one_over_a_bad_link_end_in_the_same_state_and_repla
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{stdout}");
     assert!(
-        stdout.contains(&format!("sync test passed: 300 ticks, each rolled back 7 ticks and re-simulated to the same state (checksum {})", clean[0].checksum)),
+        stdout.contains(&format!(
+            "sync test passed: 300 ticks, each rolled back 7 ticks and re-simulated to the same state (checksum {})",
+            clean[0].checksum
+        )),
         "{stdout}"
     );
     let out = dir.join("replay");
@@ -162,9 +165,16 @@ fn a_match_over_loopback_and_one_over_a_bad_link_end_in_the_same_state_and_repla
         .output()
         .expect("runs");
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&output.stderr));
     assert!(
-        stdout.contains(&format!("the replay ended at tick 300 with checksum {}", clean[0].checksum)),
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains(&format!(
+            "the replay ended at tick 300 with checksum {}",
+            clean[0].checksum
+        )),
         "{stdout}"
     );
     assert!(stdout.contains(&clean[0].outcome), "{stdout}");
@@ -226,7 +236,10 @@ fn a_match_that_cannot_start_says_why() {
 #[test]
 fn alone_the_right_paddle_plays_itself_and_the_first_to_five_wins() {
     let mut session = GameSession::new(Rally::default(), SessionOptions::default()).expect("sets up");
-    assert!(session.game().computer, "a run alone gives the right paddle to the computer");
+    assert!(
+        session.game().computer,
+        "a run alone gives the right paddle to the computer"
+    );
     // Nobody moves the left paddle: it returns only what comes straight at
     // it, and the computer wins the match.
     for _ in 0..60 * 120 {
@@ -238,8 +251,5 @@ fn alone_the_right_paddle_plays_itself_and_the_first_to_five_wins() {
     let [left, right] = session.game().score;
     assert_eq!(session.game().play, Play::Over, "{left} : {right}");
     assert!(right == 5 && left < 5, "{left} : {right}");
-    assert_eq!(
-        session.outcome(),
-        Some(format!("left {left} : 5 right (right wins)"))
-    );
+    assert_eq!(session.outcome(), Some(format!("left {left} : 5 right (right wins)")));
 }

@@ -60,7 +60,7 @@ fn budget(c: &mut Criterion) {
         let mut tick = 0;
         group.bench_function("step", |b| {
             b.iter(|| {
-                session.step_tick(tick, &input).expect("steps");
+                session.step_tick(tick, core::slice::from_ref(&input)).expect("steps");
                 tick += 1;
             });
         });

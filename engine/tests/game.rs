@@ -224,9 +224,14 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
         ticks: 10,
         inputs: vec![],
         controls: vec![],
+        other_players: vec![],
     };
     let options = |seed| SessionOptions {
-        settings: Settings { integrator: None, seed },
+        settings: Settings {
+            integrator: None,
+            seed,
+            networked: false,
+        },
         replay: Some(recording.clone()),
         ..SessionOptions::default()
     };
@@ -243,7 +248,7 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
         SessionOptions {
             settings: Settings {
                 integrator: Some("rk5".into()),
-                seed: 0,
+                ..Settings::default()
             },
             ..SessionOptions::default()
         },

@@ -250,8 +250,14 @@ fn two_peers_agree_and_a_corrupted_peer_is_caught_with_the_tick_and_both_checksu
         ..Drift::default()
     };
     let sides = play(corrupted, &net, 240);
-    assert!(sides.iter().all(Result::is_err), "a corrupted match ended well: {sides:?}");
-    let messages: Vec<String> = sides.iter().map(|s| s.as_ref().expect_err("failed").to_string()).collect();
+    assert!(
+        sides.iter().all(Result::is_err),
+        "a corrupted match ended well: {sides:?}"
+    );
+    let messages: Vec<String> = sides
+        .iter()
+        .map(|s| s.as_ref().expect_err("failed").to_string())
+        .collect();
     // Checksums of confirmed ticks are compared every 10 ticks: the first
     // compared after the push at tick 100 differs (the state at tick 100,
     // before the push, is the same on both sides).

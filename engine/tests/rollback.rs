@@ -69,8 +69,8 @@ impl Game for Bouncer {
     }
 }
 
-/// Space pressed every 25th tick.
-fn kicks(tick: u64) -> TickInput {
+/// Space pressed every 25th tick (by the only player).
+fn kicks(tick: u64, _player: usize) -> TickInput {
     let mut input = TickInput::default();
     if tick % 25 == 3 {
         input.pressed.insert(Key::Space);
@@ -104,7 +104,7 @@ fn every_kind_of_method_re_simulates_to_the_same_states() {
             ..Bouncer::default()
         });
         for tick in 0..200 {
-            straight.step_tick(tick, &kicks(tick)).expect("steps");
+            straight.step_tick(tick, &[kicks(tick, 0)]).expect("steps");
         }
         assert_eq!(report.checksum, straight.checksum(), "{method}");
         assert_eq!(
@@ -173,7 +173,7 @@ impl Game for Scorer {
 #[test]
 fn a_game_s_own_state_that_diverges_is_caught_through_its_state_hash() {
     let mut game = GameSession::new(Scorer::default(), SessionOptions::default()).expect("a session");
-    let error = sync_test(&mut game, 3, 50, |_| TickInput::default())
+    let error = sync_test(&mut game, 3, 50, |_, _| TickInput::default())
         .expect_err("the shared score is not rolled back")
         .to_string();
     assert!(error.starts_with("sync test failed at tick "), "{error}");

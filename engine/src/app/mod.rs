@@ -26,7 +26,9 @@ pub use clap;
 pub use control::Control;
 pub use draw::{Draw, Viewport};
 pub use game::{Game, GameError};
-pub use network::{ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MatchReport, NetOptions, NetSession, Peer, Welcome};
+pub use network::{
+    ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MatchReport, NetOptions, NetSession, Peer, Welcome,
+};
 pub use offscreen::{FrameOutput, OffscreenRun, OffscreenSummary};
 pub use options::{MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_size};
 pub use playback::{Playback, PlaybackError};

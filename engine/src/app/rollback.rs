@@ -24,8 +24,8 @@ use super::session::GameSession;
 use super::{FrameSource, RunError};
 use crate::clock::FixedStep;
 use crate::input::{KeySet, TickInput};
-use serde::{Deserialize, Serialize};
 use crate::world::Snapshot;
+use serde::{Deserialize, Serialize};
 
 /// A game's simulated state at a tick boundary.
 #[derive(Clone, Debug)]
@@ -227,7 +227,9 @@ pub(super) fn fulfil<G: Game + Clone + 'static>(
             }
             GgrsRequest::AdvanceFrame { inputs } => {
                 cursor.inputs.clear();
-                cursor.inputs.extend(inputs.iter().map(|(input, _)| TickInput::from(*input)));
+                cursor
+                    .inputs
+                    .extend(inputs.iter().map(|(input, _)| TickInput::from(*input)));
                 session.step_tick(cursor.tick, &cursor.inputs)?;
                 advanced(cursor.tick, &cursor.inputs);
                 if cursor.tick < cursor.furthest {

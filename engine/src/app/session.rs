@@ -513,7 +513,9 @@ fn checksum_of(game: &impl Game, stage: &Stage) -> u64 {
     let worlds = stage.worlds.iter().map(|w| w.world.state_hash());
     core::iter::once(game.state_hash())
         .chain(worlds)
-        .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| (h ^ x).wrapping_mul(0x0000_0100_0000_01b3))
+        .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+            (h ^ x).wrapping_mul(0x0000_0100_0000_01b3)
+        })
 }
 
 impl<G: Game> FrameSource for GameSession<G> {

@@ -239,7 +239,11 @@ impl Recording {
         }
         for player in 0..self.players() {
             let field = if player == 0 { "inputs" } else { "other_players" };
-            let who = if player == 0 { String::new() } else { format!("player {player}: ") };
+            let who = if player == 0 {
+                String::new()
+            } else {
+                format!("player {player}: ")
+            };
             let inputs = self.inputs_of(player).unwrap_or_default();
             let mut previous = None;
             for (k, (tick, input)) in inputs.iter().enumerate() {

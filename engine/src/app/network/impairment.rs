@@ -47,7 +47,13 @@ impl Impairment {
     pub fn check(&self) -> Result<(), String> {
         let fields = [
             ("latency", self.latency_ms, 0.0, Self::MAX_LATENCY_MS, "ms"),
-            ("jitter", self.jitter_ms, 0.0, self.latency_ms, "ms (at most the latency)"),
+            (
+                "jitter",
+                self.jitter_ms,
+                0.0,
+                self.latency_ms,
+                "ms (at most the latency)",
+            ),
             ("loss", self.loss, 0.0, Self::MAX_LOSS, "(a fraction)"),
         ];
         for (field, value, low, high, unit) in fields {
@@ -201,9 +207,7 @@ impl<S: NonBlockingSocket<A>, A: Clone + PartialEq + Eq + Hash> ImpairedSocket<S
     }
 }
 
-impl<S: NonBlockingSocket<A>, A: Clone + PartialEq + Eq + Hash> NonBlockingSocket<A>
-    for ImpairedSocket<S, A>
-{
+impl<S: NonBlockingSocket<A>, A: Clone + PartialEq + Eq + Hash> NonBlockingSocket<A> for ImpairedSocket<S, A> {
     fn send_to(&mut self, msg: &Message, addr: &A) {
         self.counts.sent += 1;
         // Both draws every time, so that the loss does not shift the delays.

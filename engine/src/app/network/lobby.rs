@@ -126,7 +126,10 @@ impl Lobby {
                         welcome,
                     });
                 }
-                println!("tickwork: {from} wants to play \"{game}\", not \"{}\"; still waiting", welcome.game);
+                println!(
+                    "tickwork: {from} wants to play \"{game}\", not \"{}\"; still waiting",
+                    welcome.game
+                );
             },
             Peer::Join { host } => {
                 let hello = ControlMessage::Hello { game: welcome.game }.encode();
@@ -146,7 +149,8 @@ impl Lobby {
                             }
                         }
                         Ok(_) => {}
-                        Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {}
+                        Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
+                        }
                         // The host's port is not open yet: say hello again.
                         Err(e) if e.kind() == std::io::ErrorKind::ConnectionRefused => std::thread::sleep(resend),
                         Err(e) => return Err(network_error(e)),

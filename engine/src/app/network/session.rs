@@ -98,14 +98,19 @@ impl NetOptions {
             return limit(
                 "--wait-seconds",
                 self.wait_seconds.to_string(),
-                format!("above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)", Self::MAX_WAIT_SECONDS),
+                format!(
+                    "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
+                    Self::MAX_WAIT_SECONDS
+                ),
             );
         }
         if self.desync_interval == 0 {
             return limit("desync_interval", "0".into(), "at least 1 tick".into());
         }
         if let Some(impairment) = &self.impairment {
-            impairment.check().map_err(|e| RunError::Limit(format!("--impair: {e}")))?;
+            impairment
+                .check()
+                .map_err(|e| RunError::Limit(format!("--impair: {e}")))?;
         }
         Ok(())
     }
@@ -237,7 +242,10 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             let differs = [
                 ("--seed", own.seed != 0 && own.seed != welcome.seed),
                 ("--hz", own.hz.is_some() && own.hz != welcome.hz),
-                ("--integrator", own.integrator.is_some() && own.integrator != welcome.integrator),
+                (
+                    "--integrator",
+                    own.integrator.is_some() && own.integrator != welcome.integrator,
+                ),
             ];
             if let Some((flag, _)) = differs.iter().find(|d| d.1) {
                 return Err(RunError::Network(format!(
@@ -281,6 +289,9 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             })
             .with_fps(fps)
             .map_err(ggrs_error)?
+            // GGRS's 2 s drops a peer that a busy machine stalls for a
+            // moment; 5 s still tells a player soon that the other left.
+            .with_disconnect_timeout(Duration::from_secs(5))
             .add_player(PlayerType::Local, local)
             .map_err(ggrs_error)?
             .add_player(PlayerType::Remote(connection.remote), 1 - local)
@@ -346,7 +357,9 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         let tick = self.cursor.tick;
         match &mut self.script {
             Some(script) => {
-                script.input = script.recording.input_at(&mut script.cursor, tick, script.input.carried());
+                script.input = script
+                    .recording
+                    .input_at(&mut script.cursor, tick, script.input.carried());
                 script.input
             }
             None => self.session.local_input(end),
@@ -364,7 +377,9 @@ impl<G: Game + Clone + 'static> NetSession<G> {
                     addr,
                     disconnect_timeout,
                 } if !self.settled => {
-                    println!("tickwork: no word from {addr}; it is dropped in {disconnect_timeout} ms unless it answers");
+                    println!(
+                        "tickwork: no word from {addr}; it is dropped in {disconnect_timeout} ms unless it answers"
+                    );
                 }
                 GgrsEvent::Disconnected { .. } if self.settled => self.remote_gone = true,
                 GgrsEvent::Disconnected { addr } => {
@@ -481,9 +496,10 @@ impl<G: Game + Clone + 'static> NetSession<G> {
 
     /// Puts the stage at the final state and reports the match.
     fn finish(&mut self) -> Result<MatchReport, RunError> {
-        let (state, checksum) = self.final_state.as_ref().ok_or_else(|| {
-            RunError::Network("the match ended before its final state was known".into())
-        })?;
+        let (state, checksum) = self
+            .final_state
+            .as_ref()
+            .ok_or_else(|| RunError::Network("the match ended before its final state was known".into()))?;
         let checksum = *checksum;
         let state = state.clone();
         self.session.load_tick(&state)?;
