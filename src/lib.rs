@@ -33,7 +33,7 @@ pub mod prelude {
     pub use tickwork_engine::render::{Anchor, Camera, Line};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material,
-        Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs, Touched, Wind,
-        World, WorldConfig,
+        Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs, StableHasher,
+        Touched, Wind, World, WorldConfig,
     };
 }

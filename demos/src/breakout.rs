@@ -229,7 +229,7 @@ impl Game for Breakout {
 
     fn state_hash(&self) -> u64 {
         use std::hash::{Hash, Hasher};
-        let mut hasher = std::hash::DefaultHasher::new();
+        let mut hasher = StableHasher::new();
         (self.play, self.score, self.lives, &self.bricks).hash(&mut hasher);
         hasher.finish()
     }

@@ -266,7 +266,7 @@ impl Game for Rally {
 
     fn state_hash(&self) -> u64 {
         use std::hash::{Hash, Hasher};
-        let mut hasher = std::hash::DefaultHasher::new();
+        let mut hasher = StableHasher::new();
         (self.play, self.score, self.computer, self.speed.to_bits()).hash(&mut hasher);
         hasher.finish()
     }

@@ -38,12 +38,19 @@ struct Side {
 }
 
 impl Side {
-    fn of(child: Child, first: String, mut rest: impl Read) -> Self {
+    fn of(mut child: Child, first: String, mut rest: impl Read) -> Self {
+        // Standard error on a thread of its own, so that neither pipe fills.
+        let mut errors = child.stderr.take().expect("piped");
+        let stderr = std::thread::spawn(move || {
+            let mut text = String::new();
+            let _ = errors.read_to_string(&mut text);
+            text
+        });
         let mut stdout = first;
         rest.read_to_string(&mut stdout).expect("reads the output");
-        let output = child.wait_with_output().expect("the side ends");
-        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-        assert!(output.status.success(), "{stdout}\n{stderr}");
+        let status = child.wait().expect("the side ends");
+        let stderr = stderr.join().expect("the standard error reader");
+        assert!(status.success(), "{stdout}\n{stderr}");
         let ended = stdout
             .lines()
             .find(|l| l.starts_with("tickwork: rally: the match ended at tick 300: checksum "))

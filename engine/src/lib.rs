@@ -62,4 +62,6 @@ pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
-pub use world::{Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, World, WorldConfig, WorldError};
+pub use world::{
+    Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, StableHasher, World, WorldConfig, WorldError,
+};

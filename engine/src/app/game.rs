@@ -186,7 +186,9 @@ pub trait Game {
     /// A hash of the game's own simulated state that its worlds do not
     /// hold (score, lives, which bricks are left), mixed into the rollback
     /// checksum so that a sync test also sees it diverge. Default 0: the
-    /// game's state shows only through its worlds.
+    /// game's state shows only through its worlds. Hash with
+    /// [`StableHasher`](crate::StableHasher), which gives the same on every
+    /// machine (peers of a match compare these).
     fn state_hash(&self) -> u64 {
         0
     }

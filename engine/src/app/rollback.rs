@@ -42,17 +42,23 @@ pub struct SavedTick<G> {
 pub struct WireInput {
     held: u32,
     pressed: u32,
-    pointer: [f32; 2],
+    /// The pointer's bits, so that GGRS's comparison of a prediction with
+    /// the real input is of bits (as `==` on floats is not: `-0.0 == 0.0`
+    /// would keep a prediction that runs differently, and NaN would never
+    /// match).
+    pointer: [u32; 2],
     has_pointer: bool,
 }
 
 impl From<TickInput> for WireInput {
+    /// A pointer that is not finite is sent as none; `-0.0` as `0.0`.
     fn from(input: TickInput) -> Self {
+        let pointer = input.pointer.filter(|p| p.iter().all(|c| c.is_finite()));
         Self {
             held: input.held.bits(),
             pressed: input.pressed.bits(),
-            pointer: input.pointer.unwrap_or_default(),
-            has_pointer: input.pointer.is_some(),
+            pointer: pointer.unwrap_or_default().map(|c| (c + 0.0).to_bits()),
+            has_pointer: pointer.is_some(),
         }
     }
 }
@@ -64,7 +70,8 @@ impl From<WireInput> for TickInput {
         Self {
             held: KeySet::from_bits(wire.held),
             pressed: KeySet::from_bits(wire.pressed),
-            pointer: (wire.has_pointer && wire.pointer.iter().all(|c| c.is_finite())).then_some(wire.pointer),
+            pointer: Some(wire.pointer.map(f32::from_bits))
+                .filter(|p| wire.has_pointer && p.iter().all(|c| c.is_finite())),
         }
     }
 }

@@ -303,6 +303,8 @@ pub struct FixedClock {
     accepted_nanos: u128,
     /// Real time dropped in total, in seconds.
     dropped_total: f64,
+    /// Steps the last frame ran (what [`defer`](Self::defer) may give back).
+    last_steps: u32,
 }
 
 impl Default for FixedClock {
@@ -368,6 +370,7 @@ impl FixedClock {
             dilation: 1.0,
             accepted_nanos: 0,
             dropped_total: 0.0,
+            last_steps: 0,
         }
     }
 
@@ -450,20 +453,28 @@ impl FixedClock {
     /// cap of steps (`max_steps_per_frame`); past that it is dropped, as a
     /// hitch would be. Returns the real seconds dropped.
     pub fn defer(&mut self, steps: u32) -> f64 {
-        let steps = steps.min(u32::try_from(self.tick).unwrap_or(u32::MAX));
+        // Only the last frame's steps: earlier ones have run.
+        let steps = steps.min(self.last_steps);
+        self.last_steps -= steps;
         self.tick -= u64::from(steps);
         let step_units = self.step_units();
-        let cap = u128::from(self.config.max_steps_per_frame) * step_units;
-        let wanted = self.accumulator + u128::from(steps) * step_units;
-        self.accumulator = wanted.min(cap + self.accumulator % step_units);
+        let before = self.accumulator;
+        let wanted = before + u128::from(steps) * step_units;
+        // At most a frame's cap of steps stays due (or what was due before,
+        // catch-up debt included).
+        let bound = (u128::from(self.config.max_steps_per_frame) * step_units + before % step_units).max(before);
+        self.accumulator = wanted.min(bound);
         let dropped_units = wanted - self.accumulator;
         let (_, denom) = self.timeline.rate.fraction();
-        let dropped = (dropped_units / u128::from(denom)) as f64 / 1e9 / self.config.time_scale;
+        let dropped_nanos = dropped_units / u128::from(denom);
+        self.accepted_nanos = self.accepted_nanos.saturating_sub(dropped_nanos);
+        let dropped = dropped_nanos as f64 / 1e9 / (self.config.time_scale * self.dilation);
         self.dropped_total += dropped;
         dropped
     }
 
-    fn frame(&self, steps: u32, dropped: f64, real_seconds: f64, first_tick: u64) -> Frame {
+    fn frame(&mut self, steps: u32, dropped: f64, real_seconds: f64, first_tick: u64) -> Frame {
+        self.last_steps = steps;
         let simulated = f64::from(steps) * self.timeline.rate.step_seconds();
         Frame {
             steps,

@@ -472,3 +472,38 @@ fn catch_up_debt_is_bounded() {
     assert!(f.dropped > 3590.0, "dropped {}", f.dropped);
     assert!(c.backlog() <= 61.0 * 8.0 / 60.0, "backlog {}", c.backlog());
 }
+
+#[test]
+fn deferred_steps_are_due_again_next_frame_and_only_a_frames_cap_of_them_is_kept() {
+    let mut clock = FixedClock::new(ClockConfig {
+        rate: Rate::hz(60).expect("a rate"),
+        max_steps_per_frame: 4,
+        ..ClockConfig::default()
+    })
+    .expect("a clock");
+    // Three steps due, one run, two given back: due again with no new time,
+    // at the same ticks, and no time is counted as dropped.
+    let frame = clock.advance(3.0 / 60.0).expect("advances");
+    assert_eq!((frame.first_tick, frame.steps), (0, 3));
+    assert_eq!(clock.defer(2), 0.0);
+    assert_eq!(clock.tick(), 1);
+    let frame = clock.advance(0.0).expect("advances");
+    assert_eq!((frame.first_tick, frame.steps), (1, 2));
+    // Only the last frame's steps can be given back.
+    clock.defer(10);
+    assert_eq!(clock.tick(), 1);
+    // Four steps run and given back frame after frame pile up to one
+    // frame's cap (4 steps); past it the time is dropped, as a hitch is.
+    let _ = clock.advance(0.0).expect("advances");
+    for _ in 0..3 {
+        let frame = clock.advance(4.0 / 60.0).expect("advances");
+        clock.defer(frame.steps);
+    }
+    // Counted in whole nanoseconds.
+    assert!(
+        (clock.dropped_total() - 8.0 / 60.0).abs() < 1e-8,
+        "{}",
+        clock.dropped_total()
+    );
+    assert_eq!(clock.advance(0.0).expect("advances").steps, 4);
+}

@@ -302,3 +302,77 @@ mod tests {
         assert_ne!(a.state_hash(), b.state_hash(), "a live lane is");
     }
 }
+
+/// A [`Hasher`](core::hash::Hasher) whose result is the same on every
+/// machine and in every run, for [`Game::state_hash`](crate::app::Game::state_hash)
+/// over a game's own fields (`(self.score, &self.bricks).hash(&mut hasher)`):
+/// xxh3 with every integer written as little-endian bytes and `usize` and
+/// `isize` (lengths, enum tags) as 64 bits. std's `DefaultHasher` may change
+/// between Rust releases, so two peers built apart could see a desync that
+/// is not there.
+#[derive(Clone, Default)]
+pub struct StableHasher(Xxh3);
+
+impl core::fmt::Debug for StableHasher {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("StableHasher").finish_non_exhaustive()
+    }
+}
+
+impl StableHasher {
+    /// A hasher with nothing written yet.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
+
+impl core::hash::Hasher for StableHasher {
+    fn finish(&self) -> u64 {
+        self.0.digest()
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        self.0.update(bytes);
+    }
+
+    fn write_u16(&mut self, value: u16) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_u128(&mut self, value: u128) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_usize(&mut self, value: usize) {
+        self.write_u64(value as u64);
+    }
+
+    fn write_i16(&mut self, value: i16) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_i32(&mut self, value: i32) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_i64(&mut self, value: i64) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_i128(&mut self, value: i128) {
+        self.write(&value.to_le_bytes());
+    }
+
+    fn write_isize(&mut self, value: isize) {
+        self.write_i64(value as i64);
+    }
+}

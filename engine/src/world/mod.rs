@@ -42,6 +42,7 @@ use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
 use tickwork_integrators::{Integrator, UnknownMethod, build};
 
+pub use checksum::StableHasher;
 pub use column::{RowsMut, Vec3Column};
 pub use components::{Component, QueryMut};
 pub use config::{WorldConfig, WorldError};

@@ -151,8 +151,16 @@ impl Lobby {
                         Ok(_) => {}
                         Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
                         }
-                        // The host's port is not open yet: say hello again.
-                        Err(e) if e.kind() == std::io::ErrorKind::ConnectionRefused => std::thread::sleep(resend),
+                        // The host's port is not open yet (Windows says
+                        // "reset"): say hello again.
+                        Err(e)
+                            if matches!(
+                                e.kind(),
+                                std::io::ErrorKind::ConnectionRefused | std::io::ErrorKind::ConnectionReset
+                            ) =>
+                        {
+                            std::thread::sleep(resend);
+                        }
                         Err(e) => return Err(network_error(e)),
                     }
                 }

@@ -21,7 +21,7 @@ use std::net::SocketAddr;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use ggrs::{DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, P2PSession, PlayerType, SessionBuilder, SessionState};
+use ggrs::{DesyncDetection, GgrsError, GgrsEvent, P2PSession, PlayerType, SessionBuilder, SessionState};
 
 use super::impairment::{ImpairedSocket, Impairment};
 use super::lobby::{Lobby, Peer};
@@ -49,6 +49,10 @@ pub struct NetOptions {
     /// Ticks between the peers' checksum comparisons (default 10: six a
     /// second at 60 Hz).
     pub desync_interval: u32,
+    /// Seconds without word from the other player before it counts as
+    /// gone (default 5: GGRS's 2 drops a peer that a busy machine stalls
+    /// for a moment, and 5 still tells a player soon that the other left).
+    pub disconnect_seconds: f64,
 }
 
 impl Default for NetOptions {
@@ -59,6 +63,7 @@ impl Default for NetOptions {
             impairment: None,
             wait_seconds: 60.0,
             desync_interval: 10,
+            disconnect_seconds: 5.0,
         }
     }
 }
@@ -98,6 +103,16 @@ impl NetOptions {
             return limit(
                 "--wait-seconds",
                 self.wait_seconds.to_string(),
+                format!(
+                    "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
+                    Self::MAX_WAIT_SECONDS
+                ),
+            );
+        }
+        if !(self.disconnect_seconds > 0.0 && self.disconnect_seconds <= Self::MAX_WAIT_SECONDS) {
+            return limit(
+                "disconnect_seconds",
+                self.disconnect_seconds.to_string(),
                 format!(
                     "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
                     Self::MAX_WAIT_SECONDS
@@ -165,6 +180,8 @@ pub struct NetSession<G: Game + Clone + 'static> {
     final_state: Option<(SavedTick<G>, u64)>,
     settled: bool,
     remote_gone: bool,
+    /// GGRS runs only confirmed ticks and asks for no saves (no prediction).
+    lockstep: bool,
     waits: u64,
     skipped: u64,
     started: Instant,
@@ -222,7 +239,6 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             ))));
         }
         let wait = Duration::from_secs_f64(net.wait_seconds);
-        let started = Instant::now();
         let peer = lobby.peer();
         let own = Welcome {
             game: title.clone(),
@@ -231,6 +247,8 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             integrator: options.settings.integrator.clone(),
         };
         let connection = lobby.connect(own.clone(), wait)?;
+        // Synchronising gets a wait of its own.
+        let started = Instant::now();
         let welcome = connection.welcome;
         if let Peer::Join { host } = peer {
             if welcome.game != title {
@@ -289,9 +307,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             })
             .with_fps(fps)
             .map_err(ggrs_error)?
-            // GGRS's 2 s drops a peer that a busy machine stalls for a
-            // moment; 5 s still tells a player soon that the other left.
-            .with_disconnect_timeout(Duration::from_secs(5))
+            .with_disconnect_timeout(Duration::from_secs_f64(net.disconnect_seconds))
             .add_player(PlayerType::Local, local)
             .map_err(ggrs_error)?
             .add_player(PlayerType::Remote(connection.remote), 1 - local)
@@ -321,6 +337,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             final_state: None,
             settled: false,
             remote_gone: false,
+            lockstep: net.max_prediction == 0,
             waits: 0,
             skipped: 0,
             started,
@@ -349,7 +366,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     /// other says so too or has gone.
     #[must_use]
     pub fn is_over(&self) -> bool {
-        self.settled && (self.remote_gone || self.shared.borrow().remote_done)
+        self.settled && (self.remote_gone || self.shared.borrow().remote_done.is_some())
     }
 
     /// This side's input of the tick ending at simulated time `end`.
@@ -432,8 +449,11 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         let confirmed = u64::try_from(self.p2p.confirmed_frame()).map_or(0, |f| f + 1);
         let certain_before = confirmed.min(self.cursor.tick);
         let certain = end.is_some_and(|end| certain_before >= end);
+        let frame = self.p2p.current_frame();
         let requests = self.p2p.advance_frame().map_err(ggrs_error)?;
-        let advanced = requests.iter().any(|r| matches!(r, GgrsRequest::AdvanceFrame { .. }));
+        // A rollback re-runs ticks even when the new one waits: only the
+        // frame count says whether this tick ran.
+        let advanced = self.p2p.current_frame() > frame;
         let players = 2;
         let (final_state, played) = (&mut self.final_state, &mut self.played);
         fulfil(
@@ -460,9 +480,22 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             },
         )?;
         self.certain_ticks = self.certain_ticks.max(certain_before);
-        if certain && self.final_state.is_some() && !self.settled {
+        let mut certain = certain && self.final_state.is_some();
+        if self.lockstep && end == Some(self.cursor.tick) && self.final_state.is_none() {
+            // Lockstep asks for no saves; every tick it runs is confirmed.
+            self.final_state = Some((self.session.save_tick(), self.session.checksum()));
+            self.certain_ticks = self.cursor.tick;
+            certain = true;
+        }
+        if certain && !self.settled {
             self.settled = true;
-            self.shared.borrow_mut().local_done = true;
+            let (tick, checksum) = (
+                end.unwrap_or(self.cursor.tick),
+                self.final_state.as_ref().map_or(0, |f| f.1),
+            );
+            self.shared.borrow_mut().local_done = Some((tick, checksum));
+            // Say so now: the other side may be waiting only for this.
+            self.p2p.poll_remote_clients();
         }
         if advanced {
             self.pending = None;
@@ -501,6 +534,15 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             .as_ref()
             .ok_or_else(|| RunError::Network("the match ended before its final state was known".into()))?;
         let checksum = *checksum;
+        let remote = self.shared.borrow().remote_done;
+        if let Some((tick, theirs)) = remote.filter(|&(_, theirs)| theirs != checksum) {
+            return Err(RunError::Network(format!(
+                "desync at tick {tick}, the match's last: this side's checksum is {checksum:016x}, the other's \
+                 ({}) {theirs:016x}; the two simulations differ (something the game does is not deterministic or \
+                 not in its saved state: run it with --sync-test to find it)",
+                self.remote
+            )));
+        }
         let state = state.clone();
         self.session.load_tick(&state)?;
         Ok(MatchReport {
@@ -575,7 +617,8 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
             self.session.clock_mut().defer(frame.steps - ran);
         }
         self.session.finish_frame(frame);
-        Ok(())
+        // The last advance's events too (a desync found in it).
+        self.handle_events()
     }
 
     fn control(&mut self, control: Control) -> Result<(), RunError> {

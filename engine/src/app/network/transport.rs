@@ -31,8 +31,13 @@ pub(super) enum ControlMessage {
     },
     /// The host's answer: the settings both simulations must share.
     Welcome(Welcome),
-    /// This peer has the match's final state.
-    Done,
+    /// This peer has the match's final state: the tick and its checksum.
+    Done {
+        /// The match's last tick.
+        tick: u64,
+        /// The checksum of the state at it.
+        checksum: u64,
+    },
 }
 
 /// The settings of a match, chosen by the host and taken by the joiner.
@@ -68,10 +73,11 @@ impl ControlMessage {
 /// ends, and the welcome the host repeats to a joiner that missed it.
 #[derive(Debug, Default)]
 pub(super) struct Shared {
-    /// This peer has the final state: the transport says so with every poll.
-    pub local_done: bool,
-    /// The other peer said it has the final state.
-    pub remote_done: bool,
+    /// This peer's final tick and checksum, once known: the transport says
+    /// so with every poll.
+    pub local_done: Option<(u64, u64)>,
+    /// The other peer's final tick and checksum, once it said them.
+    pub remote_done: Option<(u64, u64)>,
     /// The host's welcome, answered to every late hello.
     pub welcome: Option<Vec<u8>>,
 }
@@ -124,7 +130,9 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
                     if bytes.starts_with(MAGIC) {
                         let mut shared = self.shared.borrow_mut();
                         match ControlMessage::decode(bytes) {
-                            Some(ControlMessage::Done) if from == self.peer => shared.remote_done = true,
+                            Some(ControlMessage::Done { tick, checksum }) if from == self.peer => {
+                                shared.remote_done = Some((tick, checksum));
+                            }
                             Some(ControlMessage::Hello { .. }) if from == self.peer => {
                                 if let Some(welcome) = &shared.welcome {
                                     let _ = self.socket.send_to(welcome, from);
@@ -143,8 +151,9 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
                 Err(_) => break,
             }
         }
-        if self.shared.borrow().local_done {
-            self.send_control(&ControlMessage::Done);
+        let done = self.shared.borrow().local_done;
+        if let Some((tick, checksum)) = done {
+            self.send_control(&ControlMessage::Done { tick, checksum });
         }
         messages
     }
