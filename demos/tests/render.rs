@@ -635,3 +635,67 @@ fn a_scene_window_with_the_control_panel_runs_and_closes_after_its_frames() {
         text(&output.stdout)
     );
 }
+
+/// The checksum in a side's "the match ended at tick 300: checksum X;" line.
+fn match_checksum(stdout: &str) -> String {
+    stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("tickwork: rally: the match ended at tick 300: checksum "))
+        .and_then(|rest| rest.split(';').next())
+        .unwrap_or_else(|| panic!("no end of match in:\n{stdout}"))
+        .to_owned()
+}
+
+#[test]
+fn a_match_played_in_a_window_ends_where_its_headless_opponent_does() {
+    // The host in a window under Xvfb, the joiner headless, each from its
+    // script: the window's clock, frame pacing and rendering change when
+    // ticks run, never what they compute.
+    let xvfb = Xvfb::start(320, 180);
+    let script = |side: &str| root().join(format!("assets/recordings/rally_{side}.ron"));
+    let mut host = Command::new(env!("CARGO_BIN_EXE_rally"))
+        .args(["--host", "0", "--frames", "300", "--size", "320x180", "--script"])
+        .arg(script("left"))
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the host starts");
+    let mut host_out = BufReader::new(host.stdout.take().expect("stdout"));
+    let mut first = String::new();
+    host_out.read_line(&mut first).expect("the host's first line");
+    let port = first
+        .split("hosting on port ")
+        .nth(1)
+        .and_then(|s| s.split(';').next())
+        .unwrap_or_else(|| panic!("no port in {first:?}"))
+        .to_owned();
+    let joiner = Command::new(env!("CARGO_BIN_EXE_rally"))
+        .args([
+            "--headless",
+            "--frames",
+            "300",
+            "--join",
+            &format!("127.0.0.1:{port}"),
+            "--script",
+        ])
+        .arg(script("right"))
+        .output()
+        .expect("the joiner runs");
+    let mut hosted = first;
+    host_out.read_to_string(&mut hosted).expect("the host's output");
+    let host = host.wait_with_output().expect("the host ends");
+    let joined = String::from_utf8_lossy(&joiner.stdout);
+    assert!(
+        host.status.success(),
+        "{hosted}\n{}",
+        String::from_utf8_lossy(&host.stderr)
+    );
+    assert!(
+        joiner.status.success(),
+        "{joined}\n{}",
+        String::from_utf8_lossy(&joiner.stderr)
+    );
+    assert_eq!(match_checksum(&hosted), match_checksum(&joined), "{hosted}\n{joined}");
+}

@@ -4,11 +4,13 @@
 //! measures each part on a falling-particle game (gravity, drag, a floor,
 //! semi-implicit Euler), saving into reused buffers as the sync test does.
 //!
-//! Run: `cargo bench -p tickwork-engine --bench rollback`; the worst frame is
-//! `load + 9 (step + save + checksum)` of the medians.
+//! Run: `cargo bench -p tickwork-engine --bench rollback`; criterion's
+//! medians come first, then a table of the same parts timed again in one
+//! pass (medians of 31 runs each, interleaved), with the worst frame
+//! `load + 9 (step + save + checksum)`.
 
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
@@ -75,5 +77,44 @@ fn budget(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, budget);
+/// The median of 31 timings of `f`, in milliseconds.
+fn median_ms(mut f: impl FnMut()) -> f64 {
+    let mut times: Vec<f64> = (0..31)
+        .map(|_| {
+            let start = Instant::now();
+            f();
+            start.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// Prints the budget table: N, step, save, load, checksum, worst frame.
+fn table(_: &mut Criterion) {
+    let input = TickInput::default();
+    println!("\n| particles | step | save (into reused buffers) | load | checksum | worst frame |");
+    println!("|---|---|---|---|---|---|");
+    for n in [10_000, 70_000, 100_000] {
+        let mut session = GameSession::new(Rain(n), SessionOptions::default()).expect("a session");
+        let mut saved = session.save_tick();
+        let mut tick = 0;
+        let step = median_ms(|| {
+            session.step_tick(tick, core::slice::from_ref(&input)).expect("steps");
+            tick += 1;
+        });
+        let save = median_ms(|| session.save_tick_into(black_box(&mut saved)));
+        let load = median_ms(|| session.load_tick(black_box(&saved)).expect("loads"));
+        let checksum = median_ms(|| {
+            black_box(black_box(&session).checksum());
+        });
+        let worst = load + 9.0 * (step + save + checksum);
+        println!(
+            "| {n} | {step:.3} ms | {save:.3} ms | {load:.3} ms | {checksum:.3} ms | {worst:.1} ms{} |",
+            if worst < 1000.0 / 60.0 { "" } else { " (over 16.7 ms)" }
+        );
+    }
+}
+
+criterion_group!(benches, budget, table);
 criterion_main!(benches);

@@ -84,6 +84,12 @@ pub trait FrameSource {
     /// Fixed steps run since the start (or the last reset).
     fn ticks(&self) -> u64;
 
+    /// Whether the source has come to its end and the window should close
+    /// (a networked match over). Default: never.
+    fn finished(&self) -> bool {
+        false
+    }
+
     /// The camera, for the window's mouse.
     fn camera_mut(&mut self) -> &mut Camera;
 

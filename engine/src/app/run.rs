@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::game::Game;
-use super::network::{Lobby, NetOptions, NetSession, Peer};
+use super::network::{Lobby, MatchReport, NetOptions, NetSession, Peer};
 use super::options::RunOptions;
 use super::session::{GameSession, SessionOptions};
 use super::stage::{Settings, Stage};
@@ -268,6 +268,10 @@ fn network_run<G: Game + Clone + 'static>(
         checksum: None,
     };
     let played = if windowed {
+        // `--frames N` ends the match at tick N (the window closes then).
+        if let Some(ticks) = options.frames {
+            session.end_at(ticks);
+        }
         let (width, height) = options.size.unwrap_or((1280, 720));
         let renderer = renderer_config(session.session().stage(), height);
         run_window(
@@ -275,8 +279,6 @@ fn network_run<G: Game + Clone + 'static>(
             WindowOptions {
                 width,
                 height,
-                frames: options.frames,
-                hold_seconds: options.hold,
                 display_hz: options.display_hz,
                 screenshot_dir: PathBuf::from("."),
                 panel: false,
@@ -284,17 +286,18 @@ fn network_run<G: Game + Clone + 'static>(
                 ..WindowOptions::default()
             },
         )
-        .map(|window| summary.frames = window.frames)
+        .and_then(|window| {
+            summary.frames = window.frames;
+            if session.is_over() {
+                summary.checksum = Some(match_ended(&title, session.report()?));
+            }
+            Ok(())
+        })
     } else {
         let ticks = options.frames.unwrap_or(DEFAULT_MATCH_TICKS);
-        session.play_headless(ticks).map(|report| {
-            println!(
-                "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} \
-                 ticks waited for the other player, {} were skipped to let it catch up",
-                report.ticks, report.checksum, report.rollbacks, report.resimulated, report.waits, report.skipped
-            );
-            summary.checksum = Some(report.checksum);
-        })
+        session
+            .play_headless(ticks)
+            .map(|report| summary.checksum = Some(match_ended(&title, report)))
     };
     summary.ticks = crate::app::FrameSource::ticks(&session);
     // The confirmed inputs are kept even when the match failed.
@@ -314,6 +317,16 @@ fn network_run<G: Game + Clone + 'static>(
         println!("{title}: {outcome}");
     }
     Ok(summary)
+}
+
+/// Prints how a match ended; returns its checksum.
+fn match_ended(title: &str, report: MatchReport) -> u64 {
+    println!(
+        "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} ticks \
+         waited for the other player, {} were skipped to let it catch up",
+        report.ticks, report.checksum, report.rollbacks, report.resimulated, report.waits, report.skipped
+    );
+    report.checksum
 }
 
 /// The most ticks `--sync-test` runs: a million (over four hours of play at

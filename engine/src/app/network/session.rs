@@ -524,11 +524,16 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             // a step after this one; GGRS is read again then.
             std::thread::sleep(dt.saturating_sub(last.elapsed()).min(Duration::from_millis(4)));
         }
-        self.finish()
+        self.report()
     }
 
-    /// Puts the stage at the final state and reports the match.
-    fn finish(&mut self) -> Result<MatchReport, RunError> {
+    /// Puts the stage at the final state of a match that is over
+    /// ([`is_over`](Self::is_over)) and reports it.
+    ///
+    /// # Errors
+    /// [`RunError::Network`] if the match is not over, or the other side
+    /// ended it at another state (a desync in its last ticks).
+    pub fn report(&mut self) -> Result<MatchReport, RunError> {
         let (state, checksum) = self
             .final_state
             .as_ref()
@@ -637,6 +642,10 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
 
     fn ticks(&self) -> u64 {
         self.cursor.tick
+    }
+
+    fn finished(&self) -> bool {
+        self.is_over()
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

@@ -336,6 +336,9 @@ impl App<'_> {
                 self.announce = None;
             }
         }
+        if self.source.finished() {
+            event_loop.exit();
+        }
         if let Some(limit) = self.options.frames {
             if self.summary.frames >= limit && self.hold_started.is_none() {
                 self.hold_started = Some(std::time::Instant::now());
