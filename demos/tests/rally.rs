@@ -3,10 +3,13 @@
 //! link, and must end in the same state; the match's recording replays to
 //! it; the game's rules hold when played alone.
 
-use std::io::{BufRead, BufReader, Read};
+mod support;
+
+use std::io::Read;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 
+use support::{Host, start_host};
 use tickwork::engine::app::{FrameSource, GameSession, SessionOptions};
 use tickwork_demos::rally::{Play, Rally};
 
@@ -87,25 +90,20 @@ impl Side {
 fn play_match(extra: &[&[&str]; 2], host_extra: &[&str]) -> [Side; 2] {
     let rally = env!("CARGO_BIN_EXE_rally");
     let common = ["--headless", "--frames", "300"];
-    let mut host = Command::new(rally)
-        .args(common)
-        .args(["--host", "0", "--script", &script("left")])
-        .args(extra[0])
-        .args(host_extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the host starts");
-    // The host says where it listens before it waits: the signal to join.
-    let mut host_out = BufReader::new(host.stdout.take().expect("piped"));
-    let mut first = String::new();
-    host_out.read_line(&mut first).expect("the host's first line");
-    let port = first
-        .split("hosting on port ")
-        .nth(1)
-        .and_then(|s| s.split(';').next())
-        .unwrap_or_else(|| panic!("no port in {first:?}"))
-        .to_owned();
+    let Host {
+        child: host,
+        output: host_out,
+        first,
+        port,
+    } = start_host(
+        Command::new(rally)
+            .args(common)
+            .args(["--host", "0", "--script", &script("left")])
+            .args(extra[0])
+            .args(host_extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped()),
+    );
     let mut joiner = Command::new(rally)
         .args(common)
         .args(["--join", &format!("127.0.0.1:{port}"), "--script", &script("right")])

@@ -5,6 +5,8 @@
 //! window, Xvfb and ImageMagick's `import`: `scripts/test` installs them.
 //! Nothing here skips when they are missing; the tests fail and say what.
 
+mod support;
+
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -653,24 +655,20 @@ fn a_match_played_in_a_window_ends_where_its_headless_opponent_does() {
     // ticks run, never what they compute.
     let xvfb = Xvfb::start(320, 180);
     let script = |side: &str| root().join(format!("assets/recordings/rally_{side}.ron"));
-    let mut host = Command::new(env!("CARGO_BIN_EXE_rally"))
-        .args(["--host", "0", "--frames", "300", "--size", "320x180", "--script"])
-        .arg(script("left"))
-        .env("DISPLAY", &xvfb.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the host starts");
-    let mut host_out = BufReader::new(host.stdout.take().expect("stdout"));
-    let mut first = String::new();
-    host_out.read_line(&mut first).expect("the host's first line");
-    let port = first
-        .split("hosting on port ")
-        .nth(1)
-        .and_then(|s| s.split(';').next())
-        .unwrap_or_else(|| panic!("no port in {first:?}"))
-        .to_owned();
+    let support::Host {
+        child: host,
+        output: mut host_out,
+        first,
+        port,
+    } = support::start_host(
+        Command::new(env!("CARGO_BIN_EXE_rally"))
+            .args(["--host", "0", "--frames", "300", "--size", "320x180", "--script"])
+            .arg(script("left"))
+            .env("DISPLAY", &xvfb.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped()),
+    );
     let joiner = Command::new(env!("CARGO_BIN_EXE_rally"))
         .args([
             "--headless",

@@ -158,7 +158,10 @@ struct Script {
     input: TickInput,
 }
 
-/// A game in a networked match. See the [module docs](self).
+/// A game in a networked match: each frame, the ticks the clock says are
+/// due go to GGRS with this machine's input, and GGRS's requests (save,
+/// load, run a tick with both players' inputs) are fulfilled on the
+/// [`GameSession`]; ticks GGRS cannot run yet go back to the clock.
 pub struct NetSession<G: Game + Clone + 'static> {
     session: GameSession<G>,
     p2p: P2PSession<Rollback<G>>,
