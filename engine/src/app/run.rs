@@ -38,6 +38,22 @@ pub struct RunSummary {
     pub checksum: Option<u64>,
 }
 
+impl RunSummary {
+    /// A run that has done nothing yet.
+    fn nothing_yet(windowed: bool) -> Self {
+        Self {
+            windowed,
+            frames: 0,
+            ticks: 0,
+            out: None,
+            gif: None,
+            recording: None,
+            outcome: None,
+            checksum: None,
+        }
+    }
+}
+
 /// The renderer settings [`run`] draws a stage's frames `height` pixels
 /// tall with (for a test that draws a game as `run` does): the stage's
 /// background, and its HUD size from 540 px up, shrinking with smaller
@@ -176,16 +192,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     if let Some(distance) = options.sync_test {
         return sync_test_run(&mut session, distance, &options, replay_inputs.as_ref());
     }
-    let mut summary = RunSummary {
-        windowed,
-        frames: 0,
-        ticks: 0,
-        out: None,
-        gif: None,
-        recording: None,
-        outcome: None,
-        checksum: None,
-    };
+    let mut summary = RunSummary::nothing_yet(windowed);
     let shown = show(&mut session, &options, replay_ticks, &mut summary);
     // The input so far is kept even when the run failed (a recording of the
     // failure is what a bug report needs).
@@ -257,16 +264,7 @@ fn network_run<G: Game + Clone + 'static>(
         net,
         script,
     )?;
-    let mut summary = RunSummary {
-        windowed,
-        frames: 0,
-        ticks: 0,
-        out: None,
-        gif: None,
-        recording: None,
-        outcome: None,
-        checksum: None,
-    };
+    let mut summary = RunSummary::nothing_yet(windowed);
     let played = if windowed {
         // `--frames N` ends the match at tick N (the window closes then).
         if let Some(ticks) = options.frames {
@@ -380,14 +378,10 @@ fn sync_test_run<G: Game + Clone + 'static>(
         println!("{}: {outcome}", session.game().title());
     }
     Ok(RunSummary {
-        windowed: false,
-        frames: 0,
         ticks: report.ticks,
-        out: None,
-        gif: None,
-        recording: None,
         outcome,
         checksum: Some(report.checksum),
+        ..RunSummary::nothing_yet(false)
     })
 }
 
