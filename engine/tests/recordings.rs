@@ -88,3 +88,37 @@ fn a_misspelt_field_is_an_error_not_a_replay_on_other_settings() {
         "{message}"
     );
 }
+
+#[test]
+fn a_match_recording_holds_every_players_inputs_and_checks_each() {
+    let two = recording("60.0", "10", "(2, (held: [Up], pressed: [Up]))").replace(
+        "\n)\n",
+        "\n    other_players: [[(3, (held: [W], pressed: [W])), (5, (held: [], pressed: []))]],\n)\n",
+    );
+    let r = Recording::load(&file("match.ron", &two)).expect("valid");
+    assert_eq!(r.players(), 2);
+    let (mut cursor, mut input) = (0, tickwork_engine::TickInput::default());
+    let held: Vec<bool> = (0..7)
+        .map(|tick| {
+            input = r.input_of(1, &mut cursor, tick, input.carried());
+            input.held(tickwork_engine::Key::W)
+        })
+        .collect();
+    assert_eq!(held, [false, false, false, true, true, false, false]);
+    // Player 1's ticks must rise too, and the message says whose entry.
+    let bad = two.replace("(5, (held: [], pressed: []))", "(3, (held: [], pressed: []))");
+    let message = error("bad_match.ron", &bad);
+    assert!(
+        message.contains("other_players: player 1: entry 1 is at tick 3: ticks must rise"),
+        "{message}"
+    );
+    let nine = recording("60.0", "10", "").replace(
+        "\n)\n",
+        &format!("\n    other_players: [{}],\n)\n", ["[]"; 8].join(", ")),
+    );
+    let message = error("nine_players.ron", &nine);
+    assert!(
+        message.contains("other_players: 9 players, past the limit of 8 (Recording::MAX_PLAYERS)"),
+        "{message}"
+    );
+}
