@@ -334,3 +334,37 @@ fn runaway_and_misdirected_requests_are_errors_that_write_nothing() {
         "nothing written into the directory"
     );
 }
+
+/// The window options `tickwork view` parses from `args` (after `view`).
+fn view_options(args: &[&str]) -> Result<tickwork_engine::app::WindowOptions, clap::Error> {
+    use clap::Parser;
+    let cli = tickwork_demos::cli::Cli::try_parse_from(["tickwork", "view"].iter().chain(args))?;
+    match cli.command {
+        Some(tickwork_demos::cli::Command::View(view)) => Ok(view.window_options()),
+        other => panic!("`view` parsed as {other:?}"),
+    }
+}
+
+#[test]
+fn view_shows_the_control_panel_unless_told_not_to() {
+    let kepler = scene("kepler.ron");
+    let shown = view_options(&[&kepler]).expect("parses");
+    assert!(shown.panel, "the lab's scenes start with their controls");
+    assert_eq!((shown.width, shown.height), (1280, 720));
+    assert!(view_options(&[&kepler, "--panel"]).expect("parses").panel);
+    let hidden = view_options(&[&kepler, "--no-panel", "--size", "320x200"]).expect("parses");
+    assert!(!hidden.panel, "--no-panel hides it");
+    assert_eq!((hidden.width, hidden.height), (320, 200));
+    let both = view_options(&[&kepler, "--panel", "--no-panel"]).expect_err("contradictory");
+    assert_eq!(both.kind(), clap::error::ErrorKind::ArgumentConflict);
+    let message = both.to_string();
+    assert!(
+        message.contains("--panel") && message.contains("--no-panel"),
+        "{message}"
+    );
+    // The binary says the same, with clap's usage-error exit code.
+    let output = tickwork(&["view", &kepler, "--no-panel", "--panel"]);
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot be used with"), "{stderr}");
+}

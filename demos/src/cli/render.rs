@@ -122,9 +122,12 @@ pub struct WindowArgs {
     /// Present without waiting for the display's refresh.
     #[arg(long)]
     pub no_vsync: bool,
-    /// Show the control panel at the start (F1 toggles it).
-    #[arg(long)]
+    /// Show the control panel at the start (the default; F1 toggles it).
+    #[arg(long, conflicts_with = "no_panel")]
     pub panel: bool,
+    /// Start with the control panel hidden (F1 shows it).
+    #[arg(long)]
+    pub no_panel: bool,
     /// Close after this many frames.
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u64>,
@@ -204,26 +207,35 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
+impl WindowArgs {
+    /// The window these options ask for: 1280x720 unless `--size` says
+    /// otherwise, and the control panel shown at the start unless
+    /// `--no-panel` (the lab's scenes are watched with their controls).
+    #[must_use]
+    pub fn window_options(&self) -> WindowOptions {
+        let (width, height) = self.view.size.unwrap_or((1280, 720));
+        WindowOptions {
+            width,
+            height,
+            vsync: !self.no_vsync,
+            frames: self.frames,
+            hold_seconds: self.hold,
+            display_hz: self.display_hz,
+            screenshot_dir: self.screenshots.clone(),
+            hud: !self.view.no_hud,
+            renderer: self.view.renderer(),
+            panel: !self.no_panel,
+        }
+    }
+}
+
 /// Runs `tickwork view`.
 ///
 /// # Errors
 /// A message for a bad scene or option, no display, no adapter.
 pub fn view(args: &WindowArgs) -> Result<(), String> {
     let mut playback = args.view.playback()?;
-    let (width, height) = args.view.size.unwrap_or((1280, 720));
-    let options = WindowOptions {
-        width,
-        height,
-        vsync: !args.no_vsync,
-        frames: args.frames,
-        hold_seconds: args.hold,
-        display_hz: args.display_hz,
-        screenshot_dir: args.screenshots.clone(),
-        hud: !args.view.no_hud,
-        renderer: args.view.renderer(),
-        panel: args.panel,
-    };
-    let summary = run_window(&mut playback, options).map_err(|e| e.to_string())?;
+    let summary = run_window(&mut playback, args.window_options()).map_err(|e| e.to_string())?;
     println!(
         "showed {} frames on {} ({})",
         summary.frames, summary.adapter, summary.surface
