@@ -5,10 +5,18 @@
 // in pixels plus a one-pixel margin for the anti-aliased edge, so tiny
 // particles cost a few fragments, not a fixed-size sprite's worth.
 //
-// (common.wgsl is prepended: Globals, Instance, sRGB conversions.)
+// Two entry points, one per interpolation mode: `vs_main` mixes the 32-byte
+// record (lerp), `vs_hermite` also reads the velocities, bound only in
+// Hermite mode. An entry point's pipeline needs only the bindings it uses,
+// so the lerp pipeline's layout and upload have no velocities at all.
+//
+// (common.wgsl is prepended: Globals, Instance, Velocity, the interpolation
+// formulas, sRGB conversions.)
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<storage, read> instances: array<Instance>;
+// Hermite mode only: the particles' current velocities, row for row.
+@group(0) @binding(2) var<storage, read> velocities: array<Velocity>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -25,7 +33,17 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u
     let particle = instances[index];
     // x(t) = x_prev + t (x - x_prev): interpolation for t in [0, 1),
     // extrapolation for t in [1, 2).
-    let position = interpolated(particle);
+    return disc(particle, interpolated(particle), vertex);
+}
+
+@vertex
+fn vs_hermite(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> VertexOut {
+    let particle = instances[index];
+    return disc(particle, interpolated_hermite(particle, velocities[index]), vertex);
+}
+
+// Corner `vertex` of the quad around `particle`'s disc drawn at `position`.
+fn disc(particle: Instance, position: vec3<f32>, vertex: u32) -> VertexOut {
     let clip = globals.view_proj * vec4<f32>(position, 1.0);
     let w = max(clip.w, 1e-6);
     let radius_px = particle.radius * globals.pixels_per_unit / w;

@@ -6,8 +6,8 @@
 //! current state with a parameter `t` ([`Interpolation::parameter`]):
 //!
 //! ```text
-//! lerp      x(t) = x0 + t (x1 - x0)                       (the vertex shader's `interpolated`)
-//! hermite   x(t) = h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1
+//! lerp      x(t) = x0 + t (x1 - x0)                       (common.wgsl `interpolated`)
+//! hermite   x(t) = h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1 (common.wgsl `hermite`)
 //!           h00 = 2t^3 - 3t^2 + 1   h10 = t^3 - 2t^2 + t   h01 = -2t^3 + 3t^2   h11 = t^3 - t^2
 //! slerp     q(t) = q0 (q0^-1 q1)^t                        (orientations; past t = 1 the same turn goes on)
 //! ```
@@ -16,18 +16,34 @@
 //! `a dt^2 t (1 - t) / 2` under an acceleration `a` (a ball's arc is drawn
 //! as chords); `hermite`, from positions *and* velocities at both steps,
 //! is exact for any motion up to cubic in time, so an arc stays an arc (as
-//! avian offers and no other engine builds in). The particles' shader uses
-//! `lerp` (its instance record carries no velocities); springs, trails and
-//! rigid bodies are interpolated on the CPU with the same formulas, and a
-//! game's own positions (a paddle, a camera target) through [`Interpolated`].
+//! avian offers and no other engine builds in).
+//!
+//! The world keeps each particle's previous and current position but only
+//! its current velocity, so for particles the start velocity is derived
+//! ([`start_velocity`]): `v0 = 2 (x1 - x0) / dt - v1`, the start velocity
+//! of the constant-acceleration motion through both positions that ends at
+//! `v1`. [`hermite_from_end`] is then the parabola
+//! `x(t) = lerp(x0, x1, t) + t (1 - t) (x1 - x0 - dt v1)`, written through
+//! [`hermite`] so that the shader evaluates the very same formula.
+//!
+//! The particles' shaders (quads and splat) use `lerp` by default, from a
+//! 32-byte record with no velocities, and [`Interpolation::Hermite`] when
+//! asked, from a second 12-byte velocity record; springs, trails and rigid
+//! bodies are placed on the CPU by [`Interpolation::position`], the same
+//! formulas, and a game's own positions (a paddle, a camera target) through
+//! [`Interpolated`].
 
 use glam::{Quat, Vec3};
 
 /// Where particles are drawn between two fixed steps.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+///
+/// Chosen in the renderer's `RendererConfig::interpolation` or by
+/// `Renderer::set_interpolation` (the `render` feature).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Interpolation {
     /// Between the previous and the current step, by the clock's alpha
-    /// (default): smooth and exact, one step behind the simulation.
+    /// (default): [`lerp`], smooth, one step behind the simulation, and
+    /// straight within a step (an arc is drawn as chords).
     #[default]
     Interpolate,
     /// Beyond the current step, as if the velocity stayed constant: no
@@ -35,17 +51,43 @@ pub enum Interpolation {
     Extrapolate,
     /// At the current step: shows the raw fixed-step motion (judder).
     None,
+    /// Between the previous and the current step along a curve:
+    /// [`hermite_from_end`] with steps of `dt` seconds (the clock's fixed
+    /// step; must be finite and positive). Exact on a projectile's arc when
+    /// the integrator's step is exact there (velocity Verlet, leapfrog,
+    /// Heun, midpoint, RK4: see [`start_velocity`]); with semi-implicit
+    /// Euler, the default, it draws what [`Interpolate`](Self::Interpolate)
+    /// draws, since that method's step *is* a straight move at the end
+    /// velocity. Costs 12 more bytes per particle uploaded (the velocities).
+    Hermite {
+        /// The fixed step in seconds, as the clock's `dt()`.
+        dt: f32,
+    },
 }
 
 impl Interpolation {
-    /// The mixing parameter `t` for a frame's `alpha`: `alpha`, `1 + alpha`
-    /// (one step further) or 1.
+    /// The mixing parameter `t` for a frame's `alpha`: `alpha`
+    /// (interpolate, Hermite), `1 + alpha` (one step further) or 1.
     #[must_use]
     pub fn parameter(self, alpha: f32) -> f32 {
         match self {
-            Self::Interpolate => alpha,
+            Self::Interpolate | Self::Hermite { .. } => alpha,
             Self::Extrapolate => 1.0 + alpha,
             Self::None => 1.0,
+        }
+    }
+
+    /// Where a particle that moved from `previous` to `current` in the last
+    /// step, ending at `velocity`, is drawn at `t` (from
+    /// [`parameter`](Self::parameter)): [`hermite_from_end`] in Hermite
+    /// mode, [`lerp`] otherwise. The CPU twin of the particle shaders, for
+    /// what the renderer places on the CPU (springs, trails, rigid bodies)
+    /// and for tests.
+    #[must_use]
+    pub fn position(self, previous: Vec3, current: Vec3, velocity: Vec3, t: f32) -> Vec3 {
+        match self {
+            Self::Hermite { dt } => hermite_from_end(previous, current, velocity, dt, t),
+            _ => lerp(previous, current, t),
         }
     }
 }
@@ -59,7 +101,10 @@ pub fn lerp(previous: Vec3, current: Vec3, t: f32) -> Vec3 {
 
 /// The cubic Hermite position `t` of the way through a step of `dt`
 /// seconds that starts at `x0` moving at `v0` and ends at `x1` moving at
-/// `v1` (exact for motion up to cubic in time).
+/// `v1` (exact for motion up to cubic in time):
+/// `h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1` with the basis of the
+/// [module docs](self). The particle shaders' `hermite` (common.wgsl) is
+/// its twin, term for term.
 #[must_use]
 pub fn hermite(x0: Vec3, v0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 {
     let (t2, t3) = (t * t, t * t * t);
@@ -68,6 +113,36 @@ pub fn hermite(x0: Vec3, v0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 
     let h01 = -2.0 * t3 + 3.0 * t2;
     let h11 = t3 - t2;
     h00 * x0 + (h10 * dt) * v0 + h01 * x1 + (h11 * dt) * v1
+}
+
+/// The velocity at the start of a step of `dt` seconds from `x0` to `x1`
+/// that ended at `v1`, for Hermite when the start velocity was not kept:
+/// `v0 = 2 (x1 - x0) / dt - v1`, the start of the constant-acceleration
+/// motion (`x1 = x0 + dt (v0 + v1) / 2`) through both positions.
+///
+/// Exact when the step moved the particle along the constant-acceleration
+/// arc: velocity Verlet, leapfrog, Heun, midpoint and RK4 do under gravity.
+/// A semi-implicit Euler step moves in a straight line at its end velocity
+/// (`x1 = x0 + dt v1`), so this gives `v0 = v1` and Hermite gives the chord
+/// (as [`lerp`]); the acceleration of that step is not in the world's
+/// columns, which keep no previous velocity. A particle that did not move
+/// (`x0 == x1`: spawned, teleported or at rest) gets `v0 = v1 = 0` from
+/// [`hermite_from_end`], so it is drawn where it is, not rocked about it.
+#[inline]
+#[must_use]
+pub fn start_velocity(x0: Vec3, x1: Vec3, v1: Vec3, dt: f32) -> Vec3 {
+    2.0 * (x1 - x0) / dt - v1
+}
+
+/// [`hermite`] through a step whose start velocity was not kept, from the
+/// [`start_velocity`] it implies: the parabola through `x0` and `x1` that
+/// ends at `v1`, `x(t) = lerp(x0, x1, t) + t (1 - t) (x1 - x0 - dt v1)`.
+/// A particle that did not move (`x0 == x1`) stays at `x1`. The
+/// particle shaders' `hermite_from_end` (common.wgsl) is its twin.
+#[must_use]
+pub fn hermite_from_end(x0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 {
+    let v1 = if x0 == x1 { Vec3::ZERO } else { v1 };
+    hermite(x0, start_velocity(x0, x1, v1, dt), x1, v1, dt, t)
 }
 
 /// The orientation `t` of the way from `previous` to `current`: slerp for
@@ -178,6 +253,36 @@ mod tests {
         assert_eq!(tracked.current(), x1);
         tracked.teleport(Vec3::ZERO, Vec3::ONE);
         assert_eq!(tracked.lerp(0.3), Vec3::ZERO, "no streak across a jump");
+    }
+
+    #[test]
+    fn hermite_from_the_end_velocity_draws_the_arc_of_an_exact_step_and_the_chord_of_a_semi_implicit_one() {
+        let dt = 0.1;
+        let ((x0, _), (x1, v1)) = (projectile(0.0), projectile(dt));
+        let mode = Interpolation::Hermite { dt };
+        for t in [0.0f32, 0.25, 0.5, 0.9, 1.0] {
+            let exact = projectile(t * dt).0;
+            assert!(hermite_from_end(x0, x1, v1, dt, t).abs_diff_eq(exact, 1e-6), "t = {t}");
+            assert_eq!(mode.position(x0, x1, v1, t), hermite_from_end(x0, x1, v1, dt, t));
+            // The parabola written as the chord plus its bow.
+            let bow = lerp(x0, x1, t) + t * (1.0 - t) * (x1 - x0 - dt * v1);
+            assert!(bow.abs_diff_eq(exact, 1e-6), "t = {t}");
+            assert_eq!(Interpolation::Interpolate.position(x0, x1, v1, t), lerp(x0, x1, t));
+        }
+        // The derived start velocity is the arc's.
+        assert!(start_velocity(x0, x1, v1, dt).abs_diff_eq(projectile(0.0).1, 1e-4));
+        // Semi-implicit Euler moves in a straight line at its end velocity:
+        // Hermite has nothing to bend it by and draws the chord.
+        let (v0, g) = (Vec3::new(3.0, 4.0, 0.0), Vec3::new(0.0, -9.81, 0.0));
+        let v1 = v0 + g * dt;
+        let x1 = x0 + v1 * dt;
+        for t in [0.25f32, 0.5, 0.75] {
+            assert!(hermite_from_end(x0, x1, v1, dt, t).abs_diff_eq(lerp(x0, x1, t), 1e-6));
+        }
+        // A particle that did not move (spawned, teleported) stays put.
+        let still = Vec3::new(1.0, 2.0, 3.0);
+        assert!(hermite_from_end(still, still, v1, dt, 0.5).abs_diff_eq(still, 1e-6));
+        assert_eq!(mode.parameter(0.25), 0.25);
     }
 
     #[test]

@@ -21,7 +21,9 @@ pub struct RendererConfig {
     pub background: [u8; 4],
     /// Compositing of particles (default: [`Blend::Alpha`]).
     pub blend: Blend,
-    /// Interpolation between steps (default: [`Interpolation::Interpolate`]).
+    /// Interpolation between steps (default: [`Interpolation::Interpolate`],
+    /// lerp from a 32-byte record per particle; [`Interpolation::Hermite`]
+    /// draws arcs as arcs from the velocities too, 44 bytes a particle).
     pub interpolation: Interpolation,
     /// Samples per pixel: 4 (MSAA, default) or 1.
     pub samples: u32,

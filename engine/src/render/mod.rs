@@ -4,7 +4,8 @@
 //!
 //! The renderer only reads the world. Each frame it uploads the previous
 //! and current positions if the world changed since the last frame (one
-//! pass, no interpolation on the CPU) and the clock's alpha as a uniform.
+//! pass, no interpolation on the CPU; the current velocities too in
+//! [`Interpolation::Hermite`] mode) and the clock's alpha as a uniform.
 //!
 //! ```no_run
 //! use tickwork_engine::render::{Camera, FrameView, Gpu, OffscreenTarget, Renderer, RendererConfig, OFFSCREEN_FORMAT};
@@ -38,6 +39,7 @@ mod config;
 mod frame_view;
 mod golden;
 mod gpu;
+mod hermite;
 mod hud;
 mod overlay;
 mod renderer;

@@ -5,6 +5,8 @@
 //! one 32-byte record per particle (previous position, radius, current
 //! position, colour); the vertex shader interpolates with the frame's
 //! alpha, so a frame without a fixed step uploads nothing but a uniform.
+//! In [`Interpolation::Hermite`] mode a 12-byte velocity per particle goes
+//! into a second buffer too (see `hermite.rs`).
 //! Lines (springs, trails, rigid-body boxes, a game's own) are few and built
 //! on the CPU.
 
@@ -15,13 +17,14 @@ use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut
 use super::camera::{Camera, CameraMatrices};
 use super::config::{Blend, RendererConfig};
 use super::frame_view::FrameView;
+use super::hermite::HermiteParticles;
 use super::hud::{Hud, PlacedText};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::target::{DEPTH_FORMAT, FrameBuffers};
 use super::{Gpu, RenderError};
 use crate::interpolation::Interpolation;
 
-/// Uniforms shared by both pipelines (96 bytes, as in the WGSL `Globals`).
+/// Uniforms shared by every pipeline (128 bytes, as in the WGSL `Globals`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct Globals {
@@ -40,7 +43,9 @@ struct Globals {
     background: [f32; 4],
     /// Clear colour packed as the target stores it (sRGB bytes, RGBA or BGRA).
     background_word: u32,
-    _pad: [u32; 3],
+    /// The fixed step in seconds, in Hermite mode (0 otherwise).
+    dt: f32,
+    _pad: [u32; 2],
 }
 
 /// One particle as the shader reads it (32 bytes).
@@ -62,7 +67,7 @@ struct LineVertex {
 }
 
 /// Rows per parallel upload job; below two of them the upload is serial.
-const UPLOAD_CHUNK: usize = 32 * 1024;
+pub(crate) const UPLOAD_CHUNK: usize = 32 * 1024;
 
 /// Pipelines, GPU buffers and CPU scratch for drawing frames. One renderer
 /// draws into targets of one colour format and sample count.
@@ -72,6 +77,12 @@ pub struct Renderer {
     globals: wgpu::Buffer,
     particle_pipeline: wgpu::RenderPipeline,
     particle_layout: wgpu::BindGroupLayout,
+    /// The particle shader, kept for the Hermite pipeline, built on demand.
+    particle_shader: wgpu::ShaderModule,
+    /// Hermite mode's velocities and pipeline, from the first Hermite frame.
+    hermite: Option<HermiteParticles>,
+    /// This frame is drawn in Hermite mode.
+    hermite_active: bool,
     instances: wgpu::Buffer,
     particle_bind_group: wgpu::BindGroup,
     instance_count: u32,
@@ -140,6 +151,7 @@ impl Renderer {
                 config.hud_size
             )));
         }
+        check_interpolation(config.interpolation)?;
         let device = &gpu.device;
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork globals"),
@@ -147,31 +159,10 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let globals_entry = wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
+        let [globals_entry, instances_entry] = particle_layout_entries();
         let particle_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork particles"),
-            entries: &[
-                globals_entry,
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
+            entries: &[globals_entry, instances_entry],
         });
         let line_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork lines"),
@@ -182,32 +173,12 @@ impl Renderer {
             mask: !0,
             alpha_to_coverage_enabled: false,
         };
-        let blend = match config.blend {
-            Blend::Alpha => wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
-            Blend::Additive => wgpu::BlendState {
-                color: wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::One,
-                    dst_factor: wgpu::BlendFactor::One,
-                    operation: wgpu::BlendOperation::Add,
-                },
-                alpha: wgpu::BlendComponent::OVER,
-            },
-        };
         let particle_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("particles.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader!("particles.wgsl").into()),
         });
-        let particle_pipeline = pipeline(
-            device,
-            &particle_layout,
-            &particle_shader,
-            &[],
-            wgpu::PrimitiveTopology::TriangleStrip,
-            format,
-            blend,
-            config.blend == Blend::Alpha,
-            multisample,
-        );
+        let particle_pipeline =
+            particle_pipeline(device, &particle_layout, &particle_shader, "vs_main", format, &config);
         let line_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lines.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader!("lines.wgsl").into()),
@@ -218,6 +189,7 @@ impl Renderer {
                 device,
                 &line_layout,
                 &line_shader,
+                "vs_main",
                 &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<LineVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
@@ -256,6 +228,9 @@ impl Renderer {
             globals,
             particle_pipeline,
             particle_layout,
+            particle_shader,
+            hermite: None,
+            hermite_active: false,
             instances,
             particle_bind_group,
             instance_count: 0,
@@ -294,7 +269,10 @@ impl Renderer {
         self.format
     }
 
-    /// Changes the interpolation mode (takes effect at the next frame).
+    /// Changes the interpolation mode (takes effect at the next frame; the
+    /// first Hermite frame builds its pipeline and velocity buffer). A
+    /// Hermite `dt` that is not finite and positive is refused by the next
+    /// [`prepare`](Self::prepare).
     pub fn set_interpolation(&mut self, interpolation: Interpolation) {
         self.config.interpolation = interpolation;
     }
@@ -304,25 +282,54 @@ impl Renderer {
     /// uniforms and the HUD text.
     ///
     /// # Errors
-    /// [`RenderError::Config`] for a non-finite alpha; [`RenderError::Device`]
-    /// if the HUD cannot be laid out.
+    /// [`RenderError::Config`] for a non-finite alpha or a Hermite `dt` that
+    /// is not finite and positive; [`RenderError::Device`] if the HUD cannot
+    /// be laid out.
     pub fn prepare(&mut self, gpu: &Gpu, buffers: &FrameBuffers, view: &FrameView<'_>) -> Result<(), RenderError> {
         if !view.alpha.is_finite() {
             return Err(RenderError::Config(format!("alpha must be finite, got {}", view.alpha)));
         }
+        check_interpolation(self.config.interpolation)?;
         let CameraMatrices {
             view_proj,
             pixels_per_unit,
         } = view.camera.matrices(buffers.width, buffers.height);
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
+        let dt = match self.config.interpolation {
+            Interpolation::Hermite { dt } => Some(dt),
+            _ => None,
+        };
+        self.hermite_active = dt.is_some();
+        if self.hermite_active {
+            let (config, shader, format) = (&self.config, &self.particle_shader, self.format);
+            let hermite = self.hermite.get_or_insert_with(|| {
+                HermiteParticles::new(&gpu.device, &particle_layout_entries(), |layout, entry| {
+                    particle_pipeline(&gpu.device, layout, shader, entry, format, config)
+                })
+            });
+            if hermite.upload(gpu, view, &self.globals, &self.instances) {
+                self.splat.invalidate();
+            }
+        }
         self.splat_active = self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
             && matches!(view.camera, Camera::TwoD { .. })
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
         if self.splat_active {
-            self.splat
-                .resize(gpu, buffers.width, buffers.height, &self.globals, &self.instances);
+            let velocities = self
+                .hermite
+                .as_ref()
+                .filter(|_| self.hermite_active)
+                .map(HermiteParticles::velocities);
+            self.splat.resize(
+                gpu,
+                buffers.width,
+                buffers.height,
+                &self.globals,
+                &self.instances,
+                velocities,
+            );
         }
         let globals = Globals {
             view_proj: view_proj.to_cols_array_2d(),
@@ -338,7 +345,8 @@ impl Renderer {
                 let [r, g, b, a] = self.config.background;
                 u32::from_le_bytes(if self.bgra() { [b, g, r, a] } else { [r, g, b, a] })
             },
-            _pad: [0; 3],
+            dt: dt.unwrap_or(0.0),
+            _pad: [0; 2],
         };
         gpu.queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         self.build_lines(view, t);
@@ -375,7 +383,8 @@ impl Renderer {
                 && (texture.width(), texture.height()) == (buffers.width, buffers.height)
         };
         if self.splat_active {
-            self.splat.encode_compute(encoder, self.instance_count);
+            self.splat
+                .encode_compute(encoder, self.instance_count, self.hermite_active);
             if resolved {
                 self.splat.encode_resolve(encoder, output.texture());
             }
@@ -423,6 +432,10 @@ impl Renderer {
             if !resolved {
                 self.splat.encode_composite(&mut pass);
             }
+        } else if self.instance_count > 0 && self.hermite_active {
+            if let Some(hermite) = &self.hermite {
+                hermite.draw(&mut pass, self.instance_count);
+            }
         } else if self.instance_count > 0 {
             pass.set_pipeline(&self.particle_pipeline);
             pass.set_bind_group(0, &self.particle_bind_group, &[]);
@@ -455,6 +468,9 @@ impl Renderer {
     /// count as a change, which none of [`World`](crate::World)'s methods is).
     pub fn invalidate(&mut self) {
         self.uploaded.clear();
+        if let Some(hermite) = &mut self.hermite {
+            hermite.forget_upload();
+        }
     }
 
     fn upload_particles(&mut self, gpu: &Gpu, view: &FrameView<'_>) {
@@ -480,6 +496,9 @@ impl Renderer {
             self.particle_bind_group =
                 particle_bind_group(&gpu.device, &self.particle_layout, &self.globals, &self.instances);
             self.splat.invalidate();
+            if let Some(hermite) = &mut self.hermite {
+                hermite.invalidate();
+            }
         }
         // Fill a reused scratch copy (in parallel for large worlds), then
         // hand it to the queue.
@@ -650,6 +669,83 @@ fn vertex_buffer(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
     })
 }
 
+/// Refuses a Hermite step that cannot scale velocities into a step.
+fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> {
+    match interpolation {
+        Interpolation::Hermite { dt } if !(dt.is_finite() && dt > 0.0) => Err(RenderError::Config(format!(
+            "Hermite interpolation needs the fixed step dt in seconds, finite and positive, got {dt}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// The particle passes' bindings: the uniforms (every stage) and the
+/// instance records (vertex).
+fn particle_layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
+    let buffer = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    [
+        buffer(
+            0,
+            wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
+            wgpu::BufferBindingType::Uniform,
+        ),
+        buffer(
+            1,
+            wgpu::ShaderStages::VERTEX,
+            wgpu::BufferBindingType::Storage { read_only: true },
+        ),
+    ]
+}
+
+/// The particle pipeline drawing through `vertex_entry` (`vs_main`: lerp,
+/// `vs_hermite`: Hermite) with `config`'s blend and samples.
+fn particle_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    shader: &wgpu::ShaderModule,
+    vertex_entry: &str,
+    format: wgpu::TextureFormat,
+    config: &RendererConfig,
+) -> wgpu::RenderPipeline {
+    let multisample = wgpu::MultisampleState {
+        count: config.samples,
+        mask: !0,
+        alpha_to_coverage_enabled: false,
+    };
+    let blend = match config.blend {
+        Blend::Alpha => wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
+        Blend::Additive => wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent::OVER,
+        },
+    };
+    pipeline(
+        device,
+        layout,
+        shader,
+        vertex_entry,
+        &[],
+        wgpu::PrimitiveTopology::TriangleStrip,
+        format,
+        blend,
+        config.blend == Blend::Alpha,
+        multisample,
+    )
+}
+
 fn particle_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
@@ -696,6 +792,7 @@ fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     shader: &wgpu::ShaderModule,
+    vertex_entry: &str,
     buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
     topology: wgpu::PrimitiveTopology,
     format: wgpu::TextureFormat,
@@ -713,7 +810,7 @@ fn pipeline(
         layout: Some(&pipeline_layout),
         vertex: wgpu::VertexState {
             module: shader,
-            entry_point: Some("vs_main"),
+            entry_point: Some(vertex_entry),
             compilation_options: Default::default(),
             buffers,
         },

@@ -1,6 +1,8 @@
 //! The compute splat path: many small particles in a 2D view drawn by one
 //! compute invocation each instead of one quad each (see
-//! `assets/shaders/splat.wgsl` for the method and why).
+//! `assets/shaders/splat.wgsl` for the method and why). In Hermite mode the
+//! splat places the discs by the same `hermite_from_end` as the quads, from
+//! a second bind group that adds the velocities (built on first use).
 
 use super::config::Blend;
 use super::renderer::{bind_buffers, depth_state};
@@ -14,6 +16,13 @@ const WORKGROUP: u32 = 64;
 /// Pipelines and the per-pixel owner buffer of the splat path.
 pub(crate) struct Splat {
     compute_layout: wgpu::BindGroupLayout,
+    /// The compute layout plus the velocities at binding 3 (Hermite mode).
+    hermite_layout: wgpu::BindGroupLayout,
+    /// splat.wgsl, kept for the Hermite pipeline.
+    compute_module: wgpu::ShaderModule,
+    /// `splat_hermite` or `splat_additive_hermite`, from the first Hermite frame.
+    hermite: Option<wgpu::ComputePipeline>,
+    additive: bool,
     composite_layout: wgpu::BindGroupLayout,
     compute: wgpu::ComputePipeline,
     resolve: wgpu::ComputePipeline,
@@ -32,6 +41,8 @@ struct SplatState {
     /// Bytes per padded row.
     row_bytes: u32,
     compute_group: wgpu::BindGroup,
+    /// The compute group plus the velocities, in Hermite mode.
+    hermite_group: Option<wgpu::BindGroup>,
     composite_group: wgpu::BindGroup,
 }
 
@@ -59,6 +70,15 @@ impl Splat {
                 entry(0, S::COMPUTE, Uniform),
                 entry(1, S::COMPUTE, Storage { read_only: true }),
                 entry(2, S::COMPUTE, Storage { read_only: false }),
+            ],
+        });
+        let hermite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork splat (Hermite)"),
+            entries: &[
+                entry(0, S::COMPUTE, Uniform),
+                entry(1, S::COMPUTE, Storage { read_only: true }),
+                entry(2, S::COMPUTE, Storage { read_only: false }),
+                entry(3, S::COMPUTE, Storage { read_only: true }),
             ],
         });
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -151,6 +171,10 @@ impl Splat {
         });
         Self {
             compute_layout,
+            hermite_layout,
+            compute_module,
+            hermite: None,
+            additive,
             composite_layout,
             compute,
             resolve,
@@ -165,7 +189,8 @@ impl Splat {
         self.state = None;
     }
 
-    /// Makes the owner buffer match the target size.
+    /// Makes the owner buffer match the target size, and with `velocities`
+    /// (Hermite mode) the Hermite pipeline and bind group exist.
     pub(crate) fn resize(
         &mut self,
         gpu: &super::Gpu,
@@ -173,8 +198,21 @@ impl Splat {
         height: u32,
         globals: &wgpu::Buffer,
         instances: &wgpu::Buffer,
+        velocities: Option<&wgpu::Buffer>,
     ) {
+        if velocities.is_some() {
+            self.prepare_hermite(&gpu.device);
+        }
         if self.state.as_ref().is_some_and(|s| s.size == (width, height)) {
+            if let (Some(velocities), Some(state)) = (velocities, &mut self.state)
+                && state.hermite_group.is_none()
+            {
+                state.hermite_group = Some(bind_buffers(
+                    &gpu.device,
+                    &self.hermite_layout,
+                    &[globals, instances, &state.owners, velocities],
+                ));
+            }
             return;
         }
         // Rows of owners and pixels are both padded to 256 bytes.
@@ -194,6 +232,13 @@ impl Splat {
         self.state = Some(SplatState {
             size: (width, height),
             compute_group: bind_buffers(&gpu.device, &self.compute_layout, &[globals, instances, &owners]),
+            hermite_group: velocities.map(|velocities| {
+                bind_buffers(
+                    &gpu.device,
+                    &self.hermite_layout,
+                    &[globals, instances, &owners, velocities],
+                )
+            }),
             composite_group: bind_buffers(
                 &gpu.device,
                 &self.composite_layout,
@@ -205,18 +250,52 @@ impl Splat {
         });
     }
 
-    /// Clears the owners and splats `count` particles.
-    pub(crate) fn encode_compute(&self, encoder: &mut wgpu::CommandEncoder, count: u32) {
+    /// Builds the Hermite pipeline the first time it is needed.
+    fn prepare_hermite(&mut self, device: &wgpu::Device) {
+        if self.hermite.is_some() {
+            return;
+        }
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&self.hermite_layout)],
+            immediate_size: 0,
+        });
+        self.hermite = Some(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tickwork splat (Hermite)"),
+            layout: Some(&layout),
+            module: &self.compute_module,
+            entry_point: Some(if self.additive {
+                "splat_additive_hermite"
+            } else {
+                "splat_hermite"
+            }),
+            compilation_options: Default::default(),
+            cache: None,
+        }));
+    }
+
+    /// Clears the owners and splats `count` particles, placed by
+    /// `hermite_from_end` if `hermite` (after a [`resize`](Self::resize)
+    /// given the velocities), else by lerp.
+    pub(crate) fn encode_compute(&self, encoder: &mut wgpu::CommandEncoder, count: u32, hermite: bool) {
         let Some(state) = &self.state else {
             return;
+        };
+        let (pipeline, group) = if hermite {
+            match (&self.hermite, &state.hermite_group) {
+                (Some(pipeline), Some(group)) => (pipeline, group),
+                _ => return,
+            }
+        } else {
+            (&self.compute, &state.compute_group)
         };
         encoder.clear_buffer(&state.owners, 0, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("tickwork splat"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.compute);
-        pass.set_bind_group(0, &state.compute_group, &[]);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
         // Sixteen particles per invocation (as in the shader).
         dispatch(&mut pass, count.div_ceil(16));
     }

@@ -86,9 +86,8 @@ impl Trails {
     }
 
     /// Emits the trails' segments, oldest first, fading in; the last one
-    /// ends at the entity's position interpolated by `t`.
-    pub(crate) fn lines(&self, world: &World, t: f32, push: &mut impl FnMut(Vec3, Vec3, [u8; 4])) {
-        let particles = world.particles();
+    /// ends at the entity's drawn position, `at(row)`.
+    pub(crate) fn lines(&self, world: &World, at: impl Fn(usize) -> Vec3, push: &mut impl FnMut(Vec3, Vec3, [u8; 4])) {
         for trail in &self.trails {
             let n = trail.points.len();
             if n == 0 {
@@ -106,7 +105,7 @@ impl Trails {
                 push(point(k), point(k + 1), fade(k + 1));
             }
             if let Ok(row) = world.row(trail.entity) {
-                let head = particles.interpolated(row, t);
+                let head = at(row);
                 let from = if n >= 2 { point(n - 2) } else { point(0) };
                 push(from, head, fade(n));
             }

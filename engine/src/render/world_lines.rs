@@ -1,6 +1,6 @@
 //! The lines the renderer builds from a world on the CPU: springs (from the
 //! world's [`Springs`] force), rigid bodies' boxes and axes, and trails,
-//! all interpolated with the particles' formula.
+//! all placed by the particles' formula ([`Interpolation::position`](crate::interpolation::Interpolation::position)).
 
 use glam::{Mat4, Vec3};
 
@@ -18,7 +18,16 @@ pub(super) fn world_lines(
 ) {
     let world = shown.world;
     let particles = world.particles();
-    let at = |row: usize| particles.interpolated(row, t);
+    // Where the particle shaders draw row `row` (lerp, or Hermite in that
+    // mode), so lines stay attached to the discs.
+    let at = |row: usize| {
+        config.interpolation.position(
+            particles.previous_position.row(row).into(),
+            particles.position.row(row).into(),
+            particles.velocity.row(row).into(),
+            t,
+        )
+    };
     if config.springs {
         for force in world.forces() {
             let Some(springs) = force.as_any().downcast_ref::<Springs>() else {
@@ -59,7 +68,7 @@ pub(super) fn world_lines(
         }
     }
     if let Some(trails) = shown.trails {
-        trails.lines(world, t, push);
+        trails.lines(world, at, push);
     }
 }
 
