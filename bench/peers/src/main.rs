@@ -18,6 +18,9 @@
 //!   (four particles per value) in chunks, with the projecting contact as
 //!   one masked operation per block; its state must equal the projecting
 //!   hand loop's bit for bit;
+//! - `per-axis blocks, one loop`: the same arithmetic with integration,
+//!   contact and the finiteness sum in one loop per block, to show whether
+//!   fusing the passes pays (it did not: slower than the passes, measured);
 //! - `hecs`, `bevy_ecs Query`, `bevy_ecs par_iter` (two threads): components
 //!   `Position`, `Velocity`, `Previous` of `Vec3A`, the reflecting loop;
 //! - `tickwork`: a `World` with `Gravity`, `LinearDrag`, a floor `Plane`,
@@ -30,7 +33,8 @@
 //! different offsets from each other) and the slowest layout is reported.
 //!
 //! Run: `cargo run --release --manifest-path bench/peers/Cargo.toml` (add
-//! `-- --quick` for fewer rounds, `-- --sizes 1000,100000`).
+//! `-- --quick` for fewer rounds, `-- --sizes 1000,100000`; `-- --only PREFIX
+//! --rounds 2000` runs one variant long enough for a profiler).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -287,6 +291,46 @@ impl Variant for Blocks {
     }
 }
 
+/// [`Blocks`] with the whole step in one loop per block (integration,
+/// contact, finiteness sum), the arithmetic in the same order: what a fused
+/// kernel reaches.
+struct FusedBlocks(Blocks);
+
+impl Variant for FusedBlocks {
+    fn name(&self) -> String {
+        "per-axis blocks, one loop".into()
+    }
+    fn step(&mut self) {
+        let b = &mut self.0;
+        core::mem::swap(&mut b.p, &mut b.prev);
+        let lift = Vec4::splat(-(1.0 + RESTITUTION));
+        let c = Vec3x4::splat(G);
+        let mut bad = Vec4::ZERO;
+        for ((x, v), x0) in b.p.iter_mut().zip(b.v.iter_mut()).zip(b.prev.iter()) {
+            let a = c - *v * DRAG;
+            *v += a * DT;
+            *x = *x0 + *v * DT;
+            let below = x.y.cmplt(Vec4::ZERO);
+            v.y = Vec4::select(below, v.y + lift * v.y.min(Vec4::ZERO), v.y);
+            x.y = Vec4::select(below, x.y - x.y, x.y);
+            bad += ((x.x + v.x) + (x.y + v.y)) + (x.z + v.z);
+        }
+        black_box(bad);
+    }
+    fn state(&mut self) -> State {
+        self.0.state()
+    }
+    fn projects(&self) -> bool {
+        true
+    }
+    fn save(&mut self) {
+        self.0.save();
+    }
+    fn restore(&mut self) {
+        self.0.restore();
+    }
+}
+
 struct Hecs {
     world: hecs::World,
     order: Vec<hecs::Entity>,
@@ -515,6 +559,7 @@ fn variants(n: usize) -> Vec<Box<dyn Variant>> {
         Box::new(hand(false)),
         Box::new(hand(true)),
         Box::new(Blocks::new(&p, &v)),
+        Box::new(FusedBlocks(Blocks::new(&p, &v))),
         Box::new(Hecs {
             world: hecs,
             order,
@@ -604,7 +649,16 @@ fn main() -> Result<(), String> {
             .collect::<Result<_, _>>()?,
         None => vec![1_000, 100_000, 1_000_000],
     };
-    let rounds = if quick { 5 } else { 21 };
+    // `--rounds N`: more rounds than the default 21 (5 with `--quick`), for a profiler.
+    let rounds = match args.iter().position(|a| a == "--rounds") {
+        Some(i) => args
+            .get(i + 1)
+            .and_then(|s| s.parse().ok())
+            .filter(|&r: &usize| r > 0)
+            .ok_or("--rounds takes a count of at least 1")?,
+        None if quick => 5,
+        None => 21,
+    };
     // `--only PREFIX`: just the variants whose name starts with it (for a profiler).
     let only = args
         .iter()
@@ -658,9 +712,9 @@ type Row<'a> = (usize, &'a str, Vec<String>, Vec<f64>);
 fn print_table(rows: &[Row<'_>]) {
     println!();
     println!(
-        "| N | memcpy 48 B | hand | hecs | bevy_ecs Query | bevy_ecs par_iter | Tickwork 1 thread | Tickwork 2 threads | 1 thread / bevy Query | 1 thread / hand | 2 threads / bevy Query | 2 threads / bevy par_iter |"
+        "| N | memcpy 48 B | hand | hecs | bevy_ecs Query | bevy_ecs par_iter | per-axis kernel | Tickwork 1 thread | Tickwork 2 threads | 1 thread / bevy Query | 1 thread / hand | 2 threads / bevy Query | 2 threads / bevy par_iter | kernel / bevy Query |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (n, case, names, times) in rows {
         let get = |prefix: &str| {
             names
@@ -680,12 +734,21 @@ fn print_table(rows: &[Row<'_>]) {
         let (memcpy, hand, hecs) = (get("memcpy"), exact("hand"), get("hecs"));
         let (query, par) = (get("bevy_ecs Query"), get("bevy_ecs par_iter"));
         let (one, two) = (get("tickwork (1 thread"), get("tickwork (2 threads"));
+        // The floor of the layout: its integration and contact kernels
+        // alone, without the engine (the faster of the two loop shapes).
+        let kernel = names
+            .iter()
+            .zip(times)
+            .filter(|(name, _)| name.starts_with("per-axis"))
+            .map(|(_, t)| *t)
+            .fold(f64::INFINITY, f64::min);
         println!(
-            "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {kernel:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
             one / query,
             one / hand,
             two / query,
-            two / par
+            two / par,
+            kernel / query
         );
     }
 }
