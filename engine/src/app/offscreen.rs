@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
-use super::{FrameSource, RunError};
+use super::error::RunError;
+use super::source::FrameSource;
 use crate::clock::TimeSource;
 use crate::render::{Gpu, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
 
@@ -88,7 +89,7 @@ impl<'g> OffscreenRun<'g> {
     /// `output`; `progress` is called after each frame with its number.
     ///
     /// # Errors
-    /// [`RunError::Limit`] for more than [`MAX_OFFSCREEN_FRAMES`](super::MAX_OFFSCREEN_FRAMES)
+    /// [`RunError::Limit`] for more than [`MAX_OFFSCREEN_FRAMES`](MAX_OFFSCREEN_FRAMES)
     /// frames, [`RunError::Exists`] if an output file exists and `overwrite` is
     /// off (checked before anything is drawn), [`RunError::Io`] for a file
     /// that cannot be written, and as [`OffscreenRun::frame`].
@@ -157,15 +158,19 @@ impl<'g> OffscreenRun<'g> {
     }
 }
 
-/// Refuses more than [`MAX_OFFSCREEN_FRAMES`](super::MAX_OFFSCREEN_FRAMES)
-/// frames, and a frames' directory that is a file; [`OffscreenRun::run`]
-/// checks, and [`run`](super::run) before a session starts.
+/// The most frames an off-screen run draws: a million (over four hours at
+/// 60 frames per second; `--frames 100000000` once stalled the run).
+pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
+
+/// Refuses more than [`MAX_OFFSCREEN_FRAMES`] frames, and a frames'
+/// directory that is a file; [`OffscreenRun::run`] checks, and
+/// [`run`](super::run) before a session starts.
 pub(crate) fn check_output(frames: u64, dir: Option<&Path>) -> Result<(), RunError> {
-    if frames > super::MAX_OFFSCREEN_FRAMES {
+    if frames > MAX_OFFSCREEN_FRAMES {
         return Err(RunError::Limit(format!(
             "--frames {frames} is past the limit of {} off-screen frames (MAX_OFFSCREEN_FRAMES); \
              draw a shorter run",
-            super::MAX_OFFSCREEN_FRAMES
+            MAX_OFFSCREEN_FRAMES
         )));
     }
     if let Some(dir) = dir.filter(|dir| dir.exists() && !dir.is_dir()) {
@@ -175,13 +180,4 @@ pub(crate) fn check_output(frames: u64, dir: Option<&Path>) -> Result<(), RunErr
         });
     }
     Ok(())
-}
-
-impl RunError {
-    pub(crate) fn io(path: &Path, error: &dyn std::fmt::Display) -> Self {
-        Self::Io {
-            path: path.to_path_buf(),
-            message: error.to_string(),
-        }
-    }
 }

@@ -9,59 +9,17 @@
 
 use std::fmt;
 
-use crate::clock::{ClockConfig, ClockError, FixedClock, Frame, Rate};
+use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::render::{Camera, FrameView, Trails};
-use crate::scene::{Scene, SceneError};
-use crate::step::SimulationError;
+use crate::scene::Scene;
 use crate::world::{Snapshot, World};
-use tickwork_integrators::UnknownMethod;
 
 use super::control::{Control, chosen_integrator, clock_control};
+use super::error::{PlaybackError, RunError};
 use super::frame_rate::FrameRate;
 use super::panel::{ClockRow, WorldRow};
+use super::source::FrameSource;
 use super::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
-
-/// Why playback stopped.
-#[derive(Debug)]
-pub enum PlaybackError {
-    /// The scene could not be loaded or built.
-    Scene(SceneError),
-    /// The clock refused a frame duration or setting.
-    Clock(ClockError),
-    /// A step failed (non-finite state, integrator failure).
-    Simulation(SimulationError),
-    /// An integrator name that is not registered.
-    Integrator(UnknownMethod),
-}
-
-impl fmt::Display for PlaybackError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Scene(e) => e.fmt(f),
-            Self::Clock(e) => e.fmt(f),
-            Self::Simulation(e) => e.fmt(f),
-            Self::Integrator(e) => e.fmt(f),
-        }
-    }
-}
-
-impl std::error::Error for PlaybackError {}
-
-impl From<ClockError> for PlaybackError {
-    fn from(e: ClockError) -> Self {
-        Self::Clock(e)
-    }
-}
-impl From<SimulationError> for PlaybackError {
-    fn from(e: SimulationError) -> Self {
-        Self::Simulation(e)
-    }
-}
-impl From<UnknownMethod> for PlaybackError {
-    fn from(e: UnknownMethod) -> Self {
-        Self::Integrator(e)
-    }
-}
 
 /// A world, its clock, its initial state and what the viewer shows.
 pub struct Playback {
@@ -297,17 +255,17 @@ impl Playback {
     }
 }
 
-impl super::FrameSource for Playback {
+impl FrameSource for Playback {
     fn title(&self) -> String {
         self.title.clone()
     }
 
-    fn advance(&mut self, seconds: f64) -> Result<(), super::RunError> {
+    fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
         Playback::advance(self, seconds)?;
         Ok(())
     }
 
-    fn control(&mut self, control: Control) -> Result<(), super::RunError> {
+    fn control(&mut self, control: Control) -> Result<(), RunError> {
         Ok(Playback::control(self, control)?)
     }
 
@@ -337,7 +295,7 @@ impl super::FrameSource for Playback {
         hud: bool,
         _size: (u32, u32),
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), crate::render::RenderError>,
-    ) -> Result<(), super::RunError> {
+    ) -> Result<(), RunError> {
         let mut text = std::mem::take(&mut self.hud);
         if hud {
             self.hud_text(&mut text);

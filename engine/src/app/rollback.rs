@@ -19,9 +19,10 @@ use core::marker::PhantomData;
 
 use ggrs::{Config, GgrsError, GgrsRequest, PredictRepeatLast, SessionBuilder};
 
+use super::error::RunError;
 use super::game::{Game, GameError};
 use super::session::GameSession;
-use super::{FrameSource, RunError};
+use super::source::FrameSource;
 use crate::clock::FixedStep;
 use crate::input::{KeySet, TickInput};
 use crate::world::Snapshot;

@@ -4,13 +4,17 @@
 
 use std::path::{Path, PathBuf};
 
-use super::game::Game;
+use super::error::RunError;
+use super::game::{Game, GameError};
 use super::network::{Lobby, MatchReport, NetOptions, NetSession, Peer};
+use super::offscreen::{FrameOutput, MAX_OFFSCREEN_FRAMES, OffscreenRun, check_output};
 use super::options::RunOptions;
+use super::rollback::sync_test;
 use super::session::{GameSession, SessionOptions};
+use super::source::FrameSource;
 use super::stage::{Settings, Stage};
 use super::window::display_available;
-use super::{FrameOutput, OffscreenRun, RunError, WindowOptions, run_window};
+use super::window::{WindowOptions, run_window};
 use crate::clock::FixedCadence;
 use crate::input::Recording;
 use crate::render::{Gpu, RendererConfig};
@@ -119,10 +123,6 @@ fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunE
     Ok(())
 }
 
-/// The most frames an off-screen run draws: a million (over four hours at
-/// 60 frames per second; `--frames 100000000` once stalled the run).
-pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
-
 /// Runs `game` with `options`: in a window when a display is available
 /// (and `--headless` is not given), else off-screen into PNG frames and a
 /// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
@@ -150,7 +150,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     }
     let windowed = !options.headless && display_available();
     if !windowed {
-        crate::app::offscreen::check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
+        check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
     if let Some((peer, net)) = options.network() {
@@ -196,7 +196,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     let shown = show(&mut session, &options, replay_ticks, &mut summary);
     // The input so far is kept even when the run failed (a recording of the
     // failure is what a bug report needs).
-    summary.ticks = crate::app::FrameSource::ticks(&session);
+    summary.ticks = FrameSource::ticks(&session);
     summary.recording = session.save_recording()?;
     if let Some(path) = &summary.recording {
         println!(
@@ -297,7 +297,7 @@ fn network_run<G: Game + Clone + 'static>(
             .play_headless(ticks)
             .map(|report| summary.checksum = Some(match_ended(&title, report)))
     };
-    summary.ticks = crate::app::FrameSource::ticks(&session);
+    summary.ticks = FrameSource::ticks(&session);
     // The confirmed inputs are kept even when the match failed.
     if let Some(path) = &options.record {
         let recording = session.recording();
@@ -341,7 +341,7 @@ fn sync_test_run<G: Game + Clone + 'static>(
     recording: Option<&Recording>,
 ) -> Result<RunSummary, RunError> {
     if let Some(recording) = recording.filter(|r| !r.controls.is_empty()) {
-        return Err(RunError::Game(super::GameError::Message(format!(
+        return Err(RunError::Game(GameError::Message(format!(
             "--sync-test replays a recording's inputs, not its {} integrator switches; record a run without \
              switching integrators to sync-test it",
             recording.controls.len()
@@ -357,7 +357,7 @@ fn sync_test_run<G: Game + Clone + 'static>(
     }
     let players = session.players();
     let (mut cursors, mut inputs) = (vec![0; players], vec![crate::input::TickInput::default(); players]);
-    let report = super::sync_test(session, distance, ticks, |tick, player| {
+    let report = sync_test(session, distance, ticks, |tick, player| {
         let input = &mut inputs[player];
         *input = match recording {
             Some(recording) => recording.input_of(player, &mut cursors[player], tick, input.carried()),

@@ -12,11 +12,12 @@ use std::path::PathBuf;
 
 use super::control::{Control, chosen_integrator, clock_control};
 use super::draw::{Draw, Viewport};
+use super::error::RunError;
 use super::frame_rate::FrameRate;
 use super::game::{Game, GameError};
 use super::panel::{ClockRow, WorldRow};
+use super::source::FrameSource;
 use super::stage::{Settings, Stage};
-use super::{FrameSource, RunError};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::render::{Camera, FrameView, RenderError, WorldView};

@@ -16,6 +16,7 @@
 //! [`FrameSource::control`] at that tick boundary.
 
 mod keys;
+mod options;
 mod panel;
 mod surface;
 
@@ -28,59 +29,16 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
-use super::{Control, FrameSource, RunError};
+use super::control::Control;
+use super::error::RunError;
+use super::source::FrameSource;
 use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
-use crate::render::{RenderError, RendererConfig};
+use crate::render::RenderError;
 use keys::{KeyAction, game_key};
+pub use options::WindowOptions;
 use panel::draw_panel;
-use surface::{Panel, WindowState, screenshot};
-
-/// Window settings.
-#[derive(Clone, Debug)]
-pub struct WindowOptions {
-    /// Inner width in physical pixels (default 1280).
-    pub width: u32,
-    /// Inner height in physical pixels (default 720).
-    pub height: u32,
-    /// Wait for the display's refresh (default true); off presents at once
-    /// (Mailbox or Immediate, whichever the surface offers).
-    pub vsync: bool,
-    /// Close after this many frames (default: run until closed).
-    pub frames: Option<u64>,
-    /// After `frames`, keep showing the last frame this many seconds before
-    /// closing (default 0), for an outside screenshot.
-    pub hold_seconds: f64,
-    /// Frame durations from a simulated display at this rate instead of the
-    /// real clock (default: real clock), so a window's frames can be
-    /// reproduced off-screen.
-    pub display_hz: Option<f64>,
-    /// Where F12 screenshots go (default: the current directory).
-    pub screenshot_dir: PathBuf,
-    /// Draw the HUD (default true).
-    pub hud: bool,
-    /// Renderer settings (default: [`RendererConfig::default`]).
-    pub renderer: RendererConfig,
-    /// Show the control panel at the start (default false; F1 toggles it).
-    pub panel: bool,
-}
-
-impl Default for WindowOptions {
-    fn default() -> Self {
-        Self {
-            width: 1280,
-            height: 720,
-            vsync: true,
-            frames: None,
-            hold_seconds: 0.0,
-            display_hz: None,
-            screenshot_dir: PathBuf::from("."),
-            hud: true,
-            renderer: RendererConfig::default(),
-            panel: false,
-        }
-    }
-}
+use surface::{Panel, WindowState, open, screenshot};
 
 /// What a window run did.
 #[derive(Clone, Debug, PartialEq)]
@@ -366,9 +324,12 @@ impl ApplicationHandler for App<'_> {
         if self.state.is_some() {
             return;
         }
-        match self.open(event_loop) {
-            Ok(state) => {
+        match open(event_loop, &self.source.title(), &self.options) {
+            Ok((state, panel)) => {
+                self.summary.adapter = state.gpu.describe();
+                self.summary.surface = format!("{:?}, {:?}", state.config.format, state.config.present_mode);
                 state.window.request_redraw();
+                self.panel = Some(panel);
                 self.state = Some(state);
             }
             Err(error) => self.fail(event_loop, error),

@@ -1,7 +1,8 @@
 //! The pass that draws the control panel over a finished frame (the panel
 //! returns controls; it changes nothing).
 
-use super::super::{Control, FrameSource};
+use super::super::control::Control;
+use super::super::source::FrameSource;
 use super::surface::{Panel, WindowState};
 
 /// Lays out the panel, uploads its meshes and records its pass over

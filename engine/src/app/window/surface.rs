@@ -10,8 +10,9 @@ use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
-use super::super::{FrameSource, RunError};
-use super::{App, WindowOptions};
+use super::super::error::RunError;
+use super::super::source::FrameSource;
+use super::options::WindowOptions;
 use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer};
 
 /// Everything that exists only while the window does.
@@ -32,88 +33,89 @@ pub(super) struct Panel {
     pub(super) renderer: egui_wgpu::Renderer,
 }
 
-impl App<'_> {
-    /// Opens the window, its surface and GPU, and the panel's renderer.
-    pub(super) fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState, RunError> {
-        let attributes = Window::default_attributes()
-            .with_title(format!("Tickwork - {}", self.source.title()))
-            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
-        let window = Arc::new(
-            event_loop
-                .create_window(attributes)
-                .map_err(|e| RunError::Window(e.to_string()))?,
-        );
-        // With the display handle, so that the GL backend finds an adapter
-        // compatible with the window's surface.
-        let descriptor =
-            wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
-        let backends = descriptor.backends;
-        let instance = wgpu::Instance::new(descriptor);
-        let surface = instance
-            .create_surface(window.clone())
-            .map_err(|e| RenderError::Surface(e.to_string()))?;
-        let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
-        let caps = surface.get_capabilities(&gpu.adapter);
-        let format = caps
-            .formats
-            .iter()
+/// Opens a window titled after `title` as `options` ask, its surface and
+/// GPU, and the panel's egui state.
+pub(super) fn open(
+    event_loop: &ActiveEventLoop,
+    title: &str,
+    options: &WindowOptions,
+) -> Result<(WindowState, Panel), RunError> {
+    let attributes = Window::default_attributes()
+        .with_title(format!("Tickwork - {title}"))
+        .with_inner_size(PhysicalSize::new(options.width, options.height));
+    let window = Arc::new(
+        event_loop
+            .create_window(attributes)
+            .map_err(|e| RunError::Window(e.to_string()))?,
+    );
+    // With the display handle, so that the GL backend finds an adapter
+    // compatible with the window's surface.
+    let descriptor =
+        wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+    let backends = descriptor.backends;
+    let instance = wgpu::Instance::new(descriptor);
+    let surface = instance
+        .create_surface(window.clone())
+        .map_err(|e| RenderError::Surface(e.to_string()))?;
+    let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
+    let caps = surface.get_capabilities(&gpu.adapter);
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(wgpu::TextureFormat::is_srgb)
+        .or_else(|| caps.formats.first().copied())
+        .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
+    let present_mode = if options.vsync {
+        wgpu::PresentMode::Fifo
+    } else {
+        [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
+            .into_iter()
+            .find(|m| caps.present_modes.contains(m))
+            .unwrap_or(wgpu::PresentMode::Fifo)
+    };
+    let size = window.inner_size();
+    // Copies into the surface let the splat path skip a full-screen pass.
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
+    let config = wgpu::SurfaceConfiguration {
+        usage,
+        format,
+        width: size.width.max(1),
+        height: size.height.max(1),
+        present_mode,
+        alpha_mode: caps
+            .alpha_modes
+            .first()
             .copied()
-            .find(wgpu::TextureFormat::is_srgb)
-            .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
-        let present_mode = if self.options.vsync {
-            wgpu::PresentMode::Fifo
-        } else {
-            [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
-                .into_iter()
-                .find(|m| caps.present_modes.contains(m))
-                .unwrap_or(wgpu::PresentMode::Fifo)
-        };
-        let size = window.inner_size();
-        // Copies into the surface let the splat path skip a full-screen pass.
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
-        let config = wgpu::SurfaceConfiguration {
-            usage,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            present_mode,
-            alpha_mode: caps
-                .alpha_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
-            desired_maximum_frame_latency: 2,
-            color_space: wgpu::SurfaceColorSpace::Auto,
-        };
-        let renderer = Renderer::new(&gpu, format, self.options.renderer.clone())?;
-        let context = egui::Context::default();
-        self.panel = Some(Panel {
-            input: egui_winit::State::new(
-                context.clone(),
-                egui::ViewportId::ROOT,
-                &window,
-                Some(window.scale_factor() as f32),
-                None,
-                Some(gpu.device.limits().max_texture_dimension_2d as usize),
-            ),
-            context,
-            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
-        });
-        self.summary.adapter = gpu.describe();
-        self.summary.surface = format!("{format:?}, {present_mode:?}");
-        let mut state = WindowState {
-            gpu,
-            surface,
-            config,
-            renderer,
-            buffers: None,
-            window,
-        };
-        state.resize(size.width, size.height)?;
-        Ok(state)
-    }
+            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+        view_formats: vec![],
+        desired_maximum_frame_latency: 2,
+        color_space: wgpu::SurfaceColorSpace::Auto,
+    };
+    let renderer = Renderer::new(&gpu, format, options.renderer.clone())?;
+    let context = egui::Context::default();
+    let panel = Panel {
+        input: egui_winit::State::new(
+            context.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(gpu.device.limits().max_texture_dimension_2d as usize),
+        ),
+        context,
+        renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
+    };
+    let mut state = WindowState {
+        gpu,
+        surface,
+        config,
+        renderer,
+        buffers: None,
+        window,
+    };
+    state.resize(size.width, size.height)?;
+    Ok((state, panel))
 }
 
 impl WindowState {

@@ -1,0 +1,76 @@
+//! [`FrameSource`]: what the runners show frame by frame, a game's
+//! [`GameSession`](super::GameSession) or a scene's
+//! [`Playback`](super::Playback).
+
+use super::control::Control;
+use super::error::RunError;
+use crate::input::InputEvent as Event;
+use crate::render::{Camera, FrameView, RenderError};
+
+/// Something the runners can show frame by frame: advanced by each frame's
+/// duration, steered by controls and keys, drawn through a [`FrameView`].
+pub trait FrameSource {
+    /// The window title.
+    fn title(&self) -> String;
+
+    /// Advances by one displayed frame of `seconds`, running the fixed
+    /// steps it is due.
+    ///
+    /// # Errors
+    /// [`RunError`] for a bad duration or a failed step.
+    fn advance(&mut self, seconds: f64) -> Result<(), RunError>;
+
+    /// Applies a viewer control now. The runners call it between frames
+    /// only (the keys' controls and the panel's alike), so every control
+    /// enters the simulation at a tick boundary.
+    ///
+    /// # Errors
+    /// [`RunError`] if the control fails (an integrator number beyond the
+    /// registry, a rate the clock refuses).
+    fn control(&mut self, control: Control) -> Result<(), RunError>;
+
+    /// Whether the source takes the player's input (game keys, mouse
+    /// buttons and pointer); if not, the window maps keys to controls and
+    /// the mouse to the camera. Default: not taken.
+    fn takes_input(&self) -> bool {
+        false
+    }
+
+    /// An input event that arrived at `arrival` in the coming frame (0 at
+    /// its start, 1 at its end): see [`crate::input::InputQueue`]. Called
+    /// by the runner just before [`advance`](Self::advance). Default: ignored.
+    fn input(&mut self, event: Event, arrival: f64) {
+        let _ = (event, arrival);
+    }
+
+    /// Fixed steps run since the start (or the last reset).
+    fn ticks(&self) -> u64;
+
+    /// Whether the source has come to its end and the window should close
+    /// (a networked match over). Default: never.
+    fn finished(&self) -> bool {
+        false
+    }
+
+    /// The camera, for the window's mouse.
+    fn camera_mut(&mut self) -> &mut Camera;
+
+    /// Calls `render` with the view of the current frame, for a target of
+    /// `size` pixels (`hud`: with its HUD text).
+    ///
+    /// # Errors
+    /// What `render` returns.
+    fn with_view(
+        &mut self,
+        hud: bool,
+        size: (u32, u32),
+        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
+    ) -> Result<(), RunError>;
+
+    /// Lays out the window's control panel, adding the controls chosen in
+    /// it to `chosen` (applied by the runner before the next frame's
+    /// steps). Default: no panel.
+    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
+        let _ = (ctx, chosen);
+    }
+}
