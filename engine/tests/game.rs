@@ -3,10 +3,11 @@
 
 use glam::Vec3;
 use tickwork_engine::app::{
-    Control, FrameSource, Game, GameError, GameSession, Key, OnFailure, Recording, RunError, SessionOptions, Settings,
-    Stage, TickInput, WorldId,
+    Control, FrameSource, Game, GameError, GameSession, Key, OnFailure, Playback, Recording, RunError, SessionOptions,
+    Settings, Stage, TickInput, WorldId,
 };
-use tickwork_engine::{Entity, FixedStep, Gravity, Particle, Spring, SpringEnd, Springs, World, WorldConfig};
+use tickwork_engine::render::{GoldenImages, RenderError, RgbaImage};
+use tickwork_engine::{Entity, FixedStep, Gravity, Particle, Scene, Spring, SpringEnd, Springs, World, WorldConfig};
 
 /// Logs the input of every tick; one falling ball per world.
 #[derive(Default)]
@@ -308,6 +309,59 @@ fn engine_errors_convert_into_game_errors_with_their_messages() {
     }
     impl std::error::Error for Tilt {}
     assert_eq!(GameError::other(Tilt).to_string(), "the table tilted");
+    // The render side's errors, a scene's playback and a run started from
+    // a game convert with their messages as the source too.
+    fn engine<E: std::error::Error + 'static>(error: E, convert: fn(E) -> GameError) {
+        let message = error.to_string();
+        let converted = convert(error);
+        assert!(matches!(converted, GameError::Engine(_)), "{converted:?}");
+        assert_eq!(converted.to_string(), message);
+        assert_eq!(converted.source().map(ToString::to_string), Some(message));
+    }
+    fn draw_too_big() -> Result<(), GameError> {
+        Err(RenderError::Size {
+            width: 0,
+            height: 9,
+            max: 8192,
+        })?
+    }
+    let render = draw_too_big().expect_err("a 0x9 target");
+    assert_eq!(
+        render.to_string(),
+        "cannot render a 0x9 image: both sides must be between 1 and 8192 pixels"
+    );
+    engine(RenderError::Config("HUD size 0".into()), |e| -> GameError { e.into() });
+    let dir = std::env::temp_dir().join(format!("tickwork-game-errors-{}", std::process::id()));
+    fn check_golden(dir: &std::path::Path) -> Result<(), GameError> {
+        let golden = GoldenImages::new(dir.join("golden"), dir.join("out"));
+        golden.check("absent", &RgbaImage::new(2, 2))?;
+        Ok(())
+    }
+    let missing = check_golden(&dir).expect_err("no golden image");
+    assert!(matches!(missing, GameError::Engine(_)), "{missing:?}");
+    assert!(missing.to_string().contains("TICKWORK_BLESS=1"), "{missing}");
+    assert_eq!(missing.source().map(ToString::to_string), Some(missing.to_string()));
+    let _ = std::fs::remove_dir_all(&dir);
+    fn play(integrator: &str) -> Result<Playback, GameError> {
+        let scene = Scene::load(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../assets/scenes/kepler.ron"
+        )))?;
+        Ok(Playback::from_scene(&scene, Some(integrator))?)
+    }
+    let playback = play("rk5").expect_err("no rk5");
+    assert!(playback.to_string().contains("rk5"), "{playback}");
+    assert_eq!(playback.source().map(ToString::to_string), Some(playback.to_string()));
+    play("rk4").expect("rk4 plays the scene");
+    engine(RunError::Limit("--frames 2000000 is past the limit".into()), |e| {
+        e.into()
+    });
+    // A run's own game error comes back as the game's, not wrapped.
+    let game: GameError = RunError::Game(GameError::Message("the table tilted".into())).into();
+    assert!(
+        matches!(&game, GameError::Message(m) if m == "the table tilted"),
+        "{game:?}"
+    );
 }
 
 /// Lays out `session`'s control panel in a headless egui, opens the

@@ -99,6 +99,24 @@ impl fmt::Display for RunError {
 
 impl std::error::Error for RunError {}
 
+/// A scene's playback failing inside a game: [`GameError::Engine`].
+impl From<PlaybackError> for GameError {
+    fn from(e: PlaybackError) -> Self {
+        Self::Engine(Box::new(e))
+    }
+}
+
+/// A run started inside a game failing: the game's own error back as it
+/// was, anything else as [`GameError::Engine`].
+impl From<RunError> for GameError {
+    fn from(e: RunError) -> Self {
+        match e {
+            RunError::Game(e) => e,
+            other => Self::Engine(Box::new(other)),
+        }
+    }
+}
+
 impl From<PlaybackError> for RunError {
     fn from(e: PlaybackError) -> Self {
         Self::Playback(e)

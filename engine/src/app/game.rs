@@ -115,7 +115,11 @@ engine_errors!(
     tickwork_integrators::UnknownMethod,
     tickwork_integrators::StepError,
     SimulationError,
+    crate::render::RenderError,
+    crate::render::GoldenError,
 );
+// `PlaybackError` and `RunError` convert too: their `From` impls are in
+// `error.rs`, beside them (this file is imported by it, not the reverse).
 
 /// A game: what it builds, how it reacts to each tick's input, and what it
 /// draws. Only [`title`](Game::title) and [`setup`](Game::setup) are required.
