@@ -417,3 +417,35 @@ fn every_demo_re_simulates_to_the_same_states_under_a_rollback_sync_test() {
         "{stdout}"
     );
 }
+
+#[test]
+fn the_integrator_option_runs_a_race_of_the_named_methods_and_is_refused_where_it_would_be_ignored() {
+    // Orbits races the integrators it is given, one world each.
+    let stdout = sync_test(
+        env!("CARGO_BIN_EXE_orbits"),
+        &["--frames", "3", "--integrator", "rk4,leapfrog"],
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("orbits: energy error"))
+        .unwrap_or_else(|| panic!("the outcome line:\n{stdout}"));
+    assert_eq!(line.matches('=').count(), 2, "{line}");
+    assert!(line.contains(" rk4=") && line.contains(" leapfrog="), "{line}");
+    // The tops fix their angular methods' worlds: a name there would be
+    // ignored, so it is refused as the one-world games refuse a list.
+    for integrator in ["rk4", "rk4,leapfrog"] {
+        let output = Command::new(env!("CARGO_BIN_EXE_tops"))
+            .args(["--sync-test", "1", "--frames", "3", "--integrator", integrator])
+            .output()
+            .expect("runs");
+        assert_eq!(output.status.code(), Some(1), "{integrator}: refused");
+        assert_eq!(
+            text(&output.stderr),
+            format!(
+                "error: --integrator {integrator}: tops fixes the integrator of each of its worlds \
+                 (\"quaternion_euler\", \"exponential_map\"), so the option would be ignored; run it without \
+                 --integrator\n"
+            )
+        );
+    }
+}

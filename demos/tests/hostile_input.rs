@@ -192,6 +192,17 @@ fn every_demo_refuses_bad_options_and_files_without_touching_its_outputs() {
         let base = ["--headless", "--frames", "2", "--out", "{out}"];
         failures.extend(run_table(program, &sandbox, &base, GAME_CASES));
     }
+    // The tops fix every world's integrator: a name would go unused.
+    let sandbox = Sandbox::new("tops-integrator");
+    let base = ["--headless", "--frames", "2", "--out", "{out}"];
+    let tops: &[(&[&str], &[&str])] = &[(
+        &["--integrator", "rk4"],
+        &[
+            "--integrator rk4: tops fixes the integrator of each of its worlds",
+            "run it without --integrator",
+        ],
+    )];
+    failures.extend(run_table(env!("CARGO_BIN_EXE_tops"), &sandbox, &base, tops));
     assert!(
         failures.is_empty(),
         "{} failures:\n{}",

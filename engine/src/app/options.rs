@@ -9,7 +9,8 @@ use clap::Args;
 #[derive(Args, Clone, Debug, PartialEq)]
 pub struct RunOptions {
     /// Integrator by registry name (see `tickwork integrators`); a game that
-    /// races integrators takes a comma-separated list.
+    /// races integrators takes a comma-separated list. An error in a game
+    /// that fixes every world's integrator to others (the tops).
     #[arg(long)]
     pub integrator: Option<String>,
     /// Fixed steps per second (default: the game's, usually 60).

@@ -197,6 +197,29 @@ impl<G: Game> GameSession<G> {
         Ok(session)
     }
 
+    /// Refuses `--integrator` that no world of `stage` takes: every world
+    /// fixes its integrator and `names` are not the ones they run (a game
+    /// that races the named integrators, such as orbits, runs exactly
+    /// those; any other would ignore the option silently).
+    fn check_fixed_integrators(&self, stage: &Stage, names: &str) -> Result<(), RunError> {
+        if stage.worlds.iter().any(|w| !w.fixed_integrator) {
+            return Ok(());
+        }
+        for name in names.split(',') {
+            let wanted = tickwork_integrators::find(name.trim())?.name;
+            if !stage.worlds.iter().any(|w| w.world.integrator().info().name == wanted) {
+                let labels: Vec<String> = stage.worlds.iter().map(|w| format!("\"{}\"", w.label)).collect();
+                return Err(RunError::Game(GameError::Message(format!(
+                    "--integrator {names}: {} fixes the integrator of each of its worlds ({}), so the option \
+                     would be ignored; run it without --integrator",
+                    self.game.title(),
+                    labels.join(", ")
+                ))));
+            }
+        }
+        Ok(())
+    }
+
     /// Builds the stage afresh and restarts the clock (and the recording).
     fn restart(&mut self) -> Result<(), RunError> {
         let mut stage = Stage {
@@ -226,6 +249,7 @@ impl<G: Game> GameSession<G> {
                 }
                 shown.world.set_integrator(name.trim())?;
             }
+            self.check_fixed_integrators(&stage, name)?;
         }
         for shown in &mut stage.worlds {
             shown.energy.sample(&mut shown.world);

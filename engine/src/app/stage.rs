@@ -142,7 +142,8 @@ impl EnergyTrace {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
     /// `--integrator`, as given (the runner also applies it to every world
-    /// that does not fix its own integrator; default: none).
+    /// that does not fix its own integrator, and refuses it if every world
+    /// fixes its integrator and a name is not one they run; default: none).
     pub integrator: Option<String>,
     /// `--seed` (default 0).
     pub seed: u64,
