@@ -1,7 +1,9 @@
 //! One step of every method on f32 `Vec3A` particles under gravity plus linear
 //! drag, at 1k, 100k and 1M particles, beside a plain copy of the same state
-//! bytes (positions and velocities) measured in the same run, so each method
-//! can be stated as a fraction of the memory-bandwidth limit.
+//! bytes (positions and velocities) and a hand-written semi-implicit Euler
+//! loop, measured in the same run, so each method can be stated as a
+//! fraction of the memory-bandwidth limit and as a cost against the loop a
+//! user would write by hand.
 //!
 //! Run: `cargo bench -p tickwork-integrators --bench methods`, then
 //! `scripts/bench-report` for the README table.
@@ -41,6 +43,45 @@ fn state(n: usize) -> (Vec<Vec3A>, Vec<Vec3A>) {
     (x, v)
 }
 
+/// The fixed step of every case: 60 Hz.
+const DT: f32 = 1.0 / 60.0;
+
+/// Times `iterations` calls of `step(run, t)` at game time `t`, measuring
+/// the steady state. Every 10 s of game time the run restarts from the
+/// initial state (`restart`, then four warming steps, untimed): drag would
+/// otherwise decay velocities into f32 subnormals over millions of steps,
+/// which no game runs and which is 100x slower on every method.
+fn steady<R>(
+    iterations: u64,
+    t: &mut f32,
+    run: &mut R,
+    mut restart: impl FnMut(&mut R),
+    mut step: impl FnMut(&mut R, f32),
+) -> Duration {
+    let mut measured = Duration::ZERO;
+    let mut remaining = iterations;
+    while remaining > 0 {
+        if *t >= 10.0 || *t == 0.0 {
+            restart(run);
+            *t = 0.0;
+            // Warm history and caches.
+            for _ in 0..4 {
+                step(run, *t);
+                *t += DT;
+            }
+        }
+        let chunk = remaining.min(((10.0 - *t) / DT) as u64 + 1);
+        let start = Instant::now();
+        for _ in 0..chunk {
+            step(run, *t);
+            *t += DT;
+        }
+        measured += start.elapsed();
+        remaining -= chunk;
+    }
+    measured
+}
+
 fn methods(c: &mut Criterion) {
     for n in [1_000usize, 100_000, 1_000_000] {
         let mut group = c.benchmark_group(format!("step/{n}"));
@@ -69,42 +110,50 @@ fn methods(c: &mut Criterion) {
                 black_box(&in_place);
             });
         });
+        // What a user would write instead of calling a method: semi-implicit
+        // Euler by hand over the same columns and forces, `v += (g - b v) h;
+        // x += v h` in one loop (the peers' loop; bench/peers compares whole
+        // engine steps).
+        let (start_x, start_v) = state(n);
+        let (mut hand, mut t) = ((start_x.clone(), start_v.clone()), 0.0f32);
+        group.bench_function("hand_semi_implicit_euler", |b| {
+            let (g, h) = (Vec3A::new(0.0, -9.81, 0.0), DT);
+            b.iter_custom(|iterations| {
+                steady(
+                    iterations,
+                    &mut t,
+                    &mut hand,
+                    |(x, v)| {
+                        x.copy_from_slice(&start_x);
+                        v.copy_from_slice(&start_v);
+                    },
+                    |(x, v), _| {
+                        for (x, v) in x.iter_mut().zip(v.iter_mut()) {
+                            *v += (g - *v * 0.1) * h;
+                            *x += *v * h;
+                        }
+                    },
+                )
+            });
+        });
         for info in METHODS {
-            let mut method = build::<Vec3A>(info.name).expect("registered");
-            let (start_x, start_v) = state(n);
-            let (mut x, mut v) = (start_x.clone(), start_v.clone());
-            let dt = 1.0 / 60.0;
-            let mut t = 0.0f32;
+            let method = build::<Vec3A>(info.name).expect("registered");
+            let (mut run, mut t) = ((start_x.clone(), start_v.clone(), method), 0.0f32);
             group.bench_with_input(BenchmarkId::from_parameter(info.name), &n, |b, _| {
                 b.iter_custom(|iterations| {
-                    let mut measured = Duration::ZERO;
-                    let mut remaining = iterations;
-                    while remaining > 0 {
-                        // Every 10 s of game time, restart from the initial state
-                        // (untimed): drag would otherwise decay velocities into
-                        // f32 subnormals over millions of steps, which no game
-                        // runs and which is 100x slower on every method.
-                        if t >= 10.0 || t == 0.0 {
+                    steady(
+                        iterations,
+                        &mut t,
+                        &mut run,
+                        |(x, v, method)| {
                             x.copy_from_slice(&start_x);
                             v.copy_from_slice(&start_v);
                             method.reset();
-                            t = 0.0;
-                            // Warm history and caches: measure the steady state.
-                            for _ in 0..4 {
-                                method.step(t, dt, &mut x, &mut v, &mut GravityAndDrag).expect("step");
-                                t += dt;
-                            }
-                        }
-                        let chunk = remaining.min(((10.0 - t) / dt) as u64 + 1);
-                        let start = Instant::now();
-                        for _ in 0..chunk {
-                            method.step(t, dt, &mut x, &mut v, &mut GravityAndDrag).expect("step");
-                            t += dt;
-                        }
-                        measured += start.elapsed();
-                        remaining -= chunk;
-                    }
-                    measured
+                        },
+                        |(x, v, method), t| {
+                            method.step(t, DT, x, v, &mut GravityAndDrag).expect("step");
+                        },
+                    )
                 });
             });
         }
