@@ -11,11 +11,10 @@
 //! Hermite frame uploads 44 bytes a particle instead of 32.
 
 use bytemuck::{Pod, Zeroable};
-use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
 
 use super::Gpu;
 use super::frame_view::FrameView;
-use super::renderer::{UPLOAD_CHUNK, bind_buffers};
+use super::renderer::{bind_buffers, write_records};
 
 /// One particle's current velocity as the shader reads it (12 bytes, as
 /// the WGSL `Velocity`), row for row with the instance records.
@@ -108,16 +107,7 @@ impl HermiteParticles {
                 replaced = true;
             }
             if n > 0 {
-                self.scratch.resize(n, Velocity::default());
-                let mut offset = 0;
-                for shown in view.worlds() {
-                    let particles = shown.world.particles();
-                    let len = particles.len();
-                    fill_velocities(particles, &mut self.scratch[offset..offset + len]);
-                    offset += len;
-                }
-                gpu.queue
-                    .write_buffer(&self.velocities, 0, bytemuck::cast_slice(&self.scratch));
+                write_records(gpu, view, n, &mut self.scratch, &self.velocities, velocity_block);
             }
         }
         if self.bind_group.is_none() {
@@ -146,26 +136,13 @@ impl HermiteParticles {
     }
 }
 
-/// Writes one velocity record per particle (in parallel for large worlds),
-/// a block of four at a time, as the instance records are filled.
-fn fill_velocities(particles: &crate::world::Particles, out: &mut [Velocity]) {
-    let velocity = particles.velocity.blocks();
-    let fill = |first: usize, out: &mut [Velocity]| {
-        // `first` is a multiple of 4 (UPLOAD_CHUNK is).
-        for (b, records) in out.chunks_mut(4).enumerate() {
-            let v = &velocity[first / 4 + b];
-            let (x, y, z) = (v.x.to_array(), v.y.to_array(), v.z.to_array());
-            for (k, record) in records.iter_mut().enumerate() {
-                *record = Velocity([x[k], y[k], z[k]]);
-            }
-        }
-    };
-    if out.len() >= 2 * UPLOAD_CHUNK {
-        out.par_chunks_mut(UPLOAD_CHUNK)
-            .enumerate()
-            .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
-    } else {
-        fill(0, out);
+/// The velocity records of the block of four rows from row `first`, as
+/// the instance records are filled.
+fn velocity_block(particles: &crate::world::Particles, first: usize, records: &mut [Velocity]) {
+    let v = &particles.velocity.blocks()[first / 4];
+    let (x, y, z) = (v.x.to_array(), v.y.to_array(), v.z.to_array());
+    for (k, record) in records.iter_mut().enumerate() {
+        *record = Velocity([x[k], y[k], z[k]]);
     }
 }
 

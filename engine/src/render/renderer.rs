@@ -67,7 +67,7 @@ struct LineVertex {
 }
 
 /// Rows per parallel upload job; below two of them the upload is serial.
-pub(crate) const UPLOAD_CHUNK: usize = 32 * 1024;
+const UPLOAD_CHUNK: usize = 32 * 1024;
 
 /// Pipelines, GPU buffers and CPU scratch for drawing frames. One renderer
 /// draws into targets of one colour format and sample count.
@@ -500,18 +500,14 @@ impl Renderer {
                 hermite.invalidate();
             }
         }
-        // Fill a reused scratch copy (in parallel for large worlds), then
-        // hand it to the queue.
-        self.instance_scratch.resize(n, Instance::default());
-        let mut offset = 0;
-        for shown in view.worlds() {
-            let particles = shown.world.particles();
-            let len = particles.len();
-            fill_instances(particles, &mut self.instance_scratch[offset..offset + len]);
-            offset += len;
-        }
-        gpu.queue
-            .write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.instance_scratch));
+        write_records(
+            gpu,
+            view,
+            n,
+            &mut self.instance_scratch,
+            &self.instances,
+            instance_block,
+        );
     }
 
     fn build_lines(&mut self, view: &FrameView<'_>, t: f32) {
@@ -597,35 +593,61 @@ impl Renderer {
     }
 }
 
-/// Writes one shader record per particle (in parallel for large worlds),
-/// a block of four at a time: the per-axis blocks are read as arrays, so
-/// the repack from blocks to records is plain moves.
-fn fill_instances(particles: &crate::world::Particles, out: &mut [Instance]) {
-    let (previous, current) = (particles.previous_position.blocks(), particles.position.blocks());
-    let fill = |first: usize, out: &mut [Instance]| {
-        // `first` is a multiple of 4 (UPLOAD_CHUNK is).
-        for (b, records) in out.chunks_mut(4).enumerate() {
-            let block = first / 4 + b;
-            let axes = |v: &tickwork_integrators::Vec3x4| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
-            let (p, c) = (axes(&previous[block]), axes(&current[block]));
-            for (k, record) in records.iter_mut().enumerate() {
-                let i = first + 4 * b + k;
-                *record = Instance {
-                    previous: [p[0][k], p[1][k], p[2][k]],
-                    radius: particles.radius[i],
-                    current: [c[0][k], c[1][k], c[2][k]],
-                    colour: u32::from_le_bytes(particles.colour[i]),
-                };
-            }
-        }
-    };
-    if out.len() >= 2 * UPLOAD_CHUNK {
-        out.par_chunks_mut(UPLOAD_CHUNK)
-            .enumerate()
-            .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
-    } else {
-        fill(0, out);
+/// The shader records of the block of four rows from row `first`: the
+/// per-axis blocks are read as arrays, so the repack from blocks to records
+/// is plain moves.
+fn instance_block(particles: &crate::world::Particles, first: usize, records: &mut [Instance]) {
+    let block = first / 4;
+    let axes = |v: &tickwork_integrators::Vec3x4| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
+    let (p, c) = (
+        axes(&particles.previous_position.blocks()[block]),
+        axes(&particles.position.blocks()[block]),
+    );
+    for (k, record) in records.iter_mut().enumerate() {
+        let i = first + k;
+        *record = Instance {
+            previous: [p[0][k], p[1][k], p[2][k]],
+            radius: particles.radius[i],
+            current: [c[0][k], c[1][k], c[2][k]],
+            colour: u32::from_le_bytes(particles.colour[i]),
+        };
     }
+}
+
+/// One record per particle of every world `view` shows, in order, into
+/// `scratch` (reused), then into `buffer`: `block(particles, row, records)`
+/// fills the records of the block of four rows from `row`, in parallel
+/// chunks of [`UPLOAD_CHUNK`] rows for large worlds. The instance records
+/// and Hermite's velocities are uploaded through it.
+pub(crate) fn write_records<T: Pod + Default + Send>(
+    gpu: &Gpu,
+    view: &FrameView<'_>,
+    n: usize,
+    scratch: &mut Vec<T>,
+    buffer: &wgpu::Buffer,
+    block: impl Fn(&crate::world::Particles, usize, &mut [T]) + Sync,
+) {
+    scratch.resize(n, T::default());
+    let mut offset = 0;
+    for shown in view.worlds() {
+        let particles = shown.world.particles();
+        let out = &mut scratch[offset..offset + particles.len()];
+        // `first` is a multiple of 4 (UPLOAD_CHUNK is).
+        let fill = |first: usize, out: &mut [T]| {
+            for (b, records) in out.chunks_mut(4).enumerate() {
+                block(particles, first + 4 * b, records);
+            }
+        };
+        if out.len() >= 2 * UPLOAD_CHUNK {
+            out.par_chunks_mut(UPLOAD_CHUNK)
+                .enumerate()
+                .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
+        } else {
+            fill(0, out);
+        }
+        offset += particles.len();
+    }
+    gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(scratch));
 }
 
 /// sRGB transfer function, for the clear colour.
@@ -682,23 +704,13 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
 /// The particle passes' bindings: the uniforms (every stage) and the
 /// instance records (vertex).
 fn particle_layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
-    let buffer = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
     [
-        buffer(
+        entry(
             0,
             wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
             wgpu::BufferBindingType::Uniform,
         ),
-        buffer(
+        entry(
             1,
             wgpu::ShaderStages::VERTEX,
             wgpu::BufferBindingType::Storage { read_only: true },
@@ -753,6 +765,24 @@ fn particle_bind_group(
     instances: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     bind_buffers(device, layout, &[globals, instances])
+}
+
+/// A layout entry for a whole buffer at `binding`, seen by `visibility`.
+pub(crate) fn entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 /// A bind group of whole buffers at bindings 0, 1, 2, ...

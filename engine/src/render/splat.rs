@@ -5,7 +5,7 @@
 //! a second bind group that adds the velocities (built on first use).
 
 use super::config::Blend;
-use super::renderer::{bind_buffers, depth_state};
+use super::renderer::{bind_buffers, depth_state, entry};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;
@@ -44,19 +44,6 @@ struct SplatState {
     /// The compute group plus the velocities, in Hermite mode.
     hermite_group: Option<wgpu::BindGroup>,
     composite_group: wgpu::BindGroup,
-}
-
-fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl Splat {
