@@ -185,6 +185,7 @@ fn script(period: u64, from: u64, to: u64, ticks: u64) -> tickwork_engine::Recor
             held,
             pressed: held,
             pointer: None,
+            ..TickInput::default()
         };
         recording.inputs.push((start + from, down));
         recording.inputs.push((start + to, TickInput::default()));

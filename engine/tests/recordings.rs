@@ -122,3 +122,51 @@ fn a_match_recording_holds_every_players_inputs_and_checks_each() {
         "{message}"
     );
 }
+
+#[test]
+fn releases_are_recorded_only_where_there_are_some_so_older_recordings_load_and_save_unchanged() {
+    use tickwork_engine::app::Key;
+    // Every shipped recording (written before releases were latched) loads
+    // and saves back to the same text: no `released` field appears.
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/recordings");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("recordings");
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&shipped).expect("assets/recordings") {
+        let path = entry.expect("an entry").path();
+        let recording = Recording::load(&path).expect("a shipped recording loads");
+        assert!(
+            recording.inputs.iter().all(|(_, input)| input.released.is_empty()),
+            "{}",
+            path.display()
+        );
+        let again = dir.join(path.file_name().expect("a file name"));
+        recording.save(&again, true).expect("saved");
+        // (A file's last newline aside: some were written by hand.)
+        assert_eq!(
+            std::fs::read_to_string(&again).expect("read").trim_end(),
+            std::fs::read_to_string(&path).expect("read").trim_end(),
+            "{} saves back unchanged",
+            path.display()
+        );
+        seen += 1;
+    }
+    assert!(seen >= 3, "{seen} recordings in {}", shipped.display());
+    // A tap within one tick: pressed and released there, kept by a save.
+    let path = file(
+        "tap.ron",
+        &recording(
+            "60.0",
+            "10",
+            "(3, TickInput(held: [], pressed: [Space], released: [Space]))",
+        ),
+    );
+    let tap = Recording::load(&path).expect("valid");
+    let (tick, input) = tap.inputs[0];
+    assert_eq!(tick, 3);
+    assert!(input.pressed(Key::Space) && input.released(Key::Space) && !input.held(Key::Space));
+    tap.save(&path, true).expect("saved");
+    let text = std::fs::read_to_string(&path).expect("read");
+    assert!(text.contains("released: [Space]"), "{text}");
+    assert_eq!(Recording::load(&path).expect("valid"), tap);
+}

@@ -43,6 +43,7 @@ pub struct SavedTick<G> {
 pub struct WireInput {
     held: u32,
     pressed: u32,
+    released: u32,
     /// The pointer's bits, so that GGRS's comparison of a prediction with
     /// the real input is of bits (as `==` on floats is not: `-0.0 == 0.0`
     /// would keep a prediction that runs differently, and NaN would never
@@ -58,6 +59,7 @@ impl From<TickInput> for WireInput {
         Self {
             held: input.held.bits(),
             pressed: input.pressed.bits(),
+            released: input.released.bits(),
             pointer: pointer.unwrap_or_default().map(|c| (c + 0.0).to_bits()),
             has_pointer: pointer.is_some(),
         }
@@ -71,6 +73,7 @@ impl From<WireInput> for TickInput {
         Self {
             held: KeySet::from_bits(wire.held),
             pressed: KeySet::from_bits(wire.pressed),
+            released: KeySet::from_bits(wire.released),
             pointer: Some(wire.pointer.map(f32::from_bits))
                 .filter(|p| wire.has_pointer && p.iter().all(|c| c.is_finite())),
         }

@@ -19,8 +19,10 @@
 //! frame timing. (Handing every event to the next tick run, as game loops
 //! usually do, makes that delay vary by up to a whole frame.)
 //!
-//! Presses are latched: a tap shorter than a step is seen, as pressed, by
-//! exactly one step; a frame that runs no step keeps its events waiting.
+//! Presses and releases are latched: a tap shorter than a step is seen, as
+//! pressed and released, by exactly one step (the one its press arrived
+//! in), and a release by the step of its own arrival; a frame that runs no
+//! step keeps its events waiting.
 
 use std::collections::VecDeque;
 
@@ -54,6 +56,7 @@ pub struct InputQueue {
     waiting: VecDeque<(InputEvent, f64)>,
     held: KeySet,
     pressed: KeySet,
+    released: KeySet,
     pointer: Option<[f32; 2]>,
 }
 
@@ -76,8 +79,8 @@ impl InputQueue {
     }
 
     /// The input of the step that ends at simulated time `end`: the events
-    /// stamped before `end` applied in order, presses latched, the rest
-    /// left waiting.
+    /// stamped before `end` applied in order, presses and releases
+    /// latched, the rest left waiting.
     pub fn tick(&mut self, end: f64) -> TickInput {
         while let Some(&(event, time)) = self.waiting.front() {
             if time >= end {
@@ -91,16 +94,23 @@ impl InputQueue {
                     }
                     self.held.insert(key);
                 }
-                InputEvent::Key { key, down: false } => self.held.remove(key),
+                InputEvent::Key { key, down: false } => {
+                    if self.held.contains(key) {
+                        self.released.insert(key);
+                    }
+                    self.held.remove(key);
+                }
                 InputEvent::Pointer(at) => self.pointer = Some(at.to_array()),
             }
         }
         let input = TickInput {
             held: self.held,
             pressed: self.pressed,
+            released: self.released,
             pointer: self.pointer,
         };
         self.pressed = KeySet::EMPTY;
+        self.released = KeySet::EMPTY;
         input
     }
 
@@ -110,12 +120,13 @@ impl InputQueue {
         self.arrived.len() + self.waiting.len()
     }
 
-    /// Forgets the waiting events and presses (a restart starts a new
-    /// timeline); keys still held stay held, and the pointer stays.
+    /// Forgets the waiting events, presses and releases (a restart starts
+    /// a new timeline); keys still held stay held, and the pointer stays.
     pub fn restart(&mut self) {
         self.arrived.clear();
         self.waiting.clear();
         self.pressed = KeySet::EMPTY;
+        self.released = KeySet::EMPTY;
     }
 }
 
@@ -162,6 +173,52 @@ mod tests {
         assert!(input.pressed(Key::Left));
         assert_eq!(input.pointer_at(), Some(Vec2::new(1.0, 2.0)));
         assert_eq!(queue.tick(3.0 * DT).carried(), input.carried());
+    }
+
+    #[test]
+    fn a_tap_within_one_step_is_pressed_and_released_in_that_tick_only() {
+        let mut queue = InputQueue::default();
+        // One frame of 2 dt: Space down at 0.6 dt and up at 0.8 dt, both in
+        // the first step's window.
+        queue.push(key(Key::Space, true), 0.3);
+        queue.push(key(Key::Space, false), 0.4);
+        queue.stamp(0.0, 2.0 * DT);
+        let first = queue.tick(DT);
+        assert!(first.pressed(Key::Space), "{first:?}");
+        assert!(first.released(Key::Space), "{first:?}");
+        assert!(!first.held(Key::Space), "up again by the step's end: {first:?}");
+        let second = queue.tick(2.0 * DT);
+        assert_eq!(second, TickInput::default(), "seen once");
+        assert_eq!(queue.waiting(), 0);
+    }
+
+    #[test]
+    fn a_release_spanning_ticks_lands_in_the_tick_of_its_arrival() {
+        let mut queue = InputQueue::default();
+        // A frame of 4 dt: Right down at 0.5 dt (step 0), up at 2.6 dt
+        // (step 2).
+        queue.push(key(Key::Right, true), 0.125);
+        queue.push(key(Key::Right, false), 0.65);
+        queue.stamp(0.0, 4.0 * DT);
+        let steps: Vec<TickInput> = (1..=4).map(|k| queue.tick(f64::from(k) * DT)).collect();
+        let seen = |f: fn(&TickInput, Key) -> bool| -> Vec<bool> { steps.iter().map(|s| f(s, Key::Right)).collect() };
+        assert_eq!(seen(TickInput::pressed), [true, false, false, false]);
+        assert_eq!(seen(TickInput::held), [true, true, false, false]);
+        assert_eq!(seen(TickInput::released), [false, false, true, false]);
+        // A release whose time is past the frame's last step waits for the
+        // next frame's step of its time, like a press.
+        queue.push(key(Key::Right, true), 0.0);
+        queue.push(key(Key::Right, false), 0.9);
+        queue.stamp(4.0 * DT, 5.5 * DT);
+        let held = queue.tick(5.0 * DT);
+        assert!(held.pressed(Key::Right) && held.held(Key::Right) && !held.released(Key::Right));
+        queue.stamp(5.5 * DT, 6.5 * DT);
+        let up = queue.tick(6.0 * DT);
+        assert!(up.released(Key::Right) && !up.held(Key::Right) && !up.pressed(Key::Right));
+        // A release of a key that was not down is no release.
+        queue.push(key(Key::Left, false), 0.0);
+        queue.stamp(6.5 * DT, 7.5 * DT);
+        assert!(!queue.tick(7.0 * DT).released(Key::Left));
     }
 
     #[test]

@@ -16,6 +16,12 @@ pub struct TickInput {
     /// even if released before it ran (fire, restart).
     #[serde(default)]
     pub pressed: KeySet,
+    /// Keys released since the previous step began: seen by exactly one
+    /// step, so a tap shorter than a step is both pressed and released in
+    /// it (a charged shot let go). Absent from recordings made before it
+    /// existed, which replay unchanged.
+    #[serde(default, skip_serializing_if = "no_keys")]
+    pub released: KeySet,
     /// Where the mouse pointer last was over the window, as `[x, y]` in
     /// world metres on the `z = 0` plane (none before it first moved over
     /// a part of the view that sees that plane; kept when it leaves). A
@@ -38,6 +44,12 @@ impl TickInput {
         self.pressed.contains(key)
     }
 
+    /// Whether `key` went up since the previous step.
+    #[must_use]
+    pub fn released(&self, key: Key) -> bool {
+        self.released.contains(key)
+    }
+
     /// The pointer as a vector (see [`pointer`](Self::pointer)).
     #[must_use]
     pub fn pointer_at(&self) -> Option<Vec2> {
@@ -45,12 +57,18 @@ impl TickInput {
     }
 
     /// The input of the following step if nothing changes: the same keys
-    /// held and pointer, none newly pressed.
+    /// held and pointer, none newly pressed or released.
     #[must_use]
     pub fn carried(&self) -> Self {
         Self {
             pressed: KeySet::EMPTY,
+            released: KeySet::EMPTY,
             ..*self
         }
     }
+}
+
+/// Whether `keys` is empty (serde's `skip_serializing_if` passes a reference).
+fn no_keys(keys: &KeySet) -> bool {
+    keys.is_empty()
 }
