@@ -74,7 +74,7 @@ impl<W: Write> TraceWriter<W> {
 
 /// What a headless run did.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RunSummary {
+pub struct HeadlessSummary {
     /// Steps run.
     pub steps: u64,
     /// Simulated seconds at the end.
@@ -89,7 +89,7 @@ pub struct RunSummary {
     pub particle_steps: u64,
 }
 
-impl RunSummary {
+impl HeadlessSummary {
     /// `(end - start) / |start|` of the total energy; `None` when the start
     /// energy is zero (a scene that starts empty, such as a fountain).
     #[must_use]
@@ -117,7 +117,7 @@ pub fn run_headless<W: Write>(
     mut trace: Option<&mut TraceWriter<W>>,
     every: u64,
     mut progress: impl FnMut(u64),
-) -> Result<RunSummary, HeadlessError> {
+) -> Result<HeadlessSummary, HeadlessError> {
     let mut clock = FixedClock::default();
     clock.set_rate(rate);
     let start_particles = world.len();
@@ -145,7 +145,7 @@ pub fn run_headless<W: Write>(
             progress(done + 1);
         }
     }
-    Ok(RunSummary {
+    Ok(HeadlessSummary {
         steps,
         time: clock.time(),
         particles: (start_particles, world.len(), peak),

@@ -57,7 +57,7 @@ pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Sp
 /// The math crate of every public type (`Vec3`, `Quat`), re-exported so
 /// games use the same version.
 pub use glam;
-pub use headless::{HeadlessError, RunSummary, TraceWriter, run_headless};
+pub use headless::{HeadlessError, HeadlessSummary, TraceWriter, run_headless};
 pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
