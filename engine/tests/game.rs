@@ -496,3 +496,57 @@ fn a_replay_repeats_an_integrator_switch_made_from_the_panel_at_its_tick() {
     assert_ne!(replay(without, 1.0 / 60.0), state);
     std::fs::remove_dir_all(&dir).expect("clean up");
 }
+
+#[test]
+fn several_worlds_are_borrowed_at_once_and_a_bad_set_of_ids_is_an_error() {
+    use tickwork_engine::app::StageError;
+    let mut stage = Stage::default();
+    let ids: Vec<WorldId> = ["left", "middle", "right"]
+        .into_iter()
+        .map(|label| stage.add_world(label, World::default()).id())
+        .collect();
+    let (left, middle, right) = (ids[0], ids[1], ids[2]);
+    let ball = stage
+        .world_mut(left)
+        .expect("on the stage")
+        .spawn(Particle {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            ..Particle::default()
+        })
+        .expect("spawned");
+    // A ball passes from the left world to the right one: both changed in
+    // one borrow, in the order asked.
+    let [to, from] = stage.worlds_mut([right, left]).expect("two worlds");
+    let at = from.position(ball).expect("alive");
+    from.despawn(ball).expect("alive");
+    let arrived = to
+        .spawn(Particle {
+            position: at,
+            ..Particle::default()
+        })
+        .expect("spawned");
+    let lens: Vec<usize> = stage.worlds.iter().map(|w| w.world.len()).collect();
+    assert_eq!(lens, [0, 0, 1]);
+    let moved = stage.world(right).expect("on the stage").position(arrived);
+    assert_eq!(moved.ok(), Some(Vec3::new(1.0, 2.0, 3.0)));
+    let [a, b, c] = stage.worlds_mut([middle, right, left]).expect("three worlds");
+    assert_eq!((a.len(), b.len(), c.len()), (0, 1, 0));
+    // The same world twice would be two mutable borrows of it.
+    let twice = stage.worlds_mut([left, middle, left]).expect_err("left twice");
+    assert_eq!(twice, StageError::Twice { id: left });
+    assert_eq!(twice.to_string(), "world #0 was asked for twice in one worlds_mut");
+    // An id from a stage with more worlds is not on this one.
+    let mut bigger = Stage::default();
+    let far = (0..4)
+        .map(|_| bigger.add_world("w", World::default()).id())
+        .last()
+        .expect("four ids");
+    let unknown = stage.worlds_mut([left, far]).expect_err("not on this stage");
+    assert_eq!(unknown, StageError::Unknown { id: far, worlds: 3 });
+    assert_eq!(unknown.to_string(), "world #3 is not on this stage (it has 3 worlds)");
+    // Nothing was changed by the refused borrows.
+    assert_eq!(
+        stage.worlds.iter().map(|w| w.world.len()).collect::<Vec<_>>(),
+        [0, 0, 1]
+    );
+}
