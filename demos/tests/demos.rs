@@ -449,3 +449,50 @@ fn the_integrator_option_runs_a_race_of_the_named_methods_and_is_refused_where_i
         );
     }
 }
+
+#[test]
+fn a_successful_headless_run_says_nothing_about_xdg_runtime_dir() {
+    // Without XDG_RUNTIME_DIR, Mesa's device-select Vulkan layer printed
+    // "error: XDG_RUNTIME_DIR is invalid or not set" twice on every run
+    // that found an adapter; the binaries quiet it before any thread starts.
+    let dir = scratch("no-xdg");
+    let scene = root().join("assets/scenes/projectile.ron");
+    let runs: [(&str, Vec<String>); 2] = [
+        (
+            env!("CARGO_BIN_EXE_lander"),
+            ["--headless", "--frames", "2", "--out"]
+                .map(String::from)
+                .into_iter()
+                .chain([dir.join("lander").display().to_string()])
+                .collect(),
+        ),
+        (
+            env!("CARGO_BIN_EXE_tickwork"),
+            [
+                "render".into(),
+                scene.display().to_string(),
+                "--frames".into(),
+                "2".into(),
+                "--out".into(),
+            ]
+            .into_iter()
+            .chain([dir.join("render").display().to_string()])
+            .collect(),
+        ),
+    ];
+    for (binary, args) in runs {
+        let output = Command::new(binary)
+            .args(&args)
+            .env_remove("XDG_RUNTIME_DIR")
+            .env_remove("NODEVICE_SELECT")
+            .output()
+            .expect("runs");
+        let stderr = text(&output.stderr);
+        assert!(output.status.success(), "{binary} {args:?}:\n{stderr}");
+        assert!(
+            !stderr.contains("XDG_RUNTIME_DIR"),
+            "{binary} {args:?} warned about XDG_RUNTIME_DIR:\n{stderr}"
+        );
+        assert!(text(&output.stdout).contains("2 frames"), "{}", text(&output.stdout));
+    }
+}
