@@ -76,10 +76,10 @@ impl Breakout {
         }
     }
 
-    /// A fresh court: walls, bricks, the paddle, the ball on it.
-    fn build(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+    /// A fresh court of `seed`: walls, bricks, the paddle, the ball on it.
+    fn build(&mut self, seed: u64, stage: &mut Stage) -> Result<(), GameError> {
         let mut court = World::new(WorldConfig {
-            seed: settings.seed,
+            seed,
             ..WorldConfig::default()
         })?;
         let (half, top) = ARENA;
@@ -97,11 +97,9 @@ impl Breakout {
                 self.bricks.push((brick, row));
             }
         }
-        self.paddle = court.add_collider(BoxCollider::solid(
-            Vec3::new(-PADDLE.x, PADDLE_Y - PADDLE.y, -1.0),
-            Vec3::new(PADDLE.x, PADDLE_Y + PADDLE.y, 1.0),
-            ELASTIC,
-        ));
+        let centre = Vec2::new(0.0, PADDLE_Y);
+        let (low, high) = ((centre - PADDLE).extend(-1.0), (centre + PADDLE).extend(1.0));
+        self.paddle = court.add_collider(BoxCollider::solid(low, high, ELASTIC));
         court.report_contacts(self.paddle)?;
         self.ball = court.spawn(Particle {
             position: Vec3::new(0.0, RIDE, 0.0),
@@ -109,30 +107,9 @@ impl Breakout {
             colour: [245, 245, 250, 255],
             ..Particle::default()
         })?;
-        match stage.world_mut(self.court) {
-            Ok(world) => *world = court,
-            Err(_) => self.court = stage.add_world("court", court).id(),
-        }
+        stage.worlds.clear();
+        self.court = stage.add_world("court", court).id();
         (self.score, self.lives, self.play) = (0, 3, Play::Serving);
-        Ok(())
-    }
-
-    /// Removes the bricks the ball touched in the last step, and aims the
-    /// ball by where it met the paddle (the ends send it out at 60 degrees).
-    fn hits(&mut self, world: &mut World, paddle_x: f32) -> Result<(), GameError> {
-        for k in 0..world.contacts().len() {
-            let Touched::Collider(id) = world.contacts()[k].touched else {
-                continue;
-            };
-            if id == self.paddle {
-                let angle = ((world.contacts()[k].point.x - paddle_x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
-                world.set_velocity(self.ball, BALL.1 * Vec3::new(angle.sin(), angle.cos(), 0.0))?;
-            } else if let Some(k) = self.bricks.iter().position(|(brick, _)| *brick == id) {
-                let (brick, row) = self.bricks.remove(k);
-                world.remove_collider(brick)?;
-                self.score += 10 * (ROWS.len() - row) as u32;
-            }
-        }
         Ok(())
     }
 }
@@ -148,35 +125,44 @@ impl Game for Breakout {
             height: 13.0,
         };
         stage.background = [16, 18, 30, 255];
-        self.build(stage, settings)
+        self.build(settings.seed, stage)
     }
 
     fn fixed_update(&mut self, stage: &mut Stage, step: &FixedStep, input: &TickInput) -> Result<(), GameError> {
-        if matches!(self.play, Play::Won | Play::Lost) {
-            if input.pressed(Key::Enter) {
-                let settings = stage.settings().clone();
-                self.build(stage, &settings)?;
-            }
-            return Ok(());
+        match self.play {
+            Play::Won | Play::Lost if input.pressed(Key::Enter) => return self.build(stage.settings().seed, stage),
+            Play::Won | Play::Lost => return Ok(()),
+            Play::Serving | Play::Playing => {}
         }
         let world = stage.world_mut(self.court)?;
         let mut paddle = *world.collider::<BoxCollider>(self.paddle)?;
         let x = paddle.centre().x;
-        self.hits(world, x)?;
+        // Bricks the ball touched in the last step go; where it met the
+        // paddle aims it (the ends send it out at 60 degrees).
+        for k in 0..world.contacts().len() {
+            let Contact { touched, point, .. } = world.contacts()[k];
+            let hit = self.bricks.iter().position(|(b, _)| touched == Touched::Collider(*b));
+            if touched == Touched::Collider(self.paddle) {
+                let angle = ((point.x - x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
+                world.set_velocity(self.ball, BALL.1 * Vec3::new(angle.sin(), angle.cos(), 0.0))?;
+            } else if let Some(k) = hit {
+                let (brick, row) = self.bricks.remove(k);
+                world.remove_collider(brick)?;
+                self.score += 10 * (ROWS.len() - row) as u32;
+            }
+        }
         let ball = world.position(self.ball)?;
         // Where the paddle heads: the autopilot's aim, the keys while held,
         // else the pointer.
         let held = |a, b| f32::from(u8::from(input.held(a) || input.held(b)));
         let keys = held(Key::Right, Key::D) - held(Key::Left, Key::A);
-        let target = match () {
-            () if self.autopilot => Some(ball.x + 0.6 * (step.tick as f32 * 0.013).sin()),
-            () if keys != 0.0 => None,
-            () => input.pointer_at().map(|p| p.x),
-        };
         let dt = step.dt as f32;
-        let speed = target.map_or(PADDLE_SPEED * keys, |t| {
-            ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED)
-        });
+        let towards = |t: f32| ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED);
+        let speed = match input.pointer_at() {
+            _ if self.autopilot => towards(ball.x + 0.6 * (step.tick as f32 * 0.013).sin()),
+            Some(pointer) if keys == 0.0 => towards(pointer.x),
+            _ => PADDLE_SPEED * keys,
+        };
         // Stop at the walls.
         let reach = ARENA.0 - PADDLE.x;
         paddle.velocity.x = ((x + speed * dt).clamp(-reach, reach) - x) / dt;
@@ -219,11 +205,7 @@ impl Game for Breakout {
             Play::Serving if !self.autopilot => ("Space to serve", [200, 200, 210, 255]),
             _ => return Ok(()),
         };
-        let centre = Vec3::new(0.0, 4.5, 0.0);
-        draw.text(message, centre)
-            .size(48.0)
-            .colour(colour)
-            .anchor(Anchor::Centre);
+        draw.text(message, Vec3::new(0.0, 4.5, 0.0)).size(48.0).colour(colour);
         Ok(())
     }
 
@@ -240,10 +222,7 @@ impl Game for Breakout {
             Play::Lost => "lost",
             Play::Serving | Play::Playing => "stopped",
         };
-        Some(format!(
-            "{how} with {} points, {} bricks left",
-            self.score,
-            self.bricks.len()
-        ))
+        let (score, left) = (self.score, self.bricks.len());
+        Some(format!("{how} with {score} points, {left} bricks left"))
     }
 }

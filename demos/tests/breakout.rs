@@ -181,3 +181,28 @@ fn the_integrator_option_takes_one_name_and_says_why_not_a_list() {
          list is for a game that races integrators, such as orbits)"
     );
 }
+
+#[test]
+fn enter_after_the_last_brick_builds_a_fresh_court_in_place_of_the_old_one() {
+    let mut game = session(Breakout::new(true), SessionOptions::default());
+    while game.game().play != Play::Won && game.ticks() < 60 * 600 {
+        game.advance(1.0 / 60.0).expect("steps");
+    }
+    assert_eq!(game.game().play, Play::Won, "won by tick {}", game.ticks());
+    // Won: the game waits, whatever the ticks, until Enter.
+    game.advance(1.0 / 60.0).expect("steps");
+    assert_eq!(game.game().play, Play::Won);
+    game.key(Key::Enter, true);
+    game.advance(1.0 / 60.0).expect("steps");
+    let fresh = game.game();
+    assert_eq!((fresh.score, fresh.lives, fresh.bricks.len()), (0, 3, 40));
+    assert_ne!(fresh.play, Play::Won);
+    assert_eq!(game.stage().worlds.len(), 1, "the old court is gone");
+    let court = &game.stage().worlds[0].world;
+    // The walls, the 40 bricks and the paddle; the ball on the paddle.
+    assert_eq!(court.colliders().count(), 42);
+    assert!(
+        court.position(game.game().ball).is_ok_and(|ball| ball.y < 2.0),
+        "the ball is served from the paddle"
+    );
+}

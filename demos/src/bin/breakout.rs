@@ -1,15 +1,11 @@
-//! Breakout: Left/Right or the mouse move the paddle, Space serves; clear
-//! the bricks. `--autopilot` plays by itself. See `tickwork_demos::breakout`.
-
-use std::process::ExitCode;
+//! Breakout's `main`: the shared options and the game's own `--autopilot`.
 
 use clap::Parser;
 use tickwork::prelude::*;
 use tickwork_demos::breakout::Breakout;
 
-/// The shared options and the game's own.
+/// Breakout on Tickwork: clear the bricks with a kinematic paddle.
 #[derive(Parser)]
-#[command(about = "Breakout on Tickwork: clear the bricks with a kinematic paddle.")]
 struct Options {
     #[command(flatten)]
     run: RunOptions,
@@ -18,7 +14,7 @@ struct Options {
     autopilot: bool,
 }
 
-fn main() -> ExitCode {
+fn main() -> std::process::ExitCode {
     let options = Options::parse();
     exit_code(run(Breakout::new(options.autopilot), options.run))
 }
