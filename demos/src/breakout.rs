@@ -76,12 +76,10 @@ impl Breakout {
         }
     }
 
-    /// A fresh court of `seed`: walls, bricks, the paddle, the ball on it.
-    fn build(&mut self, seed: u64, stage: &mut Stage) -> Result<(), GameError> {
-        let mut court = World::new(WorldConfig {
-            seed,
-            ..WorldConfig::default()
-        })?;
+    /// A fresh court of the run's seed and integrator: walls, bricks, the
+    /// paddle, the ball on it.
+    fn build(&mut self, settings: &Settings, stage: &mut Stage) -> Result<(), GameError> {
+        let mut court = World::new(settings.world_config())?;
         let (half, top) = ARENA;
         // Open at the bottom: the walls' box reaches far below the paddle.
         let (low, high) = (Vec3::new(-half, -20.0, -1.0), Vec3::new(half, top, 1.0));
@@ -125,12 +123,12 @@ impl Game for Breakout {
             height: 13.0,
         };
         stage.background = [16, 18, 30, 255];
-        self.build(settings.seed, stage)
+        self.build(settings, stage)
     }
 
     fn fixed_update(&mut self, stage: &mut Stage, step: &FixedStep, input: &TickInput) -> Result<(), GameError> {
         match self.play {
-            Play::Won | Play::Lost if input.pressed(Key::Enter) => return self.build(stage.settings().seed, stage),
+            Play::Won | Play::Lost if input.pressed(Key::Enter) => return self.build(&stage.settings().clone(), stage),
             Play::Won | Play::Lost => return Ok(()),
             Play::Serving | Play::Playing => {}
         }

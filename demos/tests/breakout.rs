@@ -184,7 +184,12 @@ fn the_integrator_option_takes_one_name_and_says_why_not_a_list() {
 
 #[test]
 fn enter_after_the_last_brick_builds_a_fresh_court_in_place_of_the_old_one() {
-    let mut game = session(Breakout::new(true), SessionOptions::default());
+    // With --integrator: the rebuilt court runs it too. (Without drag,
+    // implicit-drag Euler steps as semi-implicit Euler does, so the
+    // autopilot's game is the same.)
+    let mut options = SessionOptions::default();
+    options.settings.integrator = Some("implicit_drag_euler".into());
+    let mut game = session(Breakout::new(true), options);
     while game.game().play != Play::Won && game.ticks() < 60 * 600 {
         game.advance(1.0 / 60.0).expect("steps");
     }
@@ -201,6 +206,7 @@ fn enter_after_the_last_brick_builds_a_fresh_court_in_place_of_the_old_one() {
     let court = &game.stage().worlds[0].world;
     // The walls, the 40 bricks and the paddle; the ball on the paddle.
     assert_eq!(court.colliders().count(), 42);
+    assert_eq!(court.integrator().info().name, "implicit_drag_euler");
     assert!(
         court.position(game.game().ball).is_ok_and(|ball| ball.y < 2.0),
         "the ball is served from the paddle"

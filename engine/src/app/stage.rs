@@ -9,7 +9,7 @@ use core::fmt;
 use crate::clock::{FixedStep, Rate};
 use crate::render::{Camera, Trails};
 use crate::step::SimulationError;
-use crate::world::{Colour, Entity, World};
+use crate::world::{Colour, Entity, World, WorldConfig};
 
 /// A world's handle on its stage, from [`Stage::add_world`]. A restart
 /// builds a fresh stage, whose set-up hands out the same ids in the same
@@ -152,6 +152,24 @@ pub struct Settings {
     /// from this machine, and a game of more players drives or idles the
     /// others itself). The same on every peer, so a game may branch on it.
     pub networked: bool,
+}
+
+impl Settings {
+    /// A world configuration with this run's seed and integrator
+    /// (`--integrator`'s name; the default method when none, or a list for a
+    /// race, was given), so a world the game builds, or builds again on a
+    /// restart, runs what the command line asked for.
+    #[must_use]
+    pub fn world_config(&self) -> WorldConfig {
+        let mut config = WorldConfig {
+            seed: self.seed,
+            ..WorldConfig::default()
+        };
+        if let Some(name) = self.integrator.as_deref().filter(|names| !names.contains(',')) {
+            name.trim().clone_into(&mut config.integrator);
+        }
+        config
+    }
 }
 
 /// Worlds up to this many particles sample their energy every step (for
