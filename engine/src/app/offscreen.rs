@@ -78,6 +78,9 @@ impl<'g> OffscreenRun<'g> {
     pub fn draw(&mut self, source: &mut dyn FrameSource, hud: bool) -> Result<RgbaImage, RunError> {
         let mut image = None;
         let (target, renderer, gpu) = (&self.target, &mut self.renderer, self.gpu);
+        if let Some(interpolation) = source.interpolation() {
+            renderer.set_interpolation(interpolation);
+        }
         source.with_view(hud, (self.target.width(), self.target.height()), &mut |view| {
             image = Some(target.render(gpu, renderer, view)?);
             Ok(())

@@ -20,6 +20,7 @@ use super::source::FrameSource;
 use super::stage::{Settings, Stage};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
+use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError, WorldView};
 use tickwork_integrators::build;
 
@@ -202,7 +203,8 @@ impl<G: Game> GameSession<G> {
     /// that races the named integrators, such as orbits, runs exactly
     /// those; any other would ignore the option silently).
     fn check_fixed_integrators(&self, stage: &Stage, names: &str) -> Result<(), RunError> {
-        if stage.worlds.iter().any(|w| !w.fixed_integrator) {
+        // A stage without worlds (yet) fixes nothing.
+        if stage.worlds.is_empty() || stage.worlds.iter().any(|w| !w.fixed_integrator) {
             return Ok(());
         }
         for name in names.split(',') {
@@ -592,6 +594,13 @@ impl<G: Game> FrameSource for GameSession<G> {
 
     fn ticks(&self) -> u64 {
         self.clock.tick()
+    }
+
+    fn interpolation(&self) -> Option<Interpolation> {
+        // The step in seconds of game time, as the worlds take it.
+        self.stage.hermite.then(|| Interpolation::Hermite {
+            dt: self.clock.dt() as f32,
+        })
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

@@ -5,6 +5,7 @@
 use super::control::Control;
 use super::error::RunError;
 use crate::input::InputEvent as Event;
+use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
 
 /// Something the runners can show frame by frame: advanced by each frame's
@@ -45,6 +46,14 @@ pub trait FrameSource {
 
     /// Fixed steps run since the start (or the last reset).
     fn ticks(&self) -> u64;
+
+    /// How the runner's renderer is to place particles between steps this
+    /// frame, read before each frame is drawn (the fixed step can change
+    /// between frames); `None` (the default) keeps the renderer's own
+    /// [`RendererConfig::interpolation`](crate::render::RendererConfig).
+    fn interpolation(&self) -> Option<Interpolation> {
+        None
+    }
 
     /// Whether the source has come to its end and the window should close
     /// (a networked match over). Default: never.

@@ -35,7 +35,9 @@ impl fmt::Display for WorldId {
 /// A [`WorldId`] the stage cannot give.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StageError {
-    /// No world has this id on this stage (an id kept from another stage).
+    /// No world has this id on this stage (an id past its worlds, such as one
+    /// kept from a larger stage; ids are indices, so an id of another stage
+    /// that is in range names this stage's world of that index).
     Unknown {
         /// The id.
         id: WorldId,
@@ -237,6 +239,13 @@ pub struct Stage {
     /// integrator is not fixed (Tab, keys 1-9, the panel). Default false: a
     /// game's keys are its own; the lab's demos turn it on.
     pub switch_integrators: bool,
+    /// Draw the particles along cubic Hermite curves between steps (the
+    /// shader's [`Interpolation::Hermite`](crate::interpolation::Interpolation),
+    /// the runner passing the clock's current fixed step each frame)
+    /// instead of straight lines: exact on a projectile's arc for methods
+    /// whose step lies on it (velocity Verlet, RK4, ...); 12 more bytes
+    /// uploaded per particle (default false).
+    pub hermite: bool,
     /// What the run was started with (see [`Stage::settings`]).
     pub(crate) settings: Settings,
 }
@@ -254,6 +263,7 @@ impl Default for Stage {
             hud_size: 16.0,
             panel: false,
             switch_integrators: false,
+            hermite: false,
             settings: Settings::default(),
         }
     }
@@ -303,7 +313,7 @@ impl Stage {
     /// The world `id` with what the runner keeps for it.
     ///
     /// # Errors
-    /// [`StageError::Unknown`] for an id of another stage.
+    /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn shown(&self, id: WorldId) -> Result<&StageWorld, StageError> {
         let worlds = self.worlds.len();
         self.worlds.get(id.0).ok_or(StageError::Unknown { id, worlds })
@@ -312,7 +322,7 @@ impl Stage {
     /// The world `id` with what the runner keeps for it, to change.
     ///
     /// # Errors
-    /// [`StageError::Unknown`] for an id of another stage.
+    /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn shown_mut(&mut self, id: WorldId) -> Result<&mut StageWorld, StageError> {
         let worlds = self.worlds.len();
         self.worlds.get_mut(id.0).ok_or(StageError::Unknown { id, worlds })
@@ -321,7 +331,7 @@ impl Stage {
     /// The world `id`.
     ///
     /// # Errors
-    /// [`StageError::Unknown`] for an id of another stage.
+    /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn world(&self, id: WorldId) -> Result<&World, StageError> {
         self.shown(id).map(|shown| &shown.world)
     }
@@ -329,7 +339,7 @@ impl Stage {
     /// The world `id`, to change.
     ///
     /// # Errors
-    /// [`StageError::Unknown`] for an id of another stage.
+    /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn world_mut(&mut self, id: WorldId) -> Result<&mut World, StageError> {
         self.shown_mut(id).map(|shown| &mut shown.world)
     }
@@ -338,7 +348,7 @@ impl Stage {
     /// world to another): `let [a, b] = stage.worlds_mut([left, right])?;`
     ///
     /// # Errors
-    /// [`StageError`] for an id of another stage or one given twice.
+    /// [`StageError`] for an id past this stage's worlds or one given twice.
     pub fn worlds_mut<const N: usize>(&mut self, ids: [WorldId; N]) -> Result<[&mut World; N], StageError> {
         let worlds = self.worlds.len();
         for (k, id) in ids.iter().enumerate() {
@@ -359,7 +369,7 @@ impl Stage {
     /// Draws a trail behind `entity` of world `id`, in `colour`.
     ///
     /// # Errors
-    /// [`StageError::Unknown`] for an id of another stage.
+    /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn follow(&mut self, id: WorldId, entity: Entity, colour: Colour) -> Result<(), StageError> {
         self.shown_mut(id)?.trails.follow(entity, colour);
         Ok(())

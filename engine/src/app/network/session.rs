@@ -30,6 +30,7 @@ use crate::app::rollback::{Rollback, RollbackCursor, SavedTick, fulfil};
 use crate::app::stage::Settings;
 use crate::app::{Control, FrameSource, Game, GameError, GameSession, RunError, SessionOptions};
 use crate::input::{InputEvent, Recording, TickInput};
+use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
 
 /// How a match is played over the network.
@@ -649,6 +650,10 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
 
     fn finished(&self) -> bool {
         self.is_over()
+    }
+
+    fn interpolation(&self) -> Option<Interpolation> {
+        self.session.interpolation()
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

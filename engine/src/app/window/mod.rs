@@ -246,6 +246,9 @@ impl App<'_> {
             return Ok(());
         };
         let (renderer, gpu) = (&mut state.renderer, &state.gpu);
+        if let Some(interpolation) = self.source.interpolation() {
+            renderer.set_interpolation(interpolation);
+        }
         self.source
             .with_view(self.options.hud, (buffers.width, buffers.height), &mut |view| {
                 renderer.prepare(gpu, buffers, view)

@@ -150,6 +150,9 @@ pub(super) fn screenshot(
     let (width, height) = (state.config.width, state.config.height);
     let target = OffscreenTarget::new(&state.gpu, width, height, options.renderer.samples)?;
     let mut renderer = Renderer::new(&state.gpu, OFFSCREEN_FORMAT, options.renderer.clone())?;
+    if let Some(interpolation) = source.interpolation() {
+        renderer.set_interpolation(interpolation);
+    }
     let mut image = None;
     source.with_view(options.hud, (width, height), &mut |view| {
         image = Some(target.render(&state.gpu, &mut renderer, view)?);
