@@ -89,12 +89,20 @@ fn hermite(x0: vec3<f32>, v0: vec3<f32>, x1: vec3<f32>, v1: vec3<f32>, dt: f32, 
 // constant-acceleration motion through both positions, so the curve is the
 // parabola lerp(x0, x1, t) + t (1 - t) (x1 - x0 - dt v1): a projectile's
 // arc when the integrator's step lies on it (velocity Verlet, leapfrog,
-// RK4), the chord for semi-implicit Euler (x1 = x0 + dt v1). A particle
-// that did not move (spawned, teleported) stays at x1. The twin of
-// `hermite_from_end` and `start_velocity` in engine/src/interpolation.rs.
-fn hermite_from_end(x0: vec3<f32>, x1: vec3<f32>, v_end: vec3<f32>, dt: f32, t: f32) -> vec3<f32> {
-    let v1 = select(vec3<f32>(0.0), v_end, any(x0 != x1));
-    let v0 = 2.0 * (x1 - x0) / dt - v1;
+// Heun, midpoint, RK4), the chord for semi-implicit Euler (x1 = x0 + dt v1).
+// Only where both tangents point along the step, d = x1 - x0:
+// v1 . d > 0 and v0 . d = 2 |d|^2 / dt - v1 . d > 0; elsewhere a contact or
+// the game turned the velocity (a bounce: the curve would dip through the
+// floor) and the chord is drawn, as is a particle that did not move. The
+// twin of `hermite_from_end` and `start_velocity` in
+// engine/src/interpolation.rs.
+fn hermite_from_end(x0: vec3<f32>, x1: vec3<f32>, v1: vec3<f32>, dt: f32, t: f32) -> vec3<f32> {
+    let d = x1 - x0;
+    let along = dot(d, v1);
+    if !(along > 0.0 && along < 2.0 * dot(d, d) / dt) {
+        return mix(x0, x1, t);
+    }
+    let v0 = 2.0 * d / dt - v1;
     return hermite(x0, v0, x1, v1, dt, t);
 }
 

@@ -125,9 +125,8 @@ pub fn hermite(x0: Vec3, v0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 
 /// A semi-implicit Euler step moves in a straight line at its end velocity
 /// (`x1 = x0 + dt v1`), so this gives `v0 = v1` and Hermite gives the chord
 /// (as [`lerp`]); the acceleration of that step is not in the world's
-/// columns, which keep no previous velocity. A particle that did not move
-/// (`x0 == x1`: spawned, teleported or at rest) gets `v0 = v1 = 0` from
-/// [`hermite_from_end`], so it is drawn where it is, not rocked about it.
+/// columns, which keep no previous velocity. [`hermite_from_end`] uses it
+/// only where both tangents point along the step.
 #[inline]
 #[must_use]
 pub fn start_velocity(x0: Vec3, x1: Vec3, v1: Vec3, dt: f32) -> Vec3 {
@@ -137,11 +136,21 @@ pub fn start_velocity(x0: Vec3, x1: Vec3, v1: Vec3, dt: f32) -> Vec3 {
 /// [`hermite`] through a step whose start velocity was not kept, from the
 /// [`start_velocity`] it implies: the parabola through `x0` and `x1` that
 /// ends at `v1`, `x(t) = lerp(x0, x1, t) + t (1 - t) (x1 - x0 - dt v1)`.
-/// A particle that did not move (`x0 == x1`) stays at `x1`. The
-/// particle shaders' `hermite_from_end` (common.wgsl) is its twin.
+///
+/// Only where both tangents point along the step `d = x1 - x0`
+/// (`v1 . d > 0` and `v0 . d = 2 |d|^2 / dt - v1 . d > 0`): elsewhere a
+/// contact or the game turned the velocity after the motion (a bounce, whose
+/// parabola would dip through the floor), and the chord ([`lerp`]) is
+/// drawn; so is a particle that did not move (`x0 == x1`: spawned,
+/// teleported, at rest), which stays at `x1`. The particle shaders'
+/// `hermite_from_end` (common.wgsl) is its twin.
 #[must_use]
 pub fn hermite_from_end(x0: Vec3, x1: Vec3, v1: Vec3, dt: f32, t: f32) -> Vec3 {
-    let v1 = if x0 == x1 { Vec3::ZERO } else { v1 };
+    let d = x1 - x0;
+    let along = d.dot(v1);
+    if !(along > 0.0 && along < 2.0 * d.length_squared() / dt) {
+        return lerp(x0, x1, t);
+    }
     hermite(x0, start_velocity(x0, x1, v1, dt), x1, v1, dt, t)
 }
 

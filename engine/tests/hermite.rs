@@ -1,7 +1,8 @@
 //! Hermite interpolation on the GPU (`Interpolation::Hermite`): a
 //! projectile drawn between two steps lands on its arc, where lerp draws it
 //! on the chord, by the quads and by the compute splat, and the GPU puts it
-//! where the CPU twin (`Interpolation::position`) says.
+//! where the CPU twin (`Interpolation::position`) says; a game asks for it
+//! through its stage and the runner passes the clock's step.
 //!
 //! These need a graphics adapter; `scripts/test` installs Mesa's software
 //! Vulkan driver. Without an adapter they fail with the error that names the
@@ -11,11 +12,12 @@
 use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
+use tickwork_engine::app::{FrameSource, Game, GameError, GameSession, OffscreenRun, SessionOptions, Settings, Stage};
 use tickwork_engine::interpolation::{Interpolation, hermite_from_end, lerp};
 use tickwork_engine::render::{
     Camera, FrameView, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig, RgbaImage,
 };
-use tickwork_engine::{ClockConfig, FixedClock, Gravity, Particle, Rate, World, WorldConfig};
+use tickwork_engine::{ClockConfig, FixedClock, Gravity, Material, Particle, Plane, Rate, World, WorldConfig};
 
 fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
@@ -245,6 +247,70 @@ fn a_ball_that_has_not_moved_yet_is_drawn_where_it_is_not_rocked_by_its_velocity
 }
 
 #[test]
+fn a_ball_that_bounced_in_the_step_is_drawn_on_the_chord_not_below_the_floor() {
+    // Falling at 6 m/s onto a floor 0.1 m below: the step ends on the floor
+    // moving up, so the parabola from the end velocity would dip through it.
+    let mut world = World::new(WorldConfig {
+        integrator: "velocity_verlet".into(),
+        ..WorldConfig::default()
+    })
+    .expect("world");
+    world.add_force(Gravity::EARTH);
+    world.add_collider(Plane::floor(
+        -1.0,
+        Material {
+            restitution: 0.8,
+            friction: 0.0,
+        },
+    ));
+    world
+        .spawn(Particle {
+            position: Vec3::new(0.0, -0.85, 0.0),
+            velocity: Vec3::new(0.0, -6.0, 0.0),
+            radius: 0.05,
+            colour: [255, 255, 255, 255],
+            ..Particle::default()
+        })
+        .expect("spawn");
+    world
+        .step(tickwork_engine::FixedStep {
+            tick: 0,
+            time: 0.0,
+            dt: f64::from(DT),
+        })
+        .expect("step");
+    let (x0, x1, v1) = columns(&world);
+    assert!(
+        v1.y > 0.0 && (x1.y + 0.95).abs() < 1e-5,
+        "bounced onto the floor: {x1} at {v1}"
+    );
+    let parabola = lerp(x0, x1, 0.5) + 0.25 * (x1 - x0 - DT * v1);
+    assert!(
+        pixel(parabola).y - pixel(x1).y > 10.0,
+        "the parabola would be drawn below the floor"
+    );
+    let chord = pixel(lerp(x0, x1, 0.5));
+    assert_eq!(
+        Interpolation::Hermite { dt: DT }.position(x0, x1, v1, 0.5),
+        lerp(x0, x1, 0.5),
+        "the CPU twin draws the chord"
+    );
+    for splat in [false, true] {
+        let mut renderer = Renderer::new(
+            gpu(),
+            OFFSCREEN_FORMAT,
+            config(splat, Interpolation::Hermite { dt: DT }),
+        )
+        .expect("renderer");
+        let drawn = centre(&draw(&mut renderer, &world, 0.5));
+        assert!(
+            drawn.distance(chord) < 0.5,
+            "splat {splat}: drawn at {drawn}, the chord is at {chord}"
+        );
+    }
+}
+
+#[test]
 fn a_hermite_step_that_is_not_finite_and_positive_is_refused() {
     for dt in [0.0, -0.1, f32::NAN, f32::INFINITY] {
         let error =
@@ -264,4 +330,68 @@ fn a_hermite_step_that_is_not_finite_and_positive_is_refused() {
         .render(gpu(), &mut renderer, &FrameView::new(&world, 0.0, camera()))
         .expect_err("bad dt");
     assert!(error.to_string().contains("got 0"), "{error}");
+}
+
+/// A game of one ball launched as in [`launched`], stepped by velocity
+/// Verlet at 2 Hz, whose stage asks for Hermite drawing or not.
+struct Lob {
+    hermite: bool,
+}
+
+impl Game for Lob {
+    fn title(&self) -> &str {
+        "lob"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _: &Settings) -> Result<(), GameError> {
+        let mut world = World::new(WorldConfig {
+            integrator: "velocity_verlet".into(),
+            ..WorldConfig::default()
+        })?;
+        world.add_force(Gravity::EARTH);
+        world.spawn(Particle {
+            position: START,
+            velocity: LAUNCH,
+            radius: 0.05,
+            colour: [255, 255, 255, 255],
+            ..Particle::default()
+        })?;
+        stage.add_world("lob", world);
+        stage.rate = Rate::hz(RATE_HZ)?;
+        stage.camera = camera();
+        stage.hermite = self.hermite;
+        Ok(())
+    }
+}
+
+#[test]
+fn a_game_whose_stage_asks_for_hermite_is_drawn_on_the_arc_by_the_runner() {
+    for hermite in [true, false] {
+        let mut session = GameSession::new(Lob { hermite }, SessionOptions::default()).expect("session");
+        assert_eq!(
+            session.interpolation(),
+            hermite.then_some(Interpolation::Hermite { dt: DT }),
+            "the session passes the clock's step"
+        );
+        // The renderer is set up for lerp; the session's choice wins.
+        let mut run = OffscreenRun::new(gpu(), WIDTH, HEIGHT, config(false, Interpolation::Interpolate)).expect("run");
+        // One and a half steps in frames of half a step (the clock's hitch
+        // guard caps one frame at 0.25 s): one step run, drawn half-way to
+        // the next.
+        let mut image = None;
+        for _ in 0..3 {
+            image = Some(run.frame(&mut session, 0.5 * f64::from(DT), false).expect("frame"));
+        }
+        let drawn = centre(&image.expect("three frames"));
+        assert_eq!(session.ticks(), 1);
+        let expected = if hermite {
+            pixel(arc(0.5 * DT))
+        } else {
+            pixel(lerp(arc(0.0), arc(DT), 0.5))
+        };
+        assert!(
+            drawn.distance(expected) < 0.5,
+            "hermite {hermite}: drawn at {drawn}, expected {expected}"
+        );
+    }
 }
