@@ -15,8 +15,10 @@ use std::rc::Rc;
 use ggrs::{Message, NonBlockingSocket};
 use serde::{Deserialize, Serialize};
 
-/// The first bytes of a Tickwork control datagram (version 1).
-pub(super) const MAGIC: &[u8] = b"tickwork-net/1 ";
+/// The first bytes of a Tickwork control datagram: the protocol's version,
+/// so a peer of another version is not a peer (version 2: inputs carry the
+/// keys released in their tick, a fixed-size input four bytes longer).
+pub(super) const MAGIC: &[u8] = b"tickwork-net/2 ";
 
 /// The largest datagram read: GGRS's messages stay far below it.
 const DATAGRAM_BYTES: usize = 4096;
