@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::Gpu;
 use super::frame_view::FrameView;
-use super::renderer::{bind_buffers, write_records};
+use super::renderer::{bind_buffers, entry, write_records};
 
 /// One particle's current velocity as the shader reads it (12 bytes, as
 /// the WGSL `Velocity`), row for row with the instance records.
@@ -48,16 +48,11 @@ impl HermiteParticles {
         make_pipeline: impl FnOnce(&wgpu::BindGroupLayout, &str) -> wgpu::RenderPipeline,
     ) -> Self {
         let mut entries = layout_entries.to_vec();
-        entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 2,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        });
+        entries.push(entry(
+            2,
+            wgpu::ShaderStages::VERTEX,
+            wgpu::BufferBindingType::Storage { read_only: true },
+        ));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork particles (Hermite)"),
             entries: &entries,

@@ -51,22 +51,20 @@ impl Splat {
         let additive = blend == Blend::Additive;
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
+        // Uniforms, records, owners; Hermite adds the velocities.
+        let compute_entries = [
+            entry(0, S::COMPUTE, Uniform),
+            entry(1, S::COMPUTE, Storage { read_only: true }),
+            entry(2, S::COMPUTE, Storage { read_only: false }),
+            entry(3, S::COMPUTE, Storage { read_only: true }),
+        ];
         let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork splat"),
-            entries: &[
-                entry(0, S::COMPUTE, Uniform),
-                entry(1, S::COMPUTE, Storage { read_only: true }),
-                entry(2, S::COMPUTE, Storage { read_only: false }),
-            ],
+            entries: &compute_entries[..3],
         });
         let hermite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork splat (Hermite)"),
-            entries: &[
-                entry(0, S::COMPUTE, Uniform),
-                entry(1, S::COMPUTE, Storage { read_only: true }),
-                entry(2, S::COMPUTE, Storage { read_only: false }),
-                entry(3, S::COMPUTE, Storage { read_only: true }),
-            ],
+            entries: &compute_entries,
         });
         let composite_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork splat composite"),

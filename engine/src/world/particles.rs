@@ -244,10 +244,12 @@ impl PartialEq for Lifetimes {
 }
 
 impl Particles {
-    /// Where row `row` is drawn at `t` steps past the previous one:
-    /// [`lerp`](crate::interpolation::lerp), the vertex shader's formula,
-    /// for the few things interpolated on the CPU: springs, trails, rigid
-    /// bodies.
+    /// Where row `row` is at `t` steps past the previous one, by
+    /// [`lerp`](crate::interpolation::lerp) (the vertex shader's default
+    /// formula), for a game that draws a particle's position itself (the
+    /// renderer's own CPU-side lines go through
+    /// [`Interpolation::position`](crate::interpolation::Interpolation::position),
+    /// which follows its mode).
     #[must_use]
     pub fn interpolated(&self, row: usize, t: f32) -> Vec3 {
         let (from, to) = (self.previous_position.row(row), self.position.row(row));
