@@ -235,15 +235,21 @@ fn a_ball_that_has_not_moved_yet_is_drawn_where_it_is_not_rocked_by_its_velocity
         })
         .expect("spawn");
     for splat in [false, true] {
-        let mut renderer = Renderer::new(
-            gpu(),
-            OFFSCREEN_FORMAT,
-            config(splat, Interpolation::Hermite { dt: DT }),
-        )
-        .expect("renderer");
-        let drawn = centre(&draw(&mut renderer, &world, 0.5));
+        let drawn = drawn_by_hermite(&world, splat);
         assert!(drawn.distance(pixel(START)) < 0.5, "splat {splat}: {drawn}");
     }
+}
+
+/// Where a fresh Hermite renderer draws `world`'s ball half-way through
+/// the step, by the quads or the splat.
+fn drawn_by_hermite(world: &World, splat: bool) -> Vec2 {
+    let mut renderer = Renderer::new(
+        gpu(),
+        OFFSCREEN_FORMAT,
+        config(splat, Interpolation::Hermite { dt: DT }),
+    )
+    .expect("renderer");
+    centre(&draw(&mut renderer, world, 0.5))
 }
 
 #[test]
@@ -296,13 +302,7 @@ fn a_ball_that_bounced_in_the_step_is_drawn_on_the_chord_not_below_the_floor() {
         "the CPU twin draws the chord"
     );
     for splat in [false, true] {
-        let mut renderer = Renderer::new(
-            gpu(),
-            OFFSCREEN_FORMAT,
-            config(splat, Interpolation::Hermite { dt: DT }),
-        )
-        .expect("renderer");
-        let drawn = centre(&draw(&mut renderer, &world, 0.5));
+        let drawn = drawn_by_hermite(&world, splat);
         assert!(
             drawn.distance(chord) < 0.5,
             "splat {splat}: drawn at {drawn}, the chord is at {chord}"

@@ -80,6 +80,26 @@ fn spacer(layout: usize, k: usize) -> Option<Vec<u8>> {
         .then(|| vec![1u8; 4096 * layout + 64 * layout * (k.trailing_zeros() as usize % 7)])
 }
 
+/// Spawns every particle of `start` through `spawn`, allocating layout
+/// `layout`'s spacers between the spawns; the handles in order, and the
+/// spacers to keep alive.
+fn spawn_spaced<E>(
+    start: &[(Vec3A, Vec3A)],
+    layout: usize,
+    mut spawn: impl FnMut(Vec3A, Vec3A) -> E,
+) -> (Vec<E>, Vec<Vec<u8>>) {
+    let mut spacers = Vec::new();
+    let handles = start
+        .iter()
+        .enumerate()
+        .map(|(k, &(p, v))| {
+            spacers.extend(spacer(layout, k));
+            spawn(p, v)
+        })
+        .collect();
+    (handles, spacers)
+}
+
 #[derive(Component, Clone, Copy)]
 struct Position(Vec3A);
 #[derive(Component, Clone, Copy)]
@@ -397,15 +417,9 @@ struct Hecs {
 impl Hecs {
     fn new(start: &[(Vec3A, Vec3A)], layout: usize) -> Self {
         let mut world = hecs::World::new();
-        let mut spacers = Vec::new();
-        let order = start
-            .iter()
-            .enumerate()
-            .map(|(k, &(p, v))| {
-                spacers.extend(spacer(layout, k));
-                world.spawn((Position(p), Velocity(v), Previous(p)))
-            })
-            .collect();
+        let (order, spacers) = spawn_spaced(start, layout, |p, v| {
+            world.spawn((Position(p), Velocity(v), Previous(p)))
+        });
         Self {
             world,
             order,
@@ -459,15 +473,9 @@ struct Bevy {
 impl Bevy {
     fn new(start: &[(Vec3A, Vec3A)], parallel: bool, layout: usize) -> Self {
         let mut world = BevyWorld::new();
-        let mut spacers = Vec::new();
-        let order = start
-            .iter()
-            .enumerate()
-            .map(|(k, &(p, v))| {
-                spacers.extend(spacer(layout, k));
-                world.spawn((Position(p), Velocity(v), Previous(p))).id()
-            })
-            .collect();
+        let (order, spacers) = spawn_spaced(start, layout, |p, v| {
+            world.spawn((Position(p), Velocity(v), Previous(p))).id()
+        });
         let query = world.query::<(&mut Position, &mut Velocity, &mut Previous)>();
         Self {
             world,
@@ -552,6 +560,8 @@ impl Tickwork {
         // Different allocation layouts: columns grow by doubling while the
         // particles are spawned; a spacer allocated between spawns of each
         // doubling moves where the next column buffers land.
+        // (Spawned without collecting handles, unlike `spawn_spaced`: the
+        // layouts stay those the published figures were measured in.)
         let mut spacers = Vec::new();
         for (k, (p, v)) in start.iter().enumerate() {
             spacers.extend(spacer(layout, k));
