@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::Gpu;
 use super::frame_view::FrameView;
-use super::renderer::{bind_buffers, entry, write_records};
+use super::renderer::{bind_buffers, entry, record_buffer, write_records};
 
 /// One particle's current velocity as the shader reads it (12 bytes, as
 /// the WGSL `Velocity`), row for row with the instance records.
@@ -61,7 +61,7 @@ impl HermiteParticles {
         Self {
             layout,
             pipeline,
-            velocities: velocity_buffer(device, 1024),
+            velocities: record_buffer::<Velocity>(device, "tickwork velocities", 1024),
             bind_group: None,
             scratch: Vec::new(),
             uploaded: Vec::new(),
@@ -97,7 +97,7 @@ impl HermiteParticles {
             std::mem::swap(&mut self.uploaded, &mut self.upload_key);
             let n: usize = view.worlds().map(|w| w.world.len()).sum();
             if (n * std::mem::size_of::<Velocity>()) as u64 > self.velocities.size() {
-                self.velocities = velocity_buffer(&gpu.device, n.next_power_of_two());
+                self.velocities = record_buffer::<Velocity>(&gpu.device, "tickwork velocities", n.next_power_of_two());
                 self.bind_group = None;
                 replaced = true;
             }
@@ -139,15 +139,6 @@ fn velocity_block(particles: &crate::world::Particles, first: usize, records: &m
     for (k, record) in records.iter_mut().enumerate() {
         *record = Velocity([x[k], y[k], z[k]]);
     }
-}
-
-fn velocity_buffer(device: &wgpu::Device, particles: usize) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("tickwork velocities"),
-        size: (particles.max(1) * std::mem::size_of::<Velocity>()) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 #[cfg(test)]

@@ -207,7 +207,7 @@ impl Renderer {
         let line_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default(), lines);
         let triangle_pipeline = line_pipeline_for(multisample, triangles);
         let triangle_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default(), triangles);
-        let instances = storage_buffer(device, 1024);
+        let instances = record_buffer::<Instance>(device, "tickwork particles", 1024);
         let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
         let line_bind_group = bind_buffers(device, &line_layout, &[&globals]);
         let line_buffer = vertex_buffer(device, 1024);
@@ -492,7 +492,7 @@ impl Renderer {
         }
         let bytes = n * std::mem::size_of::<Instance>();
         if bytes as u64 > self.instances.size() {
-            self.instances = storage_buffer(&gpu.device, n.next_power_of_two());
+            self.instances = record_buffer::<Instance>(&gpu.device, "tickwork particles", n.next_power_of_two());
             self.particle_bind_group =
                 particle_bind_group(&gpu.device, &self.particle_layout, &self.globals, &self.instances);
             self.splat.invalidate();
@@ -659,10 +659,12 @@ fn srgb_to_linear(c: f64) -> f64 {
     }
 }
 
-fn storage_buffer(device: &wgpu::Device, particles: usize) -> wgpu::Buffer {
+/// A storage buffer for `particles` records of type `T` (at least one),
+/// written by [`write_records`].
+pub(crate) fn record_buffer<T>(device: &wgpu::Device, label: &str, particles: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("tickwork particles"),
-        size: (particles.max(1) * std::mem::size_of::<Instance>()) as u64,
+        label: Some(label),
+        size: (particles.max(1) * std::mem::size_of::<T>()) as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
