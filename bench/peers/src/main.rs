@@ -21,6 +21,11 @@
 //! - `per-axis blocks, one loop`: the same arithmetic with integration,
 //!   contact and the finiteness sum in one loop per block, to show whether
 //!   fusing the passes pays (it did not: slower than the passes, measured);
+//! - `per-axis blocks, tight loop`: the step as tightly as this physics
+//!   allows on the layout (one indexed loop, gravity's zero x and z left out
+//!   of the arithmetic, two finiteness sums), bit for bit the projecting
+//!   hand loop's state: the floor of the layout on four SSE2 lanes, which
+//!   the "per-axis kernel" column reports (the fastest `per-axis` variant);
 //! - `hecs`, `bevy_ecs Query`, `bevy_ecs par_iter` (two threads): components
 //!   `Position`, `Velocity`, `Previous` of `Vec3A`, the reflecting loop;
 //! - `tickwork`: a `World` with `Gravity`, `LinearDrag`, a floor `Plane`,
@@ -40,6 +45,10 @@
 //! Run: `cargo run --release --manifest-path bench/peers/Cargo.toml` (add
 //! `-- --quick` for fewer rounds, `-- --sizes 1000,100000`; `-- --only PREFIX
 //! --rounds 2000` runs one variant long enough for a profiler).
+
+// `y - y` puts a particle on the floor: +0 for a finite y, NaN for a
+// non-finite one, which the finiteness sum then sees (as the engine does).
+#![allow(clippy::eq_op)]
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -406,6 +415,58 @@ impl Variant for FusedBlocks {
     }
 }
 
+/// The per-axis layout's step written as tightly as the physics allows:
+/// one loop, gravity's zero x and z components left out of the arithmetic
+/// (`0 - y` is `-y` exactly, so the bits are the projecting hand loop's),
+/// the finiteness sum over two accumulators.
+struct TightBlocks(Blocks);
+
+#[inline(never)]
+fn tight_step(p: &mut [Vec3x4], prev: &[Vec3x4], v: &mut [Vec3x4]) -> Vec4 {
+    let n = p.len().min(prev.len()).min(v.len());
+    let (p, prev, v) = (&mut p[..n], &prev[..n], &mut v[..n]);
+    let (b, dt, gy) = (Vec4::splat(DRAG), Vec4::splat(DT), Vec4::splat(G.y));
+    let lift = Vec4::splat(-(1.0 + RESTITUTION));
+    let mut bad = [Vec4::ZERO; 2];
+    for i in 0..n {
+        let (x0, u) = (prev[i], v[i]);
+        let vx = u.x - (u.x * b) * dt;
+        let vy = u.y + (gy - u.y * b) * dt;
+        let vz = u.z - (u.z * b) * dt;
+        let (x, mut y, z) = (x0.x + vx * dt, x0.y + vy * dt, x0.z + vz * dt);
+        let below = y.cmplt(Vec4::ZERO);
+        let vy = Vec4::select(below, vy + lift * vy.min(Vec4::ZERO), vy);
+        y = Vec4::select(below, y - y, y);
+        p[i] = Vec3x4 { x, y, z };
+        v[i] = Vec3x4 { x: vx, y: vy, z: vz };
+        bad[i & 1] += ((x + vx) + (y + vy)) + (z + vz);
+    }
+    bad[0] + bad[1]
+}
+
+impl Variant for TightBlocks {
+    fn name(&self) -> String {
+        "per-axis blocks, tight loop".into()
+    }
+    fn step(&mut self) {
+        let b = &mut self.0;
+        core::mem::swap(&mut b.p, &mut b.prev);
+        black_box(tight_step(&mut b.p, &b.prev, &mut b.v) * 0.0);
+    }
+    fn state(&mut self) -> State {
+        self.0.state()
+    }
+    fn projects(&self) -> bool {
+        true
+    }
+    fn save(&mut self) {
+        self.0.save();
+    }
+    fn restore(&mut self) {
+        self.0.restore();
+    }
+}
+
 struct Hecs {
     world: hecs::World,
     order: Vec<hecs::Entity>,
@@ -643,6 +704,7 @@ fn variants(n: usize) -> Vec<Box<dyn Variant>> {
         Box::new(Hand::new(&p, &v, true, 0)),
         Box::new(Blocks::new(&p, &v)),
         Box::new(FusedBlocks(Blocks::new(&p, &v))),
+        Box::new(TightBlocks(Blocks::new(&p, &v))),
     ];
     for layout in 0..LAYOUTS {
         all.push(Box::new(Hand::new(&p, &v, false, layout)));
@@ -817,7 +879,7 @@ fn print_table(rows: &[Row<'_>]) {
         let (query, par) = (fastest("bevy_ecs Query"), fastest("bevy_ecs par_iter"));
         let (one, two) = (slowest("tickwork (1 thread"), slowest("tickwork (2 threads"));
         // The floor of the layout: its integration and contact kernels
-        // alone, without the engine (the faster of the two loop shapes).
+        // alone, without the engine (the fastest of the three loop shapes).
         let kernel = fastest("per-axis");
         println!(
             "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {kernel:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
