@@ -32,7 +32,7 @@ impl World {
             force.prepare(&self.entities);
         }
         let p = &self.particles;
-        p.position.gather_into(&mut self.gathered.x);
+        p.position.gather_into(&mut self.gathered.x, false);
         let mut kinetic: f64 = p
             .velocity
             .iter()

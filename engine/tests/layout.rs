@@ -118,12 +118,20 @@ fn fused_blocks_and_plain_rows_agree_bit_for_bit_on_every_pointwise_kind() {
         let (plain, plain_lanes) = run(method, usize::MAX, true, 1);
         let (one, one_lanes) = run(method, usize::MAX, false, 1);
         let (two, two_lanes) = run(method, 512, false, 2);
+        // Rows above the threshold: gathers, pointwise colliders and the
+        // check on rayon's threads.
+        let (plain_two, plain_two_lanes) = run(method, 512, true, 2);
         assert_eq!(
-            (plain_lanes, one_lanes, two_lanes),
-            (0, 1, 2),
+            (plain_lanes, one_lanes, two_lanes, plain_two_lanes),
+            (0, 1, 2, 0),
             "{method}: the paths that ran"
         );
         let first_difference = |a: &[u64]| a.iter().zip(&plain).position(|(a, b)| a != b);
+        assert_eq!(
+            first_difference(&plain_two),
+            None,
+            "{method}: rows on two threads vs one"
+        );
         assert_eq!(first_difference(&one), None, "{method}: one lane of blocks vs rows");
         assert_eq!(first_difference(&two), None, "{method}: two lanes of blocks vs rows");
     }

@@ -21,7 +21,10 @@ use core::any::Any;
 use core::fmt;
 
 use glam::{Vec3A, Vec4};
+use rayon::prelude::*;
 use tickwork_integrators::Vec3x4;
+
+use crate::threads::ROWS_PER_JOB;
 
 pub use aabb::BoxCollider;
 pub use contact::Material;
@@ -50,6 +53,25 @@ pub struct ContactColumns<'a> {
 }
 
 impl ContactColumns<'_> {
+    /// Calls `f` on consecutive pieces of [`ROWS_PER_JOB`] rows, on
+    /// rayon's threads (each piece with `parallel` false).
+    fn for_each_job(self, f: impl Fn(ContactColumns<'_>) + Sync) {
+        self.position
+            .par_chunks_mut(ROWS_PER_JOB)
+            .zip(self.velocity.par_chunks_mut(ROWS_PER_JOB))
+            .zip(self.radius.par_chunks(ROWS_PER_JOB))
+            .zip(self.inverse_mass.par_chunks(ROWS_PER_JOB))
+            .for_each(|(((position, velocity), radius), inverse_mass)| {
+                f(ContactColumns {
+                    position,
+                    velocity,
+                    radius,
+                    inverse_mass,
+                    parallel: false,
+                });
+            });
+    }
+
     /// Each particle's position and velocity (to change) with its radius and
     /// inverse mass: the loop every pointwise collider runs.
     pub fn rows(&mut self) -> impl Iterator<Item = (&mut Vec3A, &mut Vec3A, f32, f32)> {
@@ -140,9 +162,17 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
         false
     }
 
-    /// Resolves contacts over the whole world (default: `resolve_range`).
+    /// Resolves contacts over the whole world (default: `resolve_range`,
+    /// on pieces of the world on rayon's threads when the collider is
+    /// pointwise and `columns.parallel`: each particle alone, so the same
+    /// bits on any number of threads).
     fn resolve_world(&mut self, columns: ContactColumns<'_>) {
-        self.resolve_range(columns);
+        if columns.parallel && self.is_pointwise() {
+            let this: &Self = self;
+            columns.for_each_job(|piece| this.resolve_range(piece));
+        } else {
+            self.resolve_range(columns);
+        }
     }
 
     /// For colliders that resolve pairs of particles (not pointwise):

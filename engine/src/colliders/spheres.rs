@@ -49,6 +49,7 @@ use rayon::prelude::*;
 
 use super::contact::Material;
 use super::{Collider, ContactColumns, PairTouch};
+use crate::threads::ROWS_PER_JOB;
 
 /// A touching pair found while reporting: sorted indices, the contact
 /// point, the normal towards `i`, the impulse `i` received.
@@ -156,9 +157,6 @@ impl SphereCollisions {
     /// slab holds thousands of particles.
     pub const SLABS: usize = 64;
 
-    /// Fewest spheres a thread is given in the gathers and the write-back.
-    const GATHER_JOB: usize = 4_096;
-
     /// Collisions with `material`.
     #[must_use]
     pub fn new(material: Material) -> Self {
@@ -247,7 +245,7 @@ impl SphereCollisions {
                 .zip(self.y.par_iter_mut())
                 .zip(self.z.par_iter_mut())
                 .zip(self.sorted.par_iter())
-                .with_min_len(Self::GATHER_JOB)
+                .with_min_len(ROWS_PER_JOB)
                 .for_each(copy);
         } else {
             self.x
@@ -274,7 +272,7 @@ impl SphereCollisions {
                 .par_iter_mut()
                 .zip(c.velocity.par_iter_mut())
                 .zip(self.rank.par_iter())
-                .with_min_len(Self::GATHER_JOB)
+                .with_min_len(ROWS_PER_JOB)
                 .for_each(copy);
         } else {
             c.position
@@ -605,7 +603,7 @@ where
     if parallel {
         out.par_iter_mut()
             .zip(from.par_iter())
-            .with_min_len(SphereCollisions::GATHER_JOB)
+            .with_min_len(ROWS_PER_JOB)
             .for_each(|(out, x)| *out = f(x));
     } else {
         for (out, x) in out.iter_mut().zip(from) {
@@ -682,7 +680,7 @@ fn fold_all<T: Sync, A: Copy + Send + Sync>(
 ) -> A {
     if parallel {
         items
-            .par_chunks(SphereCollisions::GATHER_JOB)
+            .par_chunks(ROWS_PER_JOB)
             .map(|chunk| chunk.iter().fold(identity, &fold))
             .reduce(|| identity, &combine)
     } else {

@@ -236,13 +236,13 @@ impl System<Vec3x4> for BlockField<'_> {
         let inverse_mass = &self.field.inverse_mass[first_row..first_row + rows];
         if !self.field.all_affine {
             let s = &mut *self.scratch;
-            gather(x, rows, &mut s.x);
-            gather(v, rows, &mut s.v);
-            gather(out, rows, &mut s.other);
+            gather(x, rows, &mut s.x, false);
+            gather(v, rows, &mut s.v, false);
+            gather(out, rows, &mut s.other, false);
             for force in self.field.forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
                 force.accumulate(t, self.field.offset + first_row, &s.x, &s.v, inverse_mass, &mut s.other);
             }
-            scatter(&s.other, out);
+            scatter(&s.other, out, false);
         }
         if !(self.movable || all_movable(inverse_mass)) {
             for (row, &w) in inverse_mass.iter().enumerate() {

@@ -281,8 +281,9 @@ impl World {
         let p = &mut self.particles;
         let g = &mut self.gathered;
         let n = p.len();
-        p.previous_position.gather_into(&mut g.other);
-        p.velocity.gather_into(&mut g.v);
+        let parallel = n >= self.config.parallel_threshold;
+        p.previous_position.gather_into(&mut g.other, parallel);
+        p.velocity.gather_into(&mut g.v, parallel);
         // The method writes every end position: what the buffer held (the
         // last plain step's positions) does not matter, so it is not cleared.
         g.x.resize(n, Vec3A::ZERO);
@@ -298,7 +299,7 @@ impl World {
                 velocity: &mut g.v,
                 radius: &p.radius,
                 inverse_mass: &p.inverse_mass,
-                parallel: n >= self.config.parallel_threshold,
+                parallel,
             };
             if set.reports[k] {
                 resolve_world_reporting(
@@ -313,11 +314,11 @@ impl World {
                 collider.resolve_world(columns);
             }
         }
-        p.position.scatter_from(&g.x);
-        p.velocity.scatter_from(&g.v);
+        p.position.scatter_from(&g.x, parallel);
+        p.velocity.scatter_from(&g.v, parallel);
         Ok(LaneOutcome {
             evaluations: stats.evaluations,
-            first_bad: Vec3Column::first_non_finite(p.position.blocks(), p.velocity.blocks(), n, 0),
+            first_bad: Vec3Column::first_non_finite_in(p.position.blocks(), p.velocity.blocks(), n, parallel),
         })
     }
 
@@ -383,8 +384,8 @@ impl World {
             return Some(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         let (mut x, mut v) = (Vec::new(), Vec::new());
-        p.position.gather_into(&mut x);
-        p.velocity.gather_into(&mut v);
+        p.position.gather_into(&mut x, false);
+        p.velocity.gather_into(&mut v, false);
         let mut accelerations = vec![Vec3A::ZERO; p.len()];
         let mut field = ForceField::new(&self.forces, &p.inverse_mass, 0);
         tickwork_integrators::System::acceleration(&mut field, t, &x, &v, &mut accelerations);

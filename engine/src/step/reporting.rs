@@ -27,8 +27,8 @@ pub(super) fn resolve_rows(
     scratch: &mut Rows,
     reporting: Option<Reporting<'_>>,
 ) {
-    gather(x, radius.len(), &mut scratch.x);
-    gather(v, radius.len(), &mut scratch.v);
+    gather(x, radius.len(), &mut scratch.x, false);
+    gather(v, radius.len(), &mut scratch.v, false);
     if reporting.is_some() {
         scratch.before_x.clone_from(&scratch.x);
         scratch.before_v.clone_from(&scratch.v);
@@ -54,8 +54,8 @@ pub(super) fn resolve_rows(
             r.out,
         );
     }
-    scatter(&scratch.x, x);
-    scatter(&scratch.v, v);
+    scatter(&scratch.x, x, false);
+    scatter(&scratch.v, v, false);
 }
 
 /// A reporting collider over the whole world: its own pair reports if it

@@ -19,7 +19,10 @@
 //! [`iter`](Vec3Column::iter); the step's kernels take the blocks.
 
 use glam::Vec3A;
+use rayon::prelude::*;
 use tickwork_integrators::Vec3x4;
+
+use crate::threads::ROWS_PER_JOB;
 
 /// Rows per block.
 pub const LANES: usize = 4;
@@ -186,14 +189,39 @@ impl Vec3Column {
     }
 
     /// Copies the rows into `out` (resized to `len`; its buffer is reused),
-    /// for the parts of the step that take one `Vec3A` per row.
-    pub(crate) fn gather_into(&self, out: &mut Vec<Vec3A>) {
-        gather(&self.blocks, self.len, out);
+    /// for the parts of the step that take one `Vec3A` per row; on rayon's
+    /// threads if `parallel`.
+    pub(crate) fn gather_into(&self, out: &mut Vec<Vec3A>, parallel: bool) {
+        gather(&self.blocks, self.len, out, parallel);
     }
 
-    /// Writes `rows` (one per row, `len` of them) back into the blocks.
-    pub(crate) fn scatter_from(&mut self, rows: &[Vec3A]) {
-        scatter(rows, &mut self.blocks);
+    /// Writes `rows` (one per row, `len` of them) back into the blocks; on
+    /// rayon's threads if `parallel`.
+    pub(crate) fn scatter_from(&mut self, rows: &[Vec3A], parallel: bool) {
+        scatter(rows, &mut self.blocks, parallel);
+    }
+
+    /// [`first_non_finite`](Self::first_non_finite) over the whole columns,
+    /// in pieces of [`ROWS_PER_JOB`] rows on rayon's threads if `parallel`:
+    /// the first bad row of the first piece that has one, so the same answer.
+    pub(crate) fn first_non_finite_in(
+        blocks: &[Vec3x4],
+        other: &[Vec3x4],
+        rows: usize,
+        parallel: bool,
+    ) -> Option<usize> {
+        if !parallel {
+            return Self::first_non_finite(blocks, other, rows, 0);
+        }
+        let per_job = ROWS_PER_JOB / LANES;
+        blocks
+            .par_chunks(per_job)
+            .zip(other.par_chunks(per_job))
+            .enumerate()
+            .find_map_first(|(k, (blocks, other))| {
+                let first = k * ROWS_PER_JOB;
+                Self::first_non_finite(blocks, other, rows.saturating_sub(first).min(ROWS_PER_JOB), first)
+            })
     }
 
     /// The first row (from `first`, in order) whose vector is not finite,
@@ -247,17 +275,26 @@ impl Vec3Column {
 /// buffer reused).
 /// Whole blocks are transposed four rows at a time (plain moves, no lane
 /// indexing), the part-filled last block lane by lane.
-pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>) {
-    out.clear();
+pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>, parallel: bool) {
+    // Every row is written below: only new rows need a value first.
     out.resize(rows, Vec3A::ZERO);
-    let mut four = out.chunks_exact_mut(LANES);
-    for (block, out) in blocks.iter().zip(&mut four) {
+    let whole = (rows / LANES).min(blocks.len());
+    let copy = |(block, out): (&Vec3x4, &mut [Vec3A])| {
         let (x, y, z) = (block.x.to_array(), block.y.to_array(), block.z.to_array());
         for k in 0..LANES {
             out[k] = Vec3A::new(x[k], y[k], z[k]);
         }
+    };
+    let (four, tail) = out.split_at_mut(whole * LANES);
+    if parallel {
+        blocks[..whole]
+            .par_iter()
+            .zip(four.par_chunks_exact_mut(LANES))
+            .with_min_len(ROWS_PER_JOB / LANES)
+            .for_each(copy);
+    } else {
+        blocks[..whole].iter().zip(four.chunks_exact_mut(LANES)).for_each(copy);
     }
-    let tail = four.into_remainder();
     if let Some(block) = blocks.get(rows / LANES) {
         for (k, out) in tail.iter_mut().enumerate() {
             *out = block.lane(k);
@@ -267,13 +304,22 @@ pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>) {
 
 /// `rows` back into the lanes of `blocks` (padding lanes untouched): whole
 /// blocks four rows at a time, the part-filled last one lane by lane.
-pub(crate) fn scatter(rows: &[Vec3A], blocks: &mut [Vec3x4]) {
-    let four = rows.chunks_exact(LANES);
-    let tail = four.remainder();
-    for (block, r) in blocks.iter_mut().zip(four) {
+pub(crate) fn scatter(rows: &[Vec3A], blocks: &mut [Vec3x4], parallel: bool) {
+    let whole = (rows.len() / LANES).min(blocks.len());
+    let (four, tail) = rows.split_at(whole * LANES);
+    let copy = |(block, r): (&mut Vec3x4, &[Vec3A])| {
         block.x = glam::Vec4::new(r[0].x, r[1].x, r[2].x, r[3].x);
         block.y = glam::Vec4::new(r[0].y, r[1].y, r[2].y, r[3].y);
         block.z = glam::Vec4::new(r[0].z, r[1].z, r[2].z, r[3].z);
+    };
+    if parallel {
+        blocks[..whole]
+            .par_iter_mut()
+            .zip(four.par_chunks_exact(LANES))
+            .with_min_len(ROWS_PER_JOB / LANES)
+            .for_each(copy);
+    } else {
+        blocks[..whole].iter_mut().zip(four.chunks_exact(LANES)).for_each(copy);
     }
     if let Some(block) = blocks.get_mut(rows.len() / LANES) {
         for (k, &value) in tail.iter().enumerate() {
@@ -341,13 +387,45 @@ mod tests {
     fn gather_and_scatter_round_trip_rows() {
         let c = column(7);
         let mut rows = Vec::new();
-        c.gather_into(&mut rows);
+        c.gather_into(&mut rows, false);
         assert_eq!(rows, c.iter().collect::<Vec<_>>());
         let mut d = column(7);
         rows.iter_mut().for_each(|v| *v *= 2.0);
-        d.scatter_from(&rows);
+        d.scatter_from(&rows, false);
         assert_eq!(d.iter().collect::<Vec<_>>(), rows);
         assert_eq!(d.blocks()[1].lane(3), Vec3A::ZERO, "padding untouched");
+    }
+
+    #[test]
+    fn parallel_gathers_scatters_and_checks_match_the_serial_ones() {
+        // Several jobs' worth of rows and a part-filled last block.
+        let n = 3 * ROWS_PER_JOB + 7;
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a pool");
+        pool.install(|| {
+            let c = column(n);
+            let (mut serial, mut parallel) = (Vec::new(), vec![Vec3A::NAN; 5]);
+            c.gather_into(&mut serial, false);
+            c.gather_into(&mut parallel, true);
+            assert_eq!(serial, parallel);
+            let mut d = column(n);
+            parallel.iter_mut().for_each(|v| *v = -*v);
+            d.scatter_from(&parallel, true);
+            assert_eq!(d.iter().collect::<Vec<_>>(), parallel);
+            assert_eq!(d.blocks()[n / LANES].lane(3), Vec3A::ZERO, "padding untouched");
+            let first_bad = |x: &Vec3Column, v: &Vec3Column, parallel| {
+                Vec3Column::first_non_finite_in(x.blocks(), v.blocks(), n, parallel)
+            };
+            assert_eq!(first_bad(&c, &d, true), None);
+            // Two bad rows in different jobs: the earlier is named.
+            d.set(2 * ROWS_PER_JOB + 5, Vec3A::new(0.0, f32::INFINITY, 0.0));
+            d.set(ROWS_PER_JOB + 1, Vec3A::new(f32::NAN, 0.0, 0.0));
+            assert_eq!(first_bad(&c, &d, true), Some(ROWS_PER_JOB + 1));
+            assert_eq!(first_bad(&c, &d, false), Some(ROWS_PER_JOB + 1));
+            // The last row, in the part-filled block.
+            let mut e = column(n);
+            e.set(n - 1, Vec3A::splat(f32::NEG_INFINITY));
+            assert_eq!(first_bad(&e, &c, true), Some(n - 1));
+        });
     }
 
     #[test]
