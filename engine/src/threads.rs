@@ -41,9 +41,11 @@ pub fn join_thread_pool() -> Result<(), rayon::ThreadPoolBuildError> {
     Ok(())
 }
 
-/// Fewest rows a rayon job is given in the passes over whole columns of a
+/// The rows of one rayon job in the passes over whole columns of a
 /// parallel step (gathers and scatters between blocks and rows, the
 /// finiteness check, pointwise colliders on rows, the sphere grid's
-/// passes): 4 096 rows, 64 KB of one `Vec3A` column, enough work that
-/// handing it to another thread pays.
+/// passes): pieces of this many (the last takes what is left), or at
+/// least this many where rayon splits an iterator itself. 4 096 rows, 64 KB
+/// of one `Vec3A` column: enough work that handing it to another thread
+/// pays.
 pub(crate) const ROWS_PER_JOB: usize = 4_096;

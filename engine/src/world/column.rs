@@ -219,8 +219,8 @@ impl Vec3Column {
             .zip(other.par_chunks(per_job))
             .enumerate()
             .find_map_first(|(k, (blocks, other))| {
-                let first = k * ROWS_PER_JOB;
-                Self::first_non_finite(blocks, other, rows.saturating_sub(first).min(ROWS_PER_JOB), first)
+                let first = k * per_job * LANES;
+                Self::first_non_finite(blocks, other, rows.saturating_sub(first).min(per_job * LANES), first)
             })
     }
 
@@ -277,6 +277,7 @@ impl Vec3Column {
 /// indexing), the part-filled last block lane by lane.
 pub(crate) fn gather(blocks: &[Vec3x4], rows: usize, out: &mut Vec<Vec3A>, parallel: bool) {
     // Every row is written below: only new rows need a value first.
+    debug_assert!(blocks.len() >= rows.div_ceil(LANES), "rows without blocks");
     out.resize(rows, Vec3A::ZERO);
     let whole = (rows / LANES).min(blocks.len());
     let copy = |(block, out): (&Vec3x4, &mut [Vec3A])| {
