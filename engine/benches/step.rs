@@ -75,24 +75,29 @@ fn rain_with(n: usize, integrator: &str, collisions: bool, parallel_threshold: u
 /// time, before velocities under drag decay to subnormal numbers.
 /// The loop runs inside the pool, so no step pays for waking a pool thread.
 fn timed_steps(pool: &ThreadPool, world: &mut World, make: &(dyn Fn() -> World + Sync), iters: u64) -> Duration {
-    let dt = 1.0 / 60.0;
     pool.install(|| {
         let mut total = Duration::ZERO;
         for _ in 0..iters {
             if world.tick() >= 600 {
                 *world = make();
             }
-            let step = FixedStep {
-                tick: world.tick(),
-                time: world.tick() as f64 * dt,
-                dt,
-            };
+            let step = next_step(world);
             let start = Instant::now();
             world.step(step).expect("step");
             total += start.elapsed();
         }
         total
     })
+}
+
+/// The world's next step at 60 Hz.
+fn next_step(world: &World) -> FixedStep {
+    let dt = 1.0 / 60.0;
+    FixedStep {
+        tick: world.tick(),
+        time: world.tick() as f64 * dt,
+        dt,
+    }
 }
 
 /// One pass over the seven columns the fused step streamed before ages became
@@ -405,14 +410,7 @@ fn crowd(c: &mut Criterion) {
             let mut world = scene.build().expect("builds").0;
             pool.install(|| {
                 while world.tick() < 60 {
-                    let tick = world.tick();
-                    world
-                        .step(FixedStep {
-                            tick,
-                            time: tick as f64 / 60.0,
-                            dt: 1.0 / 60.0,
-                        })
-                        .expect("step");
+                    world.step(next_step(&world)).expect("step");
                 }
             });
             world
