@@ -151,18 +151,26 @@ impl<'a> ForceField<'a> {
     }
 
     pub fn new(forces: &'a [Box<dyn Force>], inverse_mass: &'a [f32], offset: usize) -> Self {
-        Self {
+        // One pass over the forces (it runs every step, and a small world's
+        // step is mostly such fixed work): the sums in force order.
+        let mut field = Self {
             forces,
             inverse_mass,
             offset,
-            pointwise: forces.iter().all(|f| f.is_pointwise()),
-            all_affine: forces.iter().all(|f| f.affine_in_velocity().is_some()),
-            drag: forces.iter().map(|f| f.linear_drag()).sum(),
-            affine: forces
-                .iter()
-                .filter_map(|f| f.affine_in_velocity())
-                .fold((Vec3A::ZERO, 0.0), |(c, b), (ci, bi)| (c + ci, b + bi)),
+            pointwise: true,
+            all_affine: true,
+            drag: 0.0,
+            affine: (Vec3A::ZERO, 0.0),
+        };
+        for force in forces {
+            field.pointwise &= force.is_pointwise();
+            field.drag += force.linear_drag();
+            match force.affine_in_velocity() {
+                Some((c, b)) => field.affine = (field.affine.0 + c, field.affine.1 + b),
+                None => field.all_affine = false,
+            }
         }
+        field
     }
 }
 

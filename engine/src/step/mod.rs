@@ -222,8 +222,8 @@ impl World {
         report.lanes = lanes as u32;
         // Stateless methods only (they split pointwise): each lane builds
         // its own copy, stepping blocks, by the world's method's name.
-        let name = self.integrator.info().name;
         while self.lanes.len() < lanes {
+            let name = self.integrator.info().name;
             let Ok(method) = build::<Vec3x4>(name) else {
                 unreachable!("{name} is registered: it is the world's own method")
             };

@@ -349,9 +349,12 @@ impl World {
     /// Returns `(spawned, despawned)`. Despawning an entity that is already
     /// gone by then (despawned twice) is skipped.
     pub fn apply_queued(&mut self) -> (u32, u32) {
+        self.queued_spawns = 0;
+        if self.queue.is_empty() {
+            return (0, 0);
+        }
         let (mut spawned, mut despawned) = (0, 0);
         let mut queue = core::mem::take(&mut self.queue);
-        self.queued_spawns = 0;
         for command in queue.drain(..) {
             match command {
                 Command::Spawn(entity, particle) => {
