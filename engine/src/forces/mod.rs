@@ -159,7 +159,9 @@ impl<'a> ForceField<'a> {
             offset,
             pointwise: true,
             all_affine: true,
-            drag: 0.0,
+            // -0.0, the identity of float addition, as `Iterator::sum`
+            // starts: with no forces the sum stays -0.0, as it was.
+            drag: -0.0,
             affine: (Vec3A::ZERO, 0.0),
         };
         for force in forces {
