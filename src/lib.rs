@@ -9,6 +9,9 @@ pub use tickwork_engine as engine;
 /// The math crate games use for vectors and rotations.
 pub use tickwork_engine::glam;
 pub use tickwork_integrators as integrators;
+/// `sin`, `cos`, `exp`, ... with the same bits natively and in the browser:
+/// call these in `fixed_update` for checksums that match across platforms.
+pub use tickwork_integrators::math;
 
 /// The README's examples, compiled and run as doctests so they never rot.
 #[doc = include_str!("../README.md")]
@@ -25,9 +28,10 @@ pub use tickwork_engine::app::{exit_code, run};
 /// What a game needs, in one import: `use tickwork::prelude::*;`.
 pub mod prelude {
     pub use crate::glam::{Quat, Vec2, Vec3};
+    pub use crate::math;
     pub use tickwork_engine::app::{
         Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, Viewport, WorldId,
-        exit_code, run,
+        exit_code, parse_args, run,
     };
     pub use tickwork_engine::interpolation::Interpolated;
     pub use tickwork_engine::render::{Anchor, Camera, Line};

@@ -1,22 +1,32 @@
 // Particles as anti-aliased discs, interpolated between fixed steps on the GPU.
 //
-// Each particle is one instance of a four-vertex triangle strip, pulled from
-// a storage buffer (no vertex buffer): the quad is the disc's bounding square
-// in pixels plus a one-pixel margin for the anti-aliased edge, so tiny
-// particles cost a few fragments, not a fixed-size sprite's worth.
+// Each particle is one instance of a four-vertex triangle strip, its record
+// read as per-instance vertex attributes (which WebGL2 has, where it has no
+// storage buffers): the quad is the disc's bounding square in pixels plus a
+// one-pixel margin for the anti-aliased edge, so tiny particles cost a few
+// fragments, not a fixed-size sprite's worth.
 //
 // Two entry points, one per interpolation mode: `vs_main` mixes the 32-byte
-// record (lerp), `vs_hermite` also reads the velocities, bound only in
-// Hermite mode. An entry point's pipeline needs only the bindings it uses,
-// so the lerp pipeline's layout and upload have no velocities at all.
+// record (lerp), `vs_hermite` also reads the velocity (vertex buffer 1),
+// bound only in Hermite mode, so the lerp pipeline and upload have no
+// velocities at all.
 //
 // (common.wgsl is prepended: Globals, Instance, Velocity, the interpolation
 // formulas, sRGB conversions.)
 
 @group(0) @binding(0) var<uniform> globals: Globals;
-@group(0) @binding(1) var<storage, read> instances: array<Instance>;
-// Hermite mode only: the particles' current velocities, row for row.
-@group(0) @binding(2) var<storage, read> velocities: array<Velocity>;
+
+// An `Instance` record as vertex attributes (vertex buffer 0, per instance).
+struct InstanceIn {
+    @location(0) previous: vec3<f32>,
+    @location(1) radius: f32,
+    @location(2) current: vec3<f32>,
+    @location(3) colour: u32,
+};
+
+fn instance(record: InstanceIn) -> Instance {
+    return Instance(record.previous, record.radius, record.current, record.colour);
+}
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -29,17 +39,22 @@ struct VertexOut {
 };
 
 @vertex
-fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> VertexOut {
-    let particle = instances[index];
+fn vs_main(@builtin(vertex_index) vertex: u32, record: InstanceIn) -> VertexOut {
+    let particle = instance(record);
     // x(t) = x_prev + t (x - x_prev): interpolation for t in [0, 1),
     // extrapolation for t in [1, 2).
     return disc(particle, interpolated(particle), vertex);
 }
 
 @vertex
-fn vs_hermite(@builtin(vertex_index) vertex: u32, @builtin(instance_index) index: u32) -> VertexOut {
-    let particle = instances[index];
-    return disc(particle, interpolated_hermite(particle, velocities[index]), vertex);
+fn vs_hermite(
+    @builtin(vertex_index) vertex: u32,
+    record: InstanceIn,
+    // Hermite mode only: the particle's current velocity (vertex buffer 1).
+    @location(4) velocity: vec3<f32>,
+) -> VertexOut {
+    let particle = instance(record);
+    return disc(particle, interpolated_hermite(particle, Velocity(velocity.x, velocity.y, velocity.z)), vertex);
 }
 
 // Corner `vertex` of the quad around `particle`'s disc drawn at `position`.

@@ -142,7 +142,7 @@ impl Game for Breakout {
             let hit = self.bricks.iter().position(|(b, _)| touched == Touched::Collider(*b));
             if touched == Touched::Collider(self.paddle) {
                 let angle = ((point.x - x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
-                world.set_velocity(self.ball, BALL.1 * Vec3::new(angle.sin(), angle.cos(), 0.0))?;
+                world.set_velocity(self.ball, BALL.1 * Vec3::new(math::sin(angle), math::cos(angle), 0.0))?;
             } else if let Some(k) = hit {
                 let (brick, row) = self.bricks.remove(k);
                 world.remove_collider(brick)?;
@@ -157,7 +157,7 @@ impl Game for Breakout {
         let dt = step.dt as f32;
         let towards = |t: f32| ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED);
         let speed = match input.pointer_at() {
-            _ if self.autopilot => towards(ball.x + 0.6 * (step.tick as f32 * 0.013).sin()),
+            _ if self.autopilot => towards(ball.x + 0.6 * math::sin(step.tick as f32 * 0.013)),
             Some(pointer) if keys == 0.0 => towards(pointer.x),
             _ => PADDLE_SPEED * keys,
         };

@@ -109,7 +109,7 @@ fn ground(x: f32) -> f32 {
     if (x - pad).abs() <= half {
         return height;
     }
-    0.9 + 0.6 * (0.9 * x).sin() + 0.35 * (2.3 * x + 1.0).sin()
+    0.9 + 0.6 * math::sin(0.9 * x) + 0.35 * math::sin(2.3 * x + 1.0)
 }
 
 impl Lander {
@@ -212,7 +212,7 @@ impl Lander {
                     let speed = 1.5 + 2.5 * ((k * 7919 % 40) as f32 / 40.0);
                     world.spawn(Particle {
                         position: resting,
-                        velocity: speed * Vec3::new(angle.cos(), angle.sin(), 0.0) + 0.3 * velocity,
+                        velocity: speed * Vec3::new(math::cos(angle), math::sin(angle), 0.0) + 0.3 * velocity,
                         radius: 0.05,
                         mass: 0.05,
                         colour: [255, 150 + (k * 3 % 90) as u8, 60, 255],
@@ -268,7 +268,7 @@ impl Game for Lander {
             self.fuel = (self.fuel - dt).max(0.0);
         }
         // The engine pushes along the ship's up axis, tilted by `angle`.
-        let up = Vec3::new(-self.angle.sin(), self.angle.cos(), 0.0);
+        let up = Vec3::new(-math::sin(self.angle), math::cos(self.angle), 0.0);
         if let Some(thrust) = world.force_mut::<Thrust>() {
             thrust.acceleration = if burn { ENGINE * up } else { Vec3::ZERO };
         }
@@ -311,7 +311,7 @@ impl Game for Lander {
         {
             // Hull and legs, rotated by the tilt.
             let rotate = |p: Vec3| {
-                let (s, c) = self.angle.sin_cos();
+                let (s, c) = math::sin_cos(self.angle);
                 centre + Vec3::new(c * p.x - s * p.y, s * p.x + c * p.y, 0.0)
             };
             let hull =

@@ -5,7 +5,11 @@
 #![warn(missing_docs)]
 
 pub mod breakout;
+// The command line and the lab are native tools (files, plots, a
+// terminal); the games build for the browser too.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod lab;
 pub mod lander;
 pub mod rally;

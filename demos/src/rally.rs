@@ -123,7 +123,10 @@ impl Rally {
             let angle = ((contact.point.y - paddle.y) / PADDLE.y).clamp(-1.0, 1.0) * 50f32.to_radians();
             let away = if side == 0 { 1.0 } else { -1.0 };
             self.speed = (self.speed * 1.04).min(BALL.2);
-            world.set_velocity(self.ball, self.speed * Vec3::new(away * angle.cos(), angle.sin(), 0.0))?;
+            world.set_velocity(
+                self.ball,
+                self.speed * Vec3::new(away * math::cos(angle), math::sin(angle), 0.0),
+            )?;
         }
         Ok(())
     }
@@ -192,7 +195,7 @@ impl Game for Rally {
                 let towards = if side == 0 { -1.0 } else { 1.0 };
                 world.set_velocity(
                     self.ball,
-                    self.speed * Vec3::new(towards * angle.cos(), angle.sin(), 0.0),
+                    self.speed * Vec3::new(towards * math::cos(angle), math::sin(angle), 0.0),
                 )?;
                 self.play = Play::Rallying;
             }

@@ -4,6 +4,7 @@ use glam::{Quat, Vec3};
 use rand::RngExt;
 use rand_pcg::Pcg32;
 
+use crate::math;
 use crate::world::{Colour, Particle, SpawnError};
 
 /// Spawns `rate` particles per second from a point, in a cone around
@@ -154,11 +155,11 @@ impl Emitter {
     /// cap's solid angle) and a jittered speed.
     pub(crate) fn particle(&self, rng: &mut Pcg32) -> Particle {
         let axis = self.direction.try_normalize().unwrap_or(Vec3::Y);
-        let cos_max = self.spread.cos();
+        let cos_max = math::cos(self.spread);
         let cos_theta = 1.0 - rng.random::<f32>() * (1.0 - cos_max);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let phi = rng.random::<f32>() * core::f32::consts::TAU;
-        let local = Vec3::new(sin_theta * phi.cos(), cos_theta, sin_theta * phi.sin());
+        let local = Vec3::new(sin_theta * math::cos(phi), cos_theta, sin_theta * math::sin(phi));
         let direction = Quat::from_rotation_arc(Vec3::Y, axis) * local;
         let speed = self.speed * (1.0 + self.speed_jitter * (2.0 * rng.random::<f32>() - 1.0));
         Particle {

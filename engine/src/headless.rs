@@ -1,8 +1,8 @@
 //! Running a world without a window: fixed steps as fast as possible, a CSV
 //! trace, and a summary (what `tickwork sim` prints).
 
+use crate::platform::Instant;
 use std::io::{self, Write};
-use std::time::Instant;
 
 use crate::clock::{FixedClock, Rate};
 use crate::step::SimulationError;

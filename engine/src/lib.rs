@@ -39,6 +39,7 @@ pub mod forces;
 pub mod headless;
 pub mod input;
 pub mod interpolation;
+pub mod platform;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod scene;
@@ -62,6 +63,9 @@ pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
 pub use scene::{Scene, SceneError};
 pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
+/// Transcendental functions with the same bits on every platform (libm):
+/// what a step calls instead of `f32::sin` and friends.
+pub use tickwork_integrators::math;
 pub use world::{
     Entity, EntityError, Particle, RigidBody, Snapshot, SpawnError, StableHasher, World, WorldConfig, WorldError,
 };

@@ -22,11 +22,9 @@ pub fn join_thread_pool() -> Result<(), rayon::ThreadPoolBuildError> {
     // one (one core, or RAYON_NUM_THREADS=1, read as rayon reads it) would
     // leave work sent from any other thread to no one. Then the default
     // pool, and no parallel lanes.
-    let threads = std::env::var("RAYON_NUM_THREADS")
-        .ok()
-        .and_then(|n| n.parse::<usize>().ok())
-        .filter(|&n| n > 0)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get));
+    // One in the browser, which has no threads (rayon then runs every job
+    // on the calling thread).
+    let threads = crate::platform::parallel_threads();
     if threads < 2 {
         return Ok(());
     }

@@ -43,6 +43,7 @@ mod block;
 mod chunks;
 mod history;
 mod integrator;
+pub mod math;
 mod newton_krylov;
 mod registry;
 mod system;

@@ -94,7 +94,7 @@ impl NewtonKrylovConfig {
             stagnation_tolerance: if R::epsilon().to_f64() > 1e-10 {
                 2e-2
             } else {
-                R::epsilon().to_f64().cbrt()
+                crate::math::cbrt(R::epsilon().to_f64())
             },
             stagnation_floor: 1.0,
         }
@@ -308,7 +308,7 @@ impl<V: Vector> NewtonKrylov<V> {
                     self.hessenberg[col + i + 1] = -self.sines[i] * a + self.cosines[i] * b;
                 }
                 let (a, b) = (self.hessenberg[col + j], self.hessenberg[col + j + 1]);
-                let r = a.hypot(b);
+                let r = crate::math::hypot(a, b);
                 let (cs, sn) = if r == 0.0 { (1.0, 0.0) } else { (a / r, b / r) };
                 self.cosines[j] = cs;
                 self.sines[j] = sn;

@@ -37,9 +37,10 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Square root.
     fn sqrt(self) -> Self;
-    /// `e^self`.
+    /// `e^self`, from the `libm` crate: the same bits on every platform
+    /// (the platform's own `exp` differs between x86_64 and wasm32).
     fn exp(self) -> Self;
-    /// `e^self - 1`, accurate for small arguments.
+    /// `e^self - 1`, accurate for small arguments (`libm`, as [`Real::exp`]).
     fn exp_m1(self) -> Self;
     /// Absolute value.
     fn abs(self) -> Self;
@@ -68,11 +69,11 @@ macro_rules! impl_real {
             }
             #[inline]
             fn exp(self) -> Self {
-                <$t>::exp(self)
+                libm::Libm::<$t>::exp(self)
             }
             #[inline]
             fn exp_m1(self) -> Self {
-                <$t>::exp_m1(self)
+                libm::Libm::<$t>::expm1(self)
             }
             #[inline]
             fn abs(self) -> Self {

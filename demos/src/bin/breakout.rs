@@ -15,6 +15,6 @@ struct Options {
 }
 
 fn main() -> std::process::ExitCode {
-    let options = Options::parse();
+    let options = parse_args::<Options>();
     exit_code(run(Breakout::new(options.autopilot), options.run))
 }

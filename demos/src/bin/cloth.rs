@@ -139,7 +139,7 @@ impl Game for Cloth {
             }
         }
         // Gusts: the wind's strength follows a slow sine of the tick.
-        let gust = 3.0 + 2.5 * (step.time as f32 * 1.3).sin();
+        let gust = 3.0 + 2.5 * math::sin(step.time as f32 * 1.3);
         for shown in &mut stage.worlds {
             if let Some(wind) = shown.world.force_mut::<Wind>() {
                 wind.velocity = Vec3::new(0.0, 0.0, gust);

@@ -28,7 +28,7 @@ impl Fountain {
     fn jets(&self) -> [Emitter; 3] {
         let jet = |x: f32, angle: f32, speed: f32, colour: [u8; 4]| Emitter {
             position: Vec3::new(x, 0.05, 0.0),
-            direction: Vec3::new(angle.sin(), angle.cos(), 0.0),
+            direction: Vec3::new(math::sin(angle), math::cos(angle), 0.0),
             spread: 0.09,
             speed: speed * self.pressure,
             speed_jitter: 0.12,

@@ -5,6 +5,7 @@
 //!
 //! `cargo run --release` (or `--bin orbits -- --integrator rk4,leapfrog`).
 
+use std::f32::consts::PI;
 use std::fmt::Write;
 use std::process::ExitCode;
 
@@ -47,7 +48,7 @@ impl Game for Orbits {
         };
         // Kepler's third law: GM = 4 pi^2 a^3 / T^2; start at perihelion
         // r = a (1 - e) with the vis-viva speed v = sqrt(GM (1 + e) / r).
-        let gm = 4.0 * std::f32::consts::PI.powi(2) * A.powi(3) / PERIOD.powi(2);
+        let gm = 4.0 * PI * PI * (A * A * A) / (PERIOD * PERIOD);
         let r = A * (1.0 - E);
         let v = (gm * (1.0 + E) / r).sqrt();
         for (k, name) in names.iter().enumerate() {

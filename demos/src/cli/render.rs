@@ -225,6 +225,7 @@ impl WindowArgs {
             hud: !self.view.no_hud,
             renderer: self.view.renderer(),
             panel: !self.no_panel,
+            ..WindowOptions::default()
         }
     }
 }

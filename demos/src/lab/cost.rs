@@ -1,6 +1,8 @@
 //! Cost: error against force evaluations (work-precision), from the
 //! convergence runs.
 
+use tickwork_integrators::math;
+
 use super::convergence::Convergence;
 
 /// Force evaluations a method needs to reach `target` error, interpolated
@@ -24,8 +26,11 @@ pub fn evaluations_for(run: &Convergence, target: f64) -> Option<(f64, bool)> {
         .windows(2)
         .find(|w| w[0].1 > target && w[1].1 <= target)
         .map(|w| {
-            let (e0, e1) = (w[0].1.ln(), w[1].1.ln());
-            let f = (target.ln() - e0) / (e1 - e0);
-            ((w[0].0.ln() + f * (w[1].0.ln() - w[0].0.ln())).exp(), false)
+            let (e0, e1) = (math::ln(w[0].1), math::ln(w[1].1));
+            let f = (math::ln(target) - e0) / (e1 - e0);
+            (
+                math::exp(math::ln(w[0].0) + f * (math::ln(w[1].0) - math::ln(w[0].0))),
+                false,
+            )
         })
 }

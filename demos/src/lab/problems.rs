@@ -3,6 +3,7 @@
 use core::f64::consts::TAU;
 
 use glam::DVec2;
+use tickwork_integrators::math;
 use tickwork_integrators::{DormandPrince, Integrator, MethodInfo, StepError, System, build};
 
 /// A problem `x'' = a(t, x, v)` in the plane, one particle, `f64`.
@@ -123,9 +124,9 @@ impl Problem {
                 let zeta = b / 2.0;
                 let omega = (1.0 - zeta * zeta).sqrt();
                 let t = self.duration();
-                let decay = (-zeta * t).exp();
+                let decay = math::exp(-zeta * t);
                 let (a, bb) = (1.0, zeta / omega);
-                let (s, c) = (omega * t).sin_cos();
+                let (s, c) = math::sin_cos(omega * t);
                 let x = decay * (a * c + bb * s);
                 let v = decay * ((bb * omega - zeta * a) * c - (a * omega + zeta * bb) * s);
                 (DVec2::new(x, 0.0), DVec2::new(v, 0.0))
@@ -159,9 +160,9 @@ fn kepler_at(t: f64) -> (DVec2, DVec2) {
     let mean = t.rem_euclid(TAU);
     let mut anomaly = mean;
     for _ in 0..50 {
-        anomaly -= (anomaly - e * anomaly.sin() - mean) / (1.0 - e * anomaly.cos());
+        anomaly -= (anomaly - e * math::sin(anomaly) - mean) / (1.0 - e * math::cos(anomaly));
     }
-    let (s, c) = anomaly.sin_cos();
+    let (s, c) = math::sin_cos(anomaly);
     let b = (1.0 - e * e).sqrt();
     let rate = 1.0 / (1.0 - e * c);
     (DVec2::new(c - e, b * s), DVec2::new(-s * rate, b * c * rate))
@@ -228,7 +229,7 @@ pub fn integrate(
 #[must_use]
 pub fn log_slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
-    let (xs, ys): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (x.ln(), y.ln())).unzip();
+    let (xs, ys): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (math::ln(*x), math::ln(*y))).unzip();
     let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
     let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();

@@ -11,7 +11,7 @@
 //! found by bisection on `log h` between [`H_MIN`] and [`H_MAX`].
 
 use glam::DVec2;
-use tickwork_integrators::{METHODS, System};
+use tickwork_integrators::{METHODS, System, math};
 
 use super::problems::method;
 
@@ -181,17 +181,17 @@ pub fn study() -> Result<Vec<Limit>, String> {
             } else if stable(info.name, equation, H_MAX)? {
                 f64::INFINITY
             } else {
-                let (mut lo, mut hi) = (H_MIN.ln(), H_MAX.ln());
+                let (mut lo, mut hi) = (math::ln(H_MIN), math::ln(H_MAX));
                 // 20 halvings of ln(1e5) = 11.5: the limit to 1e-5 relative.
                 for _ in 0..20 {
                     let mid = 0.5 * (lo + hi);
-                    if stable(info.name, equation, mid.exp())? {
+                    if stable(info.name, equation, math::exp(mid))? {
                         lo = mid;
                     } else {
                         hi = mid;
                     }
                 }
-                lo.exp()
+                math::exp(lo)
             };
             limits.push(Limit {
                 method: info.name,

@@ -11,6 +11,9 @@ mod game;
 mod network;
 mod offscreen;
 mod options;
+// The page's runner: only the browser build has one.
+#[cfg(target_arch = "wasm32")]
+mod page;
 mod panel;
 mod playback;
 mod rollback;
@@ -33,7 +36,9 @@ pub use network::{
     ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MatchReport, NetOptions, NetSession, Peer, Welcome,
 };
 pub use offscreen::{FrameOutput, MAX_OFFSCREEN_FRAMES, OffscreenRun, OffscreenSummary};
-pub use options::{MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_size};
+pub use options::{
+    MAX_DISPLAY_HZ, MIN_DISPLAY_HZ, RunOptions, display_hz, non_negative_seconds, parse_args, parse_size,
+};
 pub use playback::Playback;
 pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
 pub use run::{MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config, run};

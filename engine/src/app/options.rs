@@ -99,6 +99,11 @@ pub struct RunOptions {
     /// In a match: seconds to wait for the other player to join or answer.
     #[arg(long, default_value_t = 60.0, value_parser = positive_f64)]
     pub wait_seconds: f64,
+    /// In a page: the graphics backend, `webgpu` or `webgl2` (default:
+    /// WebGPU where the browser has it, else WebGL2). Natively
+    /// `WGPU_BACKEND` chooses.
+    #[arg(long, value_parser = ["webgpu", "webgl2"])]
+    pub backend: Option<String>,
 }
 
 impl Default for RunOptions {
@@ -128,6 +133,7 @@ impl Default for RunOptions {
             max_prediction: 8,
             impair: None,
             wait_seconds: 60.0,
+            backend: None,
         }
     }
 }
@@ -174,7 +180,31 @@ impl RunOptions {
     /// their own flatten [`RunOptions`] into their parser instead.
     #[must_use]
     pub fn from_args() -> Self {
-        <SharedCommandLine as clap::Parser>::parse().options
+        parse_args::<SharedCommandLine>().options
+    }
+}
+
+/// Parses the program's command line into `P`: the process's arguments,
+/// or in a page its URL query (`?hz=120&seed=3`, see
+/// [`platform::args`](crate::platform::args)), by the same parser. A bad
+/// option exits with clap's message and usage, which a page shows on the
+/// console and on the page; `--help` prints the options. Games with
+/// options of their own call it with their parser.
+#[must_use]
+pub fn parse_args<P: clap::Parser>() -> P {
+    match P::try_parse_from(crate::platform::args()) {
+        Ok(parsed) => parsed,
+        // Natively clap prints (with colour on a terminal) and exits.
+        Err(error) if !crate::platform::IS_WEB => error.exit(),
+        Err(error) => {
+            let text = error.render().to_string();
+            if error.use_stderr() {
+                crate::platform::complain(text.trim_end());
+            } else {
+                crate::platform::say(text.trim_end());
+            }
+            crate::platform::exit(error.exit_code())
+        }
     }
 }
 

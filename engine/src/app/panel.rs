@@ -17,7 +17,7 @@ use tickwork_integrators::METHODS;
 
 /// `log10 |e|`, floored at 1e-16 (round-off) so exact zeros plot.
 fn log_error(e: f64) -> f64 {
-    e.abs().max(1e-16).log10()
+    crate::math::log10(e.abs().max(1e-16))
 }
 
 fn plot_points(trace: &EnergyTrace) -> PlotPoints<'static> {

@@ -134,6 +134,24 @@ fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunE
 /// [`RunError`] with what went wrong: a bad option or recording, no GPU
 /// adapter, a failed step, a file that exists (without `--force`).
 pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // In a browser the page's runner plays it (and returns at once).
+    #[cfg(target_arch = "wasm32")]
+    let run = super::page::run_in_page;
+    #[cfg(not(target_arch = "wasm32"))]
+    let run = run_native;
+    run(game, options)
+}
+
+/// [`run`] natively: a window or off-screen frames.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    if options.backend.is_some() {
+        return Err(RunError::Limit(
+            "--backend chooses a page's graphics backend (webgpu or webgl2); natively, WGPU_BACKEND chooses \
+             (vulkan, gl, ...)"
+                .into(),
+        ));
+    }
     // Before any thread starts (a game's `main` calls `run` first).
     crate::render::quiet_device_select_layer();
     // Parallel steps from this thread then allocate nothing. An existing
@@ -199,7 +217,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     summary.ticks = FrameSource::ticks(&session);
     summary.recording = session.save_recording()?;
     if let Some(path) = &summary.recording {
-        println!(
+        crate::say!(
             "tickwork: recorded {} ticks of input to {}",
             summary.ticks,
             path.display()
@@ -208,7 +226,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     shown?;
     if !summary.windowed {
         let checksum = session.checksum();
-        println!(
+        crate::say!(
             "tickwork: {title}: the final state at tick {} has checksum {checksum:016x}",
             summary.ticks
         );
@@ -216,7 +234,7 @@ pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<Ru
     }
     summary.outcome = session.outcome();
     if let Some(outcome) = &summary.outcome {
-        println!("{title}: {outcome}");
+        crate::say!("{title}: {outcome}");
     }
     Ok(summary)
 }
@@ -239,12 +257,12 @@ fn network_run<G: Game + Clone + 'static>(
     let title = game.title().to_owned();
     let lobby = Lobby::bind(peer)?;
     match peer {
-        Peer::Host { .. } => println!(
+        Peer::Host { .. } => crate::say!(
             "tickwork: {title}: hosting on port {}; the other player joins with --join <this machine's address>:{}",
             lobby.local_addr()?.port(),
             lobby.local_addr()?.port()
         ),
-        Peer::Join { host } => println!("tickwork: {title}: joining {host}"),
+        Peer::Join { host } => crate::say!("tickwork: {title}: joining {host}"),
     }
     let mut session = NetSession::start(
         game,
@@ -302,7 +320,7 @@ fn network_run<G: Game + Clone + 'static>(
     if let Some(path) = &options.record {
         let recording = session.recording();
         recording.save(path, options.force)?;
-        println!(
+        crate::say!(
             "tickwork: recorded both players' inputs of {} ticks to {}",
             recording.ticks,
             path.display()
@@ -312,17 +330,22 @@ fn network_run<G: Game + Clone + 'static>(
     played?;
     summary.outcome = session.session().outcome();
     if let Some(outcome) = &summary.outcome {
-        println!("{title}: {outcome}");
+        crate::say!("{title}: {outcome}");
     }
     Ok(summary)
 }
 
 /// Prints how a match ended; returns its checksum.
 fn match_ended(title: &str, report: MatchReport) -> u64 {
-    println!(
+    crate::say!(
         "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} ticks \
          waited for the other player, {} were skipped to let it catch up",
-        report.ticks, report.checksum, report.rollbacks, report.resimulated, report.waits, report.skipped
+        report.ticks,
+        report.checksum,
+        report.rollbacks,
+        report.resimulated,
+        report.waits,
+        report.skipped
     );
     report.checksum
 }
@@ -334,7 +357,7 @@ pub const MAX_SYNC_TEST_TICKS: u64 = 1_000_000;
 /// `--sync-test`: the game headless under a rollback sync test, for
 /// `--frames` ticks (default: the recording's, or 300), with the
 /// recording's inputs if one is given.
-fn sync_test_run<G: Game + Clone + 'static>(
+pub(super) fn sync_test_run<G: Game + Clone + 'static>(
     session: &mut GameSession<G>,
     distance: usize,
     options: &RunOptions,
@@ -365,7 +388,7 @@ fn sync_test_run<G: Game + Clone + 'static>(
         };
         *input
     })?;
-    println!(
+    crate::say!(
         "tickwork: {}: sync test passed: {} ticks, each rolled back {} ticks and re-simulated to the same state \
          (checksum {:016x})",
         session.game().title(),
@@ -375,7 +398,7 @@ fn sync_test_run<G: Game + Clone + 'static>(
     );
     let outcome = session.outcome();
     if let Some(outcome) = &outcome {
-        println!("{}: {outcome}", session.game().title());
+        crate::say!("{}: {outcome}", session.game().title());
     }
     Ok(RunSummary {
         ticks: report.ticks,
@@ -446,7 +469,7 @@ fn show<G: Game>(
             .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
         let gpu = Gpu::headless()?;
         let mut runner = OffscreenRun::new(&gpu, width, height, renderer_config(session.stage(), height))?;
-        println!(
+        crate::say!(
             "tickwork: {title}: no display{}; drawing {frames} frames of {width}x{height} off-screen on {}",
             if options.headless { " wanted (--headless)" } else { "" },
             gpu.describe()
@@ -464,7 +487,7 @@ fn show<G: Game>(
             &mut |_| {},
         )?;
         summary.frames = done.frames;
-        println!(
+        crate::say!(
             "tickwork: wrote {} frames to {}/ and the GIF {}",
             done.frames,
             out.display(),
@@ -482,7 +505,7 @@ pub fn exit_code(result: Result<RunSummary, RunError>) -> std::process::ExitCode
     match result {
         Ok(_) => std::process::ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error}");
+            crate::complain!("error: {error}");
             std::process::ExitCode::FAILURE
         }
     }

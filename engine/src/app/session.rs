@@ -354,7 +354,7 @@ impl<G: Game> GameSession<G> {
                     self.replay_done = true;
                     // The state now is the recorded run's last: its checksum
                     // compares a replay with the run (or match) it recorded.
-                    println!(
+                    crate::say!(
                         "tickwork: the replay ended at tick {tick} with checksum {:016x}; the keyboard is ignored",
                         checksum_of(&self.game, &self.stage)
                     );
@@ -500,7 +500,7 @@ impl<G: Game> GameSession<G> {
         let tick = self.clock.tick();
         let record = match &mut self.mode {
             InputMode::Replay { .. } => {
-                println!("tickwork: a replay keeps the recorded integrators; the switch is ignored");
+                crate::say!("tickwork: a replay keeps the recorded integrators; the switch is ignored");
                 return Ok(());
             }
             InputMode::Live { record } => record.as_mut().map(|(recording, _)| recording),
@@ -568,7 +568,7 @@ impl<G: Game> FrameSource for GameSession<G> {
         if let Control::Rate(hz) = control {
             // A recording stores one rate (the panel greys it out then).
             if self.is_recording() || self.replay().is_some() {
-                println!("tickwork: the rate stays as it is while recording or replaying ({hz} Hz ignored)");
+                crate::say!("tickwork: the rate stays as it is while recording or replaying ({hz} Hz ignored)");
                 return Ok(());
             }
             self.stage.rate = Rate::hz_f64(hz)?;

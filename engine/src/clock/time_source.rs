@@ -1,6 +1,6 @@
 //! Where frame durations come from: the real clock, or a simulated display.
 
-use std::time::Instant;
+use crate::platform::Instant;
 
 /// A source of frame durations, in seconds, for [`FixedClock::advance`](super::FixedClock::advance).
 ///

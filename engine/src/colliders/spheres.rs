@@ -50,6 +50,7 @@ use rayon::prelude::*;
 
 use super::contact::Material;
 use super::{Collider, ContactColumns, PairTouch};
+use crate::math;
 use crate::threads::ROWS_PER_JOB;
 
 /// A touching pair found while reporting: sorted indices, the contact
@@ -872,7 +873,7 @@ impl SphereCollisions {
         self.level.extend(c.radius.iter().map(|&r| {
             let ratio = max_radius / r;
             if ratio.is_finite() {
-                (ratio.log2().floor() as u32).min(LEVELS - 1) as u8
+                (math::log2(ratio).floor() as u32).min(LEVELS - 1) as u8
             } else {
                 (LEVELS - 1) as u8
             }

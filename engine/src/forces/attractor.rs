@@ -34,7 +34,7 @@ impl Force for Attractor {
     /// `U = -sum GM m / sqrt(r^2 + eps^2)`.
     fn potential_energy(&self, x: &[Vec3A], inverse_mass: &[f32]) -> f64 {
         let p = self.position.as_dvec3();
-        let eps2 = f64::from(self.softening).powi(2);
+        let eps2 = f64::from(self.softening) * f64::from(self.softening);
         x.iter()
             .zip(inverse_mass)
             .filter(|&(_, &w)| w > 0.0)

@@ -71,7 +71,7 @@ impl Force for NBody {
 
     /// `U = -G sum_{i<j} m_i m_j / sqrt(r^2 + eps^2)`.
     fn potential_energy(&self, x: &[Vec3A], inverse_mass: &[f32]) -> f64 {
-        let eps2 = f64::from(self.softening).powi(2);
+        let eps2 = f64::from(self.softening) * f64::from(self.softening);
         let mut u = 0.0;
         for i in 0..x.len() {
             for j in i + 1..x.len() {

@@ -305,7 +305,7 @@ impl Recording {
             ron::ser::PrettyConfig::default().struct_names(true).depth_limit(2),
         )
         .map_err(|e| RecordingError::io(path, &e))?;
-        std::fs::write(path, text).map_err(|e| RecordingError::io(path, &e))
+        crate::platform::write_text(path, &text).map_err(|e| RecordingError::io(path, &e))
     }
 }
 

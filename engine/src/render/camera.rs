@@ -3,6 +3,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
+use crate::math;
 use crate::scene::format::{CameraHint, Projection};
 
 /// Where the renderer looks from. Both kinds are plain values: a window
@@ -103,14 +104,20 @@ impl Camera {
                 fov_y,
             } => {
                 let (yaw, pitch) = (yaw.to_radians(), pitch.clamp(-89.0, 89.0).to_radians());
-                let eye = target + distance * Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), yaw.cos() * pitch.cos());
+                let eye = target
+                    + distance
+                        * Vec3::new(
+                            math::sin(yaw) * math::cos(pitch),
+                            math::sin(pitch),
+                            math::cos(yaw) * math::cos(pitch),
+                        );
                 let view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y);
                 let fov = fov_y.clamp(1.0, 170.0).to_radians();
                 let near = (distance * 1e-3).max(1e-3);
                 let proj = glam::camera::rh::proj::directx::perspective(fov, aspect, near, distance * 100.0 + 100.0);
                 CameraMatrices {
                     view_proj: proj * view,
-                    pixels_per_unit: half_height_px / (0.5 * fov).tan(),
+                    pixels_per_unit: half_height_px / math::tan(0.5 * fov),
                 }
             }
         }

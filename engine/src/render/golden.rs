@@ -207,7 +207,7 @@ impl GoldenImages {
     /// Whether `TICKWORK_BLESS=1` asks for golden images to be rewritten.
     #[must_use]
     pub fn blessing() -> bool {
-        std::env::var("TICKWORK_BLESS").is_ok_and(|v| v == "1")
+        crate::platform::env_var("TICKWORK_BLESS").is_some_and(|v| v == "1")
     }
 
     /// Checks `image` against golden image `name`, or (when blessing)

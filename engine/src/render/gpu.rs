@@ -39,8 +39,13 @@ impl fmt::Debug for Gpu {
 /// Call it first thing in `main`, before any thread starts: the binaries
 /// and [`run`](crate::app::run) do.
 pub fn quiet_device_select_layer() {
-    let runtime_dir_ok = std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
-    if !runtime_dir_ok && std::env::var_os("NODEVICE_SELECT").is_none() {
+    use crate::platform::env_var;
+    // A page has no environment (and no Mesa layer).
+    if crate::platform::IS_WEB {
+        return;
+    }
+    let runtime_dir_ok = env_var("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !runtime_dir_ok && env_var("NODEVICE_SELECT").is_none() {
         // SAFETY: called at the start of a program, before the engine starts
         // a thread (the docs say so), so no other thread reads the
         // environment while it changes.
@@ -78,11 +83,32 @@ impl Gpu {
     }
 
     /// As [`Gpu::with_instance`], for an instance already made (a window
-    /// creates its surface from the instance first).
+    /// creates its surface from the instance first). Natively it waits for
+    /// the adapter and device; a page cannot wait (see [`Gpu::request`]).
+    ///
+    /// # Errors
+    /// As [`Gpu::headless`]; in the browser, [`RenderError::Device`] saying
+    /// to use [`Gpu::request`].
+    pub fn from_instance(
+        instance: wgpu::Instance,
+        backends: wgpu::Backends,
+        compatible_surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, RenderError> {
+        crate::platform::ready_now(Self::request(instance, backends, compatible_surface)).unwrap_or_else(|| {
+            Err(RenderError::Device(
+                "the browser gives the adapter and device later: start the GPU with Gpu::request".into(),
+            ))
+        })
+    }
+
+    /// The adapter and device of `instance`, as futures resolve them: in a
+    /// page the browser answers only after the script yields, so this is
+    /// the one way to start a GPU there (natively [`Gpu::from_instance`]
+    /// waits on it).
     ///
     /// # Errors
     /// As [`Gpu::headless`].
-    pub fn from_instance(
+    pub async fn request(
         instance: wgpu::Instance,
         backends: wgpu::Backends,
         compatible_surface: Option<&wgpu::Surface<'_>>,
@@ -93,12 +119,25 @@ impl Gpu {
             compatible_surface,
             apply_limit_buckets: false,
         };
-        let adapter =
-            pollster::block_on(instance.request_adapter(&options)).map_err(|error| RenderError::NoAdapter {
+        let adapter = instance
+            .request_adapter(&options)
+            .await
+            .map_err(|error| RenderError::NoAdapter {
                 backends: backend_names(backends),
                 reason: error.to_string(),
             })?;
-        let limits = wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits());
+        // WebGL2 has no compute or storage buffers: its own defaults (the
+        // renderer then draws without the splat path).
+        let base = if adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+        {
+            wgpu::Limits::downlevel_defaults()
+        } else {
+            wgpu::Limits::downlevel_webgl2_defaults()
+        };
+        let limits = base.using_resolution(adapter.limits());
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("tickwork"),
             required_features: wgpu::Features::empty(),
@@ -109,7 +148,9 @@ impl Gpu {
             },
             ..Default::default()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+        let (device, queue) = adapter
+            .request_device(&descriptor)
+            .await
             .map_err(|error| RenderError::Device(error.to_string()))?;
         Ok(Self {
             instance,
@@ -138,8 +179,10 @@ impl Gpu {
         let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let created = create();
-        let invalid = pollster::block_on(validation.pop());
-        if let Some(error) = pollster::block_on(memory.pop()) {
+        // A page cannot wait for the scopes' answers: there an error reaches
+        // the console through wgpu's own handler instead.
+        let invalid = crate::platform::ready_now(validation.pop()).flatten();
+        if let Some(error) = crate::platform::ready_now(memory.pop()).flatten() {
             return Err(RenderError::Device(format!(
                 "out of GPU memory for {}: {error}; draw a smaller size, or without MSAA",
                 what()
@@ -156,7 +199,12 @@ impl Gpu {
     #[must_use]
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();
-        format!("{} on {:?} ({:?})", info.name, info.backend, info.device_type)
+        // A browser's WebGPU adapter may keep its name to itself.
+        if info.name.is_empty() {
+            format!("{:?} ({:?})", info.backend, info.device_type)
+        } else {
+            format!("{} on {:?} ({:?})", info.name, info.backend, info.device_type)
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 //! current velocity besides the 32-byte record's two positions. Rather
 //! than grow that record for every frame (lerp needs no velocity), the
 //! velocities go into a buffer of their own, 12 bytes a particle, bound
-//! at binding 2 and read by the `vs_hermite` entry point only: a lerp
+//! as vertex buffer 1 and read by the `vs_hermite` entry point only: a lerp
 //! frame uploads, binds and reads exactly what it did before, and a
 //! Hermite frame uploads 44 bytes a particle instead of 32.
 
@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::Gpu;
 use super::frame_view::FrameView;
-use super::renderer::{bind_buffers, entry, record_buffer, write_records};
+use super::renderer::{instance_buffer_layout, record_buffer, write_records};
 
 /// One particle's current velocity as the shader reads it (12 bytes, as
 /// the WGSL `Velocity`), row for row with the instance records.
@@ -22,15 +22,15 @@ use super::renderer::{bind_buffers, entry, record_buffer, write_records};
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub(crate) struct Velocity([f32; 3]);
 
-/// The Hermite pipeline, its layout and the velocity buffer.
+/// The velocities as `vs_hermite`'s per-instance attribute, slot 1.
+const VELOCITY_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![4 => Float32x3];
+
+/// The Hermite pipeline and the velocity buffer.
 pub(crate) struct HermiteParticles {
-    /// Globals, instances, velocities (bindings 0, 1, 2).
-    layout: wgpu::BindGroupLayout,
+    /// Over the particles' layout (the globals), instances in vertex
+    /// buffer 0, velocities in 1.
     pipeline: wgpu::RenderPipeline,
     velocities: wgpu::Buffer,
-    /// Over the current globals, instances and velocities; `None` once one
-    /// of them was replaced.
-    bind_group: Option<wgpu::BindGroup>,
     scratch: Vec<Velocity>,
     /// The world states whose velocities were last uploaded: (world id,
     /// revision) of each world, as the renderer keys its instances.
@@ -39,39 +39,25 @@ pub(crate) struct HermiteParticles {
 }
 
 impl HermiteParticles {
-    /// The layout and pipeline; `make_pipeline` builds the particle
-    /// pipeline for a layout and a vertex entry point, as the lerp one is
-    /// built.
+    /// The pipeline; `make_pipeline` builds the particle pipeline for a
+    /// vertex entry point and its vertex buffers, as the lerp one is built.
     pub(crate) fn new(
         device: &wgpu::Device,
-        layout_entries: &[wgpu::BindGroupLayoutEntry],
-        make_pipeline: impl FnOnce(&wgpu::BindGroupLayout, &str) -> wgpu::RenderPipeline,
+        make_pipeline: impl FnOnce(&str, &[Option<wgpu::VertexBufferLayout<'_>>]) -> wgpu::RenderPipeline,
     ) -> Self {
-        let mut entries = layout_entries.to_vec();
-        entries.push(entry(
-            2,
-            wgpu::ShaderStages::VERTEX,
-            wgpu::BufferBindingType::Storage { read_only: true },
-        ));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("tickwork particles (Hermite)"),
-            entries: &entries,
-        });
-        let pipeline = make_pipeline(&layout, "vs_hermite");
+        let velocities = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Velocity>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &VELOCITY_ATTRIBUTES,
+        };
+        let pipeline = make_pipeline("vs_hermite", &[Some(instance_buffer_layout()), Some(velocities)]);
         Self {
-            layout,
             pipeline,
             velocities: record_buffer::<Velocity>(device, "tickwork velocities", 1024),
-            bind_group: None,
             scratch: Vec::new(),
             uploaded: Vec::new(),
             upload_key: Vec::new(),
         }
-    }
-
-    /// Forgets the bind group (the instance buffer was replaced).
-    pub(crate) fn invalidate(&mut self) {
-        self.bind_group = None;
     }
 
     /// Forgets what was uploaded, so the next frame uploads again.
@@ -80,15 +66,9 @@ impl HermiteParticles {
     }
 
     /// Uploads the velocities of `view`'s worlds if they changed since the
-    /// last upload and makes the bind group current; returns whether the
-    /// velocity buffer was replaced (the splat's bind groups then are stale).
-    pub(crate) fn upload(
-        &mut self,
-        gpu: &Gpu,
-        view: &FrameView<'_>,
-        globals: &wgpu::Buffer,
-        instances: &wgpu::Buffer,
-    ) -> bool {
+    /// last upload; returns whether the velocity buffer was replaced (the
+    /// splat's bind groups then are stale).
+    pub(crate) fn upload(&mut self, gpu: &Gpu, view: &FrameView<'_>) -> bool {
         let mut replaced = false;
         self.upload_key.clear();
         self.upload_key
@@ -98,19 +78,11 @@ impl HermiteParticles {
             let n: usize = view.worlds().map(|w| w.world.len()).sum();
             if (n * std::mem::size_of::<Velocity>()) as u64 > self.velocities.size() {
                 self.velocities = record_buffer::<Velocity>(&gpu.device, "tickwork velocities", n.next_power_of_two());
-                self.bind_group = None;
                 replaced = true;
             }
             if n > 0 {
                 write_records(gpu, view, n, &mut self.scratch, &self.velocities, velocity_block);
             }
-        }
-        if self.bind_group.is_none() {
-            self.bind_group = Some(bind_buffers(
-                &gpu.device,
-                &self.layout,
-                &[globals, instances, &self.velocities],
-            ));
         }
         replaced
     }
@@ -120,13 +92,19 @@ impl HermiteParticles {
         &self.velocities
     }
 
-    /// Draws `count` particles by `vs_hermite` (after [`upload`](Self::upload)).
-    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, count: u32) {
-        let Some(bind_group) = &self.bind_group else {
-            return;
-        };
+    /// Draws `count` particles of `instances` by `vs_hermite` (after
+    /// [`upload`](Self::upload)), with the particles' `globals` group.
+    pub(crate) fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        globals: &wgpu::BindGroup,
+        instances: &wgpu::Buffer,
+        count: u32,
+    ) {
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(0, globals, &[]);
+        pass.set_vertex_buffer(0, instances.slice(..));
+        pass.set_vertex_buffer(1, self.velocities.slice(..));
         pass.draw(0..4, 0..count);
     }
 }

@@ -108,7 +108,8 @@ pub struct Renderer {
     upload_key: Vec<(u64, u64)>,
     /// Largest particle radius in the last upload (world units).
     max_radius: f32,
-    splat: Splat,
+    /// `None` where the device has no compute (WebGL2).
+    splat: Option<Splat>,
     /// `config.splat_threshold`, or the adapter's default.
     splat_threshold: usize,
     splat_active: bool,
@@ -159,10 +160,10 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let [globals_entry, instances_entry] = particle_layout_entries();
+        let [globals_entry] = particle_layout_entries();
         let particle_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork particles"),
-            entries: &[globals_entry, instances_entry],
+            entries: &[globals_entry],
         });
         let line_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork lines"),
@@ -177,8 +178,15 @@ impl Renderer {
             label: Some("particles.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader!("particles.wgsl").into()),
         });
-        let particle_pipeline =
-            particle_pipeline(device, &particle_layout, &particle_shader, "vs_main", format, &config);
+        let particle_pipeline = particle_pipeline(
+            device,
+            &particle_layout,
+            &particle_shader,
+            "vs_main",
+            &[Some(instance_buffer_layout())],
+            format,
+            &config,
+        );
         let line_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lines.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader!("lines.wgsl").into()),
@@ -208,12 +216,18 @@ impl Renderer {
         let triangle_pipeline = line_pipeline_for(multisample, triangles);
         let triangle_pipeline_single = line_pipeline_for(wgpu::MultisampleState::default(), triangles);
         let instances = record_buffer::<Instance>(device, "tickwork particles", 1024);
-        let particle_bind_group = particle_bind_group(device, &particle_layout, &globals, &instances);
+        let particle_bind_group = bind_buffers(device, &particle_layout, &[&globals]);
         let line_bind_group = bind_buffers(device, &line_layout, &[&globals]);
         let line_buffer = vertex_buffer(device, 1024);
         let triangle_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
-        let splat = Splat::new(device, format, config.blend);
+        // WebGL2 has no compute: no splat there, every particle a quad.
+        let splat = gpu
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+            .then(|| Splat::new(device, format, config.blend));
         let splat_threshold =
             config
                 .splat_threshold
@@ -303,26 +317,32 @@ impl Renderer {
         self.hermite_active = dt.is_some();
         if self.hermite_active {
             let (config, shader, format) = (&self.config, &self.particle_shader, self.format);
+            let layout = &self.particle_layout;
             let hermite = self.hermite.get_or_insert_with(|| {
-                HermiteParticles::new(&gpu.device, &particle_layout_entries(), |layout, entry| {
-                    particle_pipeline(&gpu.device, layout, shader, entry, format, config)
+                HermiteParticles::new(&gpu.device, |entry, buffers| {
+                    particle_pipeline(&gpu.device, layout, shader, entry, buffers, format, config)
                 })
             });
-            if hermite.upload(gpu, view, &self.globals, &self.instances) {
-                self.splat.invalidate();
+            if hermite.upload(gpu, view)
+                && let Some(splat) = &mut self.splat
+            {
+                splat.invalidate();
             }
         }
-        self.splat_active = self.instance_count as usize >= self.splat_threshold
+        self.splat_active = self.splat.is_some()
+            && self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
             && matches!(view.camera, Camera::TwoD { .. })
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
-        if self.splat_active {
+        if self.splat_active
+            && let Some(splat) = &mut self.splat
+        {
             let velocities = self
                 .hermite
                 .as_ref()
                 .filter(|_| self.hermite_active)
                 .map(HermiteParticles::velocities);
-            self.splat.resize(
+            splat.resize(
                 gpu,
                 buffers.width,
                 buffers.height,
@@ -338,7 +358,7 @@ impl Renderer {
             t,
             min_radius_px: self.config.min_radius_px,
             count: self.instance_count,
-            stride: self.splat.stride(),
+            stride: self.splat.as_ref().map_or(0, Splat::stride),
             swap_rb: u32::from(self.bgra()),
             background: self.background_linear(),
             background_word: {
@@ -382,11 +402,12 @@ impl Renderer {
                 )
                 && (texture.width(), texture.height()) == (buffers.width, buffers.height)
         };
-        if self.splat_active {
-            self.splat
-                .encode_compute(encoder, self.instance_count, self.hermite_active);
+        if self.splat_active
+            && let Some(splat) = &self.splat
+        {
+            splat.encode_compute(encoder, self.instance_count, self.hermite_active);
             if resolved {
-                self.splat.encode_resolve(encoder, output.texture());
+                splat.encode_resolve(encoder, output.texture());
             }
         }
         let [r, g, b, a] = self.background_linear().map(f64::from);
@@ -429,16 +450,22 @@ impl Renderer {
             pass.draw(0..self.line_count, 0..1);
         }
         if self.splat_active {
-            if !resolved {
-                self.splat.encode_composite(&mut pass);
+            if !resolved && let Some(splat) = &self.splat {
+                splat.encode_composite(&mut pass);
             }
         } else if self.instance_count > 0 && self.hermite_active {
             if let Some(hermite) = &self.hermite {
-                hermite.draw(&mut pass, self.instance_count);
+                hermite.draw(
+                    &mut pass,
+                    &self.particle_bind_group,
+                    &self.instances,
+                    self.instance_count,
+                );
             }
         } else if self.instance_count > 0 {
             pass.set_pipeline(&self.particle_pipeline);
             pass.set_bind_group(0, &self.particle_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.instances.slice(..));
             pass.draw(0..4, 0..self.instance_count);
         }
         self.hud.render(&mut pass);
@@ -493,11 +520,8 @@ impl Renderer {
         let bytes = n * std::mem::size_of::<Instance>();
         if bytes as u64 > self.instances.size() {
             self.instances = record_buffer::<Instance>(&gpu.device, "tickwork particles", n.next_power_of_two());
-            self.particle_bind_group =
-                particle_bind_group(&gpu.device, &self.particle_layout, &self.globals, &self.instances);
-            self.splat.invalidate();
-            if let Some(hermite) = &mut self.hermite {
-                hermite.invalidate();
+            if let Some(splat) = &mut self.splat {
+                splat.invalidate();
             }
         }
         write_records(
@@ -655,17 +679,23 @@ fn srgb_to_linear(c: f64) -> f64 {
     if c <= 0.04045 {
         c / 12.92
     } else {
-        ((c + 0.055) / 1.055).powf(2.4)
+        crate::math::powf((c + 0.055) / 1.055, 2.4)
     }
 }
 
-/// A storage buffer for `particles` records of type `T` (at least one),
-/// written by [`write_records`].
+/// A buffer for `particles` records of type `T` (at least one), written
+/// by [`write_records`]: per-instance vertex data for the quads, and a
+/// storage buffer for the splat where the device has them (WebGL2 has not).
 pub(crate) fn record_buffer<T>(device: &wgpu::Device, label: &str, particles: usize) -> wgpu::Buffer {
+    let storage = if device.limits().max_storage_buffers_per_shader_stage > 0 {
+        wgpu::BufferUsages::STORAGE
+    } else {
+        wgpu::BufferUsages::empty()
+    };
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: (particles.max(1) * std::mem::size_of::<T>()) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST | storage,
         mapped_at_creation: false,
     })
 }
@@ -703,21 +733,28 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
     }
 }
 
-/// The particle passes' bindings: the uniforms (every stage) and the
-/// instance records (vertex).
-fn particle_layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
-    [
-        entry(
-            0,
-            wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE),
-            wgpu::BufferBindingType::Uniform,
-        ),
-        entry(
-            1,
-            wgpu::ShaderStages::VERTEX,
-            wgpu::BufferBindingType::Storage { read_only: true },
-        ),
-    ]
+/// The particle passes' binding: the uniforms (the records come as
+/// instance vertex buffers, which WebGL2 has too).
+fn particle_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
+    [entry(
+        0,
+        wgpu::ShaderStages::VERTEX_FRAGMENT,
+        wgpu::BufferBindingType::Uniform,
+    )]
+}
+
+/// The instance records as the quads' per-instance vertex attributes
+/// (`InstanceIn` in particles.wgsl), slot 0.
+const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
+
+/// Slot 0's layout: one 32-byte [`Instance`] per quad.
+pub(crate) fn instance_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Instance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &INSTANCE_ATTRIBUTES,
+    }
 }
 
 /// The particle pipeline drawing through `vertex_entry` (`vs_main`: lerp,
@@ -727,6 +764,7 @@ fn particle_pipeline(
     layout: &wgpu::BindGroupLayout,
     shader: &wgpu::ShaderModule,
     vertex_entry: &str,
+    buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
     format: wgpu::TextureFormat,
     config: &RendererConfig,
 ) -> wgpu::RenderPipeline {
@@ -751,22 +789,13 @@ fn particle_pipeline(
         layout,
         shader,
         vertex_entry,
-        &[],
+        buffers,
         wgpu::PrimitiveTopology::TriangleStrip,
         format,
         blend,
         config.blend == Blend::Alpha,
         multisample,
     )
-}
-
-fn particle_bind_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    globals: &wgpu::Buffer,
-    instances: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    bind_buffers(device, layout, &[globals, instances])
 }
 
 /// A layout entry for a whole buffer at `binding`, seen by `visibility`.

@@ -259,7 +259,7 @@ impl<V: Vector> Integrator<V> for DormandPrince<V> {
             let factor = if err == 0.0 {
                 5.0
             } else {
-                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+                (0.9 * crate::math::powf(err, -0.2)).clamp(0.2, 5.0)
             };
             if err <= 1.0 {
                 x.copy_from_slice(&self.trial_x);

@@ -73,7 +73,7 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        let theta = 1.0 / (2.0 - 2f64.powf(1.0 / 3.0));
+        let theta = 1.0 / (2.0 - crate::math::powf(2f64, 1.0 / 3.0));
         let h = dt.to_f64();
         let drifts = [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0];
         let kicks = [theta, 1.0 - 2.0 * theta, theta];

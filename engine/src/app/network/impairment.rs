@@ -14,7 +14,9 @@ use core::fmt;
 use core::str::FromStr;
 use std::collections::BinaryHeap;
 use std::hash::Hash;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::platform::Instant;
 
 use ggrs::{Message, NonBlockingSocket};
 use rand::{RngExt, SeedableRng};

@@ -4,7 +4,9 @@
 //! learns the other's.
 
 use std::net::{Ipv4Addr, Ipv6Addr, SocketAddr, UdpSocket};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::platform::Instant;
 
 use super::transport::{ControlMessage, Welcome};
 use crate::app::RunError;
@@ -126,7 +128,7 @@ impl Lobby {
                         welcome,
                     });
                 }
-                println!(
+                crate::say!(
                     "tickwork: {from} wants to play \"{game}\", not \"{}\"; still waiting",
                     welcome.game
                 );

@@ -19,7 +19,9 @@
 use std::cell::RefCell;
 use std::net::SocketAddr;
 use std::rc::Rc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::platform::Instant;
 
 use ggrs::{DesyncDetection, GgrsError, GgrsEvent, P2PSession, PlayerType, SessionBuilder, SessionState};
 
@@ -392,13 +394,13 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         let tick = self.cursor.tick;
         for event in self.p2p.events() {
             match event {
-                GgrsEvent::Synchronized { addr } => println!("tickwork: connected to {addr}"),
+                GgrsEvent::Synchronized { addr } => crate::say!("tickwork: connected to {addr}"),
                 GgrsEvent::WaitRecommendation { skip_frames } => self.skip += skip_frames,
                 GgrsEvent::NetworkInterrupted {
                     addr,
                     disconnect_timeout,
                 } if !self.settled => {
-                    println!(
+                    crate::say!(
                         "tickwork: no word from {addr}; it is dropped in {disconnect_timeout} ms unless it answers"
                     );
                 }
@@ -632,7 +634,7 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
 
     fn control(&mut self, control: Control) -> Result<(), RunError> {
         // Both sides must run the same ticks with the same integrators.
-        println!("tickwork: {control:?} is not available in a networked match");
+        crate::say!("tickwork: {control:?} is not available in a networked match");
         Ok(())
     }
 

@@ -20,12 +20,12 @@ mod options;
 mod panel;
 mod surface;
 
+use crate::platform::Instant;
 use std::path::PathBuf;
-use std::time::Instant;
 
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::event_loop::{ActiveEventLoop, EventLoop, EventLoopProxy};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
@@ -34,11 +34,20 @@ use super::error::RunError;
 use super::source::FrameSource;
 use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
+use crate::platform::say;
 use crate::render::RenderError;
 use keys::{KeyAction, game_key};
 pub use options::WindowOptions;
 use panel::draw_panel;
 use surface::{Panel, WindowState, open, screenshot};
+
+/// The window's GPU, once found: the event the start-up sends back to the
+/// loop (natively at once, in a page when the browser has answered).
+pub(super) struct Connected(Result<(WindowState, Panel), RunError>);
+
+/// Called with the run's result when a page's window run ends (a page's
+/// loop never returns to its caller).
+pub(super) type WhenDone = Box<dyn FnOnce(Result<WindowSummary, RunError>)>;
 
 /// What a window run did.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,6 +79,29 @@ pub(super) fn display_available() -> bool {
 /// [`RunError::Render`] for no adapter or a surface that cannot be
 /// configured, [`RunError::Playback`] if a step fails.
 pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Result<WindowSummary, RunError> {
+    check_options(&options)?;
+    if !display_available() {
+        return Err(RunError::Window(
+            "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a desktop session or under \
+             `xvfb-run`, or draw frames without a window with `tickwork render`"
+                .into(),
+        ));
+    }
+    let event_loop = EventLoop::<Connected>::with_user_event()
+        .build()
+        .map_err(|e| RunError::Window(e.to_string()))?;
+    let mut app = App::new(source, options, event_loop.create_proxy(), None);
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| RunError::Window(e.to_string()))?;
+    match app.error {
+        Some(error) => Err(error),
+        None => Ok(app.summary),
+    }
+}
+
+/// Checks `options` before a window opens.
+fn check_options(options: &WindowOptions) -> Result<(), RunError> {
     if options.width == 0 || options.height == 0 {
         return Err(RunError::Window(format!(
             "the window size must be at least 1x1, got {}x{}",
@@ -82,49 +114,70 @@ pub fn run_window(source: &mut dyn FrameSource, options: WindowOptions) -> Resul
             options.hold_seconds
         )));
     }
-    if !display_available() {
-        return Err(RunError::Window(
-            "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a desktop session or under \
-             `xvfb-run`, or draw frames without a window with `tickwork render`"
-                .into(),
-        ));
-    }
-    let event_loop = EventLoop::new().map_err(|e| RunError::Window(e.to_string()))?;
-    let time: Box<dyn TimeSource> = match options.display_hz {
-        Some(hz) => Box::new(crate::clock::FixedCadence::hz(hz)),
-        None => Box::new(RealTime::default()),
-    };
-    let panel_visible = options.panel;
-    let mut app = App {
-        source,
-        options,
-        panel: None,
-        panel_visible,
-        time,
-        state: None,
-        error: None,
-        summary: WindowSummary {
-            frames: 0,
-            adapter: String::new(),
-            surface: String::new(),
-            screenshots: Vec::new(),
-        },
-        drag: None,
-        cursor: (0.0, 0.0),
-        events: Vec::new(),
-        controls: Vec::new(),
-        physical_down: [0; GameKey::ALL.len()],
-        frame_started: Instant::now(),
-        hold_started: None,
-        screenshot: false,
-        announce: None,
-    };
-    event_loop
-        .run_app(&mut app)
+    Ok(())
+}
+
+/// The page's window run: plays `source` on a canvas on the browser's
+/// event loop and returns at once (a page's loop never returns to its
+/// caller); `done` gets the run's result when it ends.
+///
+/// # Errors
+/// As [`run_window`], for what is known before the loop starts.
+#[cfg(target_arch = "wasm32")]
+pub(super) fn spawn_window(
+    source: &'static mut dyn FrameSource,
+    options: WindowOptions,
+    done: WhenDone,
+) -> Result<(), RunError> {
+    use winit::platform::web::EventLoopExtWebSys;
+    check_options(&options)?;
+    let event_loop = EventLoop::<Connected>::with_user_event()
+        .build()
         .map_err(|e| RunError::Window(e.to_string()))?;
-    match app.error {
-        Some(error) => Err(error),
-        None => Ok(app.summary),
+    let app = App::new(source, options, event_loop.create_proxy(), Some(done));
+    event_loop.spawn_app(app);
+    Ok(())
+}
+
+impl<'a> App<'a> {
+    fn new(
+        source: &'a mut dyn FrameSource,
+        options: WindowOptions,
+        proxy: EventLoopProxy<Connected>,
+        done: Option<WhenDone>,
+    ) -> Self {
+        let time: Box<dyn TimeSource> = match options.display_hz {
+            Some(hz) => Box::new(crate::clock::FixedCadence::hz(hz)),
+            None => Box::new(RealTime::default()),
+        };
+        let panel_visible = options.panel;
+        App {
+            source,
+            options,
+            panel: None,
+            panel_visible,
+            time,
+            state: None,
+            connecting: false,
+            proxy,
+            done,
+            error: None,
+            summary: WindowSummary {
+                frames: 0,
+                adapter: String::new(),
+                surface: String::new(),
+                screenshots: Vec::new(),
+            },
+            drag: None,
+            cursor: (0.0, 0.0),
+            events: Vec::new(),
+            controls: Vec::new(),
+            physical_down: [0; GameKey::ALL.len()],
+            frame_started: Instant::now(),
+            hold_started: None,
+            screenshot: false,
+            announce: None,
+        }
     }
 }
 
@@ -135,6 +188,11 @@ struct App<'a> {
     panel_visible: bool,
     time: Box<dyn TimeSource>,
     state: Option<WindowState>,
+    /// The GPU is being found (the start-up sends [`Connected`]).
+    connecting: bool,
+    proxy: EventLoopProxy<Connected>,
+    /// A page's run: who gets the result at the end.
+    done: Option<WhenDone>,
     error: Option<RunError>,
     summary: WindowSummary,
     drag: Option<(f64, f64)>,
@@ -147,20 +205,13 @@ struct App<'a> {
     physical_down: [u8; GameKey::ALL.len()],
     /// When the coming frame began (the last `advance`).
     frame_started: Instant,
-    hold_started: Option<std::time::Instant>,
+    hold_started: Option<crate::platform::Instant>,
     screenshot: bool,
     /// A line to print once this many more frames have been presented: the
     /// signal tests and tools wait on (a state change, then two presents,
     /// so the first frame that shows it has surely reached the screen),
     /// instead of sleeping and hoping.
     announce: Option<(String, u8)>,
-}
-
-/// Prints a line of the window's protocol on standard output, flushed.
-fn say(line: &str) {
-    use std::io::Write;
-    println!("{line}");
-    let _ = std::io::stdout().flush();
 }
 
 impl App<'_> {
@@ -284,7 +335,7 @@ impl App<'_> {
         state.gpu.queue.present(frame);
         if std::mem::take(&mut self.screenshot) {
             let path = screenshot(state, &mut *self.source, &self.options)?;
-            println!("tickwork: screenshot {}", path.display());
+            crate::say!("tickwork: screenshot {}", path.display());
             self.summary.screenshots.push(path);
         }
         if !holding {
@@ -302,7 +353,7 @@ impl App<'_> {
         }
         if let Some(limit) = self.options.frames {
             if self.summary.frames >= limit && self.hold_started.is_none() {
-                self.hold_started = Some(std::time::Instant::now());
+                self.hold_started = Some(crate::platform::Instant::now());
                 // Said after the held frame's next present.
                 self.announce = Some((
                     format!(
@@ -322,20 +373,58 @@ impl App<'_> {
     }
 }
 
-impl ApplicationHandler for App<'_> {
+impl ApplicationHandler<Connected> for App<'_> {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.state.is_some() {
             return;
         }
+        if self.connecting {
+            return;
+        }
         match open(event_loop, &self.source.title(), &self.options) {
+            Ok(opening) => {
+                self.connecting = true;
+                let (proxy, options) = (self.proxy.clone(), self.options.clone());
+                crate::platform::spawn_local(async move {
+                    let connected = opening.connect(options).await;
+                    // The loop is gone only if the run already ended.
+                    let _ = proxy.send_event(Connected(connected));
+                });
+            }
+            Err(error) => self.fail(event_loop, error),
+        }
+    }
+
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, Connected(connected): Connected) {
+        self.connecting = false;
+        match connected {
             Ok((state, panel)) => {
                 self.summary.adapter = state.gpu.describe();
                 self.summary.surface = format!("{:?}, {:?}", state.config.format, state.config.present_mode);
+                if crate::platform::IS_WEB {
+                    // A page has no terminal that shows the adapter: the
+                    // console and the page say which backend draws.
+                    say(&format!("tickwork: drawing with {}", self.summary.adapter));
+                    crate::platform::show_status(&format!("{} on {}", self.source.title(), self.summary.adapter));
+                }
                 state.window.request_redraw();
                 self.panel = Some(panel);
                 self.state = Some(state);
+                // The clock starts with the first frame drawn, not before
+                // the GPU answered.
+                self.frame_started = Instant::now();
             }
             Err(error) => self.fail(event_loop, error),
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(done) = self.done.take() {
+            let summary = self.summary.clone();
+            done(match self.error.take() {
+                Some(error) => Err(error),
+                None => Ok(summary),
+            });
         }
     }
 
@@ -446,7 +535,7 @@ impl ApplicationHandler for App<'_> {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
                 };
-                self.source.camera_mut().zoom(1.1_f32.powf(lines));
+                self.source.camera_mut().zoom(crate::math::powf(1.1_f32, lines));
             }
             WindowEvent::RedrawRequested => {
                 if let Err(error) = self.redraw(event_loop) {

@@ -31,6 +31,13 @@ pub struct WindowOptions {
     pub renderer: RendererConfig,
     /// Show the control panel at the start (default false; F1 toggles it).
     pub panel: bool,
+    /// In a page: the canvas fills the page and follows its size (and the
+    /// device pixel ratio) instead of `width` x `height` (default false;
+    /// ignored natively).
+    pub fill_page: bool,
+    /// The graphics backends to try (default: `WGPU_BACKEND`'s, or every
+    /// one compiled in; in a page WebGPU, then WebGL2).
+    pub backends: Option<wgpu::Backends>,
 }
 
 impl Default for WindowOptions {
@@ -46,6 +53,8 @@ impl Default for WindowOptions {
             hud: true,
             renderer: RendererConfig::default(),
             panel: false,
+            fill_page: false,
+            backends: None,
         }
     }
 }

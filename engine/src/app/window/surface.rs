@@ -6,7 +6,6 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
@@ -33,16 +32,23 @@ pub(super) struct Panel {
     pub(super) renderer: egui_wgpu::Renderer,
 }
 
-/// Opens a window titled after `title` as `options` ask, its surface and
-/// GPU, and the panel's egui state.
-pub(super) fn open(
-    event_loop: &ActiveEventLoop,
-    title: &str,
-    options: &WindowOptions,
-) -> Result<(WindowState, Panel), RunError> {
-    let attributes = Window::default_attributes()
-        .with_title(format!("Tickwork - {title}"))
-        .with_inner_size(PhysicalSize::new(options.width, options.height));
+/// A window with its surface, waiting for the GPU ([`Opening::connect`]).
+pub(super) struct Opening {
+    window: Arc<Window>,
+    instance: wgpu::Instance,
+    backends: wgpu::Backends,
+    surface: wgpu::Surface<'static>,
+}
+
+/// Opens a window titled after `title` as `options` ask (in a page: a
+/// canvas, filling the page unless a size is fixed) and its surface; the
+/// GPU comes next, from [`Opening::connect`].
+pub(super) fn open(event_loop: &ActiveEventLoop, title: &str, options: &WindowOptions) -> Result<Opening, RunError> {
+    let attributes = crate::platform::window_attributes(
+        Window::default_attributes().with_title(format!("Tickwork - {title}")),
+        (!options.fill_page).then_some((options.width, options.height)),
+    )
+    .map_err(RunError::Window)?;
     let window = Arc::new(
         event_loop
             .create_window(attributes)
@@ -50,72 +56,95 @@ pub(super) fn open(
     );
     // With the display handle, so that the GL backend finds an adapter
     // compatible with the window's surface.
-    let descriptor =
+    let mut descriptor =
         wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+    if let Some(backends) = options.backends {
+        descriptor.backends = backends;
+    }
     let backends = descriptor.backends;
     let instance = wgpu::Instance::new(descriptor);
     let surface = instance
         .create_surface(window.clone())
         .map_err(|e| RenderError::Surface(e.to_string()))?;
-    let gpu = Gpu::from_instance(instance, backends, Some(&surface))?;
-    let caps = surface.get_capabilities(&gpu.adapter);
-    let format = caps
-        .formats
-        .iter()
-        .copied()
-        .find(wgpu::TextureFormat::is_srgb)
-        .or_else(|| caps.formats.first().copied())
-        .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
-    let present_mode = if options.vsync {
-        wgpu::PresentMode::Fifo
-    } else {
-        [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
-            .into_iter()
-            .find(|m| caps.present_modes.contains(m))
-            .unwrap_or(wgpu::PresentMode::Fifo)
-    };
-    let size = window.inner_size();
-    // Copies into the surface let the splat path skip a full-screen pass.
-    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
-    let config = wgpu::SurfaceConfiguration {
-        usage,
-        format,
-        width: size.width.max(1),
-        height: size.height.max(1),
-        present_mode,
-        alpha_mode: caps
-            .alpha_modes
-            .first()
-            .copied()
-            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-        view_formats: vec![],
-        desired_maximum_frame_latency: 2,
-        color_space: wgpu::SurfaceColorSpace::Auto,
-    };
-    let renderer = Renderer::new(&gpu, format, options.renderer.clone())?;
-    let context = egui::Context::default();
-    let panel = Panel {
-        input: egui_winit::State::new(
-            context.clone(),
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            None,
-            Some(gpu.device.limits().max_texture_dimension_2d as usize),
-        ),
-        context,
-        renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
-    };
-    let mut state = WindowState {
-        gpu,
-        surface,
-        config,
-        renderer,
-        buffers: None,
+    Ok(Opening {
         window,
-    };
-    state.resize(size.width, size.height)?;
-    Ok((state, panel))
+        instance,
+        backends,
+        surface,
+    })
+}
+
+impl Opening {
+    /// Finds the GPU for the window's surface (a future the browser
+    /// resolves in a page; natively it is ready at once), configures the
+    /// surface and makes the renderer and the panel's egui state.
+    pub(super) async fn connect(self, options: WindowOptions) -> Result<(WindowState, Panel), RunError> {
+        let Self {
+            window,
+            instance,
+            backends,
+            surface,
+        } = self;
+        let gpu = Gpu::request(instance, backends, Some(&surface)).await?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(wgpu::TextureFormat::is_srgb)
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
+        let present_mode = if options.vsync {
+            wgpu::PresentMode::Fifo
+        } else {
+            [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
+                .into_iter()
+                .find(|m| caps.present_modes.contains(m))
+                .unwrap_or(wgpu::PresentMode::Fifo)
+        };
+        let size = window.inner_size();
+        // Copies into the surface let the splat path skip a full-screen pass.
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
+        let config = wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode,
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+            desired_maximum_frame_latency: 2,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        let renderer = Renderer::new(&gpu, format, options.renderer.clone())?;
+        let context = egui::Context::default();
+        let panel = Panel {
+            input: egui_winit::State::new(
+                context.clone(),
+                egui::ViewportId::ROOT,
+                &window,
+                Some(window.scale_factor() as f32),
+                None,
+                Some(gpu.device.limits().max_texture_dimension_2d as usize),
+            ),
+            context,
+            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
+        };
+        let mut state = WindowState {
+            gpu,
+            surface,
+            config,
+            renderer,
+            buffers: None,
+            window,
+        };
+        state.resize(size.width, size.height)?;
+        Ok((state, panel))
+    }
 }
 
 impl WindowState {

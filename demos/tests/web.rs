@@ -1,0 +1,335 @@
+//! The web build in a real browser: every demo's page (built by
+//! `scripts/web build` into `target/web/`, which `scripts/test` runs first)
+//! played in headless Chromium, under WebGPU and under WebGL2, ends in the
+//! same state as the native binary given the same options, to the bit of
+//! its checksum; a page's last frame under WebGL2 matches the native golden
+//! image (headless Chromium's screenshots of a WebGPU canvas on SwiftShader
+//! come out blank white, whatever was drawn, so that backend's frame is not
+//! compared here); a
+//! bad option shows the native error text; a page whose GPU cannot start
+//! says so.
+//!
+//! Nothing here waits on time: each page is waited on for the line it
+//! prints (`the final state at tick N has checksum X`), within a generous
+//! deadline that only bounds a page that never prints it.
+
+mod browser;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use browser::{Browser, Server};
+use tickwork::engine::render::{Tolerance, compare, diff_image};
+
+/// How long a page may take to print its last line: software WebGPU on
+/// CI's two cores draws the fountain's 60 000 particles slowly. The wait
+/// ends at the line.
+const PAGE_TIMEOUT: Duration = Duration::from_secs(300);
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The web build's folder; a missing build fails the test with the
+/// command that makes it (never a skip).
+fn site() -> PathBuf {
+    let site = root().join("target/web");
+    for demo in DEMOS.iter().map(|d| d.demo) {
+        let page = site.join(demo).join("index.html");
+        assert!(
+            page.is_file(),
+            "{} is missing: build the pages with `scripts/web build` (scripts/test does it before the tests)",
+            page.display()
+        );
+    }
+    site
+}
+
+/// One demo's run: the page's query and the same options natively.
+struct Case {
+    demo: &'static str,
+    binary: &'static str,
+    /// Options, as `name=value` pairs (a flag alone is `name`), given to
+    /// the page as its query and to the native binary as `--name value`.
+    options: &'static [&'static str],
+}
+
+/// Every demo, with a shipped recording where one exists, or the input it
+/// takes alone (breakout's autopilot), for enough frames to collide,
+/// emit, switch and score.
+const DEMOS: &[Case] = &[
+    Case {
+        demo: "orbits",
+        binary: env!("CARGO_BIN_EXE_orbits"),
+        options: &["frames=120"],
+    },
+    Case {
+        demo: "fountain",
+        binary: env!("CARGO_BIN_EXE_fountain"),
+        options: &["frames=40", "seed=3"],
+    },
+    Case {
+        demo: "cloth",
+        binary: env!("CARGO_BIN_EXE_cloth"),
+        options: &["frames=90"],
+    },
+    Case {
+        demo: "tops",
+        binary: env!("CARGO_BIN_EXE_tops"),
+        options: &["frames=120"],
+    },
+    Case {
+        demo: "lander",
+        binary: env!("CARGO_BIN_EXE_lander"),
+        options: &["replay=recordings/lander_land_then_crash.ron", "frames=1500"],
+    },
+    Case {
+        demo: "rally",
+        binary: env!("CARGO_BIN_EXE_rally"),
+        options: &["replay=recordings/rally_left.ron", "frames=320"],
+    },
+    Case {
+        demo: "breakout",
+        binary: env!("CARGO_BIN_EXE_breakout"),
+        options: &["autopilot", "frames=600"],
+    },
+];
+
+/// The page's URL query for `options` (a replay's path is relative to the
+/// site's root, one folder up from the page).
+fn query(options: &[&str], extra: &[&str]) -> String {
+    options
+        .iter()
+        .chain(extra)
+        .map(|o| o.replacen("replay=", "replay=../", 1))
+        .collect::<Vec<_>>()
+        .join("&")
+}
+
+/// `options` as native arguments (`replay=` a path in `assets/`).
+fn native_args(options: &[&str]) -> Vec<String> {
+    let mut args = Vec::new();
+    for option in options {
+        match option.split_once('=') {
+            Some(("replay", file)) => {
+                args.push("--replay".into());
+                args.push(root().join("assets").join(file).to_string_lossy().into_owned());
+            }
+            Some((name, value)) => {
+                args.push(format!("--{name}"));
+                args.push(value.into());
+            }
+            None => args.push(format!("--{option}")),
+        }
+    }
+    args
+}
+
+/// The lines of a native off-screen run of `case` that name its end state.
+fn native_ends(case: &Case) -> Vec<String> {
+    let out = std::env::temp_dir().join(format!("tickwork-web-native-{}-{}", std::process::id(), case.demo));
+    let _ = std::fs::remove_dir_all(&out);
+    let output = Command::new(case.binary)
+        .args(["--headless", "--size", "64x36", "--out"])
+        .arg(&out)
+        .args(native_args(case.options))
+        .output()
+        .expect("the native demo runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{}: {stdout}\n{}",
+        case.demo,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    end_lines(&stdout)
+}
+
+/// The replay's end and the final state's checksum, the lines a page and a
+/// native run print alike.
+fn end_lines(text: &str) -> Vec<String> {
+    text.lines()
+        .filter(|l| l.contains("the replay ended at tick") || l.contains("the final state at tick"))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// Plays every demo's page under `backend` and checks its end against the
+/// native run's.
+fn every_demo_matches_native(backend: &str, expected_adapter: &str) {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    let mut failures = Vec::new();
+    for case in DEMOS {
+        let native = native_ends(case);
+        assert!(!native.is_empty(), "{}: the native run printed no end line", case.demo);
+        let url = server.url(&format!(
+            "{}/index.html?{}",
+            case.demo,
+            query(case.options, &[&format!("backend={backend}"), "size=64x36"])
+        ));
+        let mut page = browser.open(&url).unwrap_or_else(|e| panic!("{e}"));
+        let ended = page.wait_console(
+            |l| l.contains("the final state at tick") || l.starts_with("error"),
+            PAGE_TIMEOUT,
+        );
+        let printed: Vec<String> = page.console().iter().map(|l| l.text.clone()).collect();
+        match ended {
+            Ok(line) if line.starts_with("error") => failures.push(format!("{}: {line}", case.demo)),
+            Ok(_) => {
+                let adapter = printed.iter().find(|l| l.starts_with("tickwork: drawing with"));
+                assert!(
+                    adapter.is_some_and(|l| l.contains(expected_adapter)),
+                    "{}: drawn with {adapter:?}, expected {expected_adapter}",
+                    case.demo
+                );
+                let page_ends = end_lines(&printed.join("\n"));
+                if page_ends != native {
+                    failures.push(format!("{}: page {page_ends:?}, native {native:?}", case.demo));
+                }
+            }
+            Err(error) => failures.push(format!("{}: {error}", case.demo)),
+        }
+    }
+    assert!(failures.is_empty(), "under {backend}:\n{}", failures.join("\n"));
+}
+
+#[test]
+fn every_demo_ends_in_the_native_state_under_webgpu() {
+    every_demo_matches_native("webgpu", "BrowserWebGpu");
+}
+
+#[test]
+fn every_demo_ends_in_the_native_state_under_webgl2() {
+    every_demo_matches_native("webgl2", "Gl");
+}
+
+/// The lander's last frame in the page, at the native golden test's size
+/// and frame, against the same golden image.
+fn last_frame_matches_the_golden(backend: &str) {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    // demos.rs draws the lander's golden frame at 480x270, as many frames
+    // as the recording needs (its last tick, plus one).
+    let frames = lander_frames();
+    let url = server.url(&format!(
+        "lander/index.html?replay=../recordings/lander_land_then_crash.ron&frames={frames}&size=480x270&backend={backend}"
+    ));
+    let mut page = browser.open(&url).unwrap_or_else(|e| panic!("{e}"));
+    page.wait_console(|l| l.contains("the final state at tick"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let shot = page.screenshot("#tickwork-canvas").unwrap_or_else(|e| panic!("{e}"));
+    let image = image::RgbaImage::from_raw(shot.width, shot.height, shot.pixels)
+        .expect("the screenshot's pixels fill its size");
+    // The native test's golden image, never re-blessed from a page.
+    let golden_path = root().join("assets/golden/demo_lander.png");
+    let golden = image::open(&golden_path).expect("the golden image decodes").to_rgba8();
+    let tolerance = Tolerance::default();
+    let comparison = compare(&image, &golden, tolerance);
+    if comparison.is_none_or(|c| c.fraction() > tolerance.max_fraction) {
+        let out = root().join("target/golden");
+        std::fs::create_dir_all(&out).expect("target/golden");
+        let actual = out.join(format!("web_{backend}_lander.actual.png"));
+        image.save(&actual).expect("the page's frame saves");
+        if comparison.is_some() {
+            diff_image(&image, &golden, tolerance.channel)
+                .save(out.join(format!("web_{backend}_lander.diff.png")))
+                .expect("the diff saves");
+        }
+        panic!(
+            "under {backend} the page's last frame differs from {}: {comparison:?}; see {}",
+            golden_path.display(),
+            actual.display()
+        );
+    }
+}
+
+/// The frames the native lander test draws: as many as the recording
+/// needs, as `run` counts them (its ticks at one step a frame, plus one).
+fn lander_frames() -> u64 {
+    let text = std::fs::read_to_string(root().join("assets/recordings/lander_land_then_crash.ron"))
+        .expect("the recording reads");
+    let recording = tickwork::engine::Recording::parse(&text, Path::new("lander_land_then_crash.ron"))
+        .expect("the recording parses");
+    recording.ticks + 1
+}
+
+#[test]
+fn the_landers_last_frame_matches_its_golden_image_under_webgl2() {
+    last_frame_matches_the_golden("webgl2");
+}
+
+#[test]
+fn a_bad_option_in_the_url_shows_the_native_error() {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    for (query, args) in [
+        ("hz=-1", vec!["--hz", "-1"]),
+        (
+            "integrator=nope",
+            vec!["--integrator", "nope", "--headless", "--frames", "1"],
+        ),
+        ("host=7000", vec!["--host", "7000", "--headless", "--frames", "1"]),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_lander"))
+            .args(&args)
+            .output()
+            .expect("the native lander runs");
+        assert!(!output.status.success(), "{args:?} is refused natively");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let native = stderr
+            .lines()
+            .find(|l| l.starts_with("error"))
+            .unwrap_or_else(|| panic!("{stderr}"));
+        let mut page = browser
+            .open(&server.url(&format!("lander/index.html?{query}")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let shown = page
+            .wait_console(|l| l.starts_with("error"), PAGE_TIMEOUT)
+            .unwrap_or_else(|e| panic!("{e}"));
+        // The host option is refused differently in a page (no UDP there).
+        if query.starts_with("host") {
+            assert!(shown.contains("UDP"), "{shown}");
+        } else {
+            assert_eq!(shown.lines().next(), Some(native), "{query}");
+        }
+        let message = page
+            .eval("document.getElementById('tickwork-message').textContent")
+            .unwrap_or_else(|e| panic!("{e}"));
+        let message = message.as_str().unwrap_or_default();
+        assert!(
+            message.contains(shown.lines().next().unwrap_or_default()),
+            "{query}: the page shows {message:?}"
+        );
+    }
+}
+
+#[test]
+fn a_page_whose_gpu_cannot_start_says_so() {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    // No WebGL at all: the page's WebGL2 backend finds no context.
+    let browser = Browser::launch_with(&["--disable-webgl", "--disable-3d-apis"]).unwrap_or_else(|e| panic!("{e}"));
+    let mut page = browser
+        .open(&server.url("lander/index.html?backend=webgl2"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let shown = page
+        .wait_console(|l| l.starts_with("error"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        shown.contains("graphics") || shown.contains("adapter") || shown.contains("surface"),
+        "the error names the GPU's start: {shown}"
+    );
+    let message = page
+        .eval("document.getElementById('tickwork-message').textContent")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        message.as_str().is_some_and(|m| m.contains(&shown)),
+        "the page shows {message}"
+    );
+}

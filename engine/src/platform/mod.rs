@@ -1,0 +1,161 @@
+//! Where a native build and the browser differ, and nowhere else.
+//!
+//! The engine runs the same code on x86_64 and on `wasm32-unknown-unknown`;
+//! what the two platforms do differently is a handful of services, each a
+//! function here with one implementation per platform (`native.rs`,
+//! `web.rs`, chosen below and only here):
+//!
+//! | service | native | web |
+//! |---|---|---|
+//! | time ([`Instant`]) | `std::time::Instant` | `performance.now()` (through `web-time`) |
+//! | printed lines ([`say`], [`complain`]) | standard output and error | the console (`console.log`, `console.error`) |
+//! | the command line ([`args`]) | the process's arguments | the page's URL query (`?hz=120&seed=3`) |
+//! | the environment ([`env_var`]) | the process's | none |
+//! | threads ([`parallel_threads`]) | rayon's pool, one per core | one: the step runs the one-lane path, bit-identical to the parallel one |
+//! | writing a file ([`write_text`]) | the file system | a download offered to the user |
+//! | waiting on a future ([`ready_now`]) | blocks (pollster) | one poll: a browser resolves futures only once the page's script yields |
+//!
+//! The browser alone has [`web`]: fetching files by URL, offering a file as
+//! a download, showing a message on the page. Files, windows and GPU
+//! start-up differ more than a function can hide; the runners use these
+//! services and say where they branch (`app/page.rs` is the page's runner).
+
+use std::ffi::OsString;
+use std::future::Future;
+
+#[cfg(not(target_arch = "wasm32"))]
+mod native;
+#[cfg(not(target_arch = "wasm32"))]
+use native as imp;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+#[cfg(target_arch = "wasm32")]
+use web as imp;
+
+/// A point in real time: `std::time::Instant` natively, the page's
+/// `performance.now()` in the browser (where `std`'s panics).
+pub use web_time::Instant;
+
+/// Whether this is the browser build (`wasm32`): for the few decisions a
+/// runner makes differently there (no threads, no files, no blocking).
+pub const IS_WEB: bool = cfg!(target_arch = "wasm32");
+
+/// Prints a line for the user: standard output natively, the console in
+/// the browser. Every line the engine prints goes through here (or
+/// [`say!`](crate::say)), so a page prints what a native run prints.
+pub fn say(line: &str) {
+    imp::say(line);
+}
+
+/// Prints an error line: standard error natively; the console's error
+/// level in the browser, and on the page itself.
+pub fn complain(line: &str) {
+    imp::complain(line);
+}
+
+/// The command line: the process's arguments natively; in the browser,
+/// the page's name then its URL query as options (`?integrator=rk4&frames=600`
+/// is `--integrator rk4 --frames 600`; a flag without a value, `?headless`,
+/// is `--headless`), so the same parser reads both.
+#[must_use]
+pub fn args() -> Vec<OsString> {
+    imp::args()
+}
+
+/// An environment variable: the process's natively, none in the browser.
+#[must_use]
+pub fn env_var(name: &str) -> Option<OsString> {
+    imp::env_var(name)
+}
+
+/// How many threads a step may use: `RAYON_NUM_THREADS` or the machine's
+/// cores natively, one in the browser.
+#[must_use]
+pub fn parallel_threads() -> usize {
+    imp::parallel_threads()
+}
+
+/// The output of `future` if it can be had now: natively it blocks until
+/// the future resolves (always `Some`); in the browser it polls once,
+/// since blocking would stop the page from ever resolving it (`None`
+/// when it is still pending).
+pub fn ready_now<F: Future>(future: F) -> Option<F::Output> {
+    imp::ready_now(future)
+}
+
+/// `attributes` for the runner's window: natively of `size` (physical
+/// pixels; `None` leaves it to the system); in a page, a canvas appended
+/// to the page's `tickwork` element (or its body), of `size`, or filling
+/// the page and following it (`None`), focused so that keys reach it.
+///
+/// # Errors
+/// In a page, the browser's message if the canvas cannot be made.
+#[cfg(feature = "render")]
+pub fn window_attributes(
+    attributes: winit::window::WindowAttributes,
+    size: Option<(u32, u32)>,
+) -> Result<winit::window::WindowAttributes, String> {
+    imp::window_attributes(attributes, size)
+}
+
+/// Runs `future` to its end: natively now (blocking), in a page on the
+/// browser's event loop once the current script yields.
+pub fn spawn_local(future: impl Future<Output = ()> + 'static) {
+    imp::spawn_local(future);
+}
+
+/// Writes `text` to the file `path`: natively the file system; in a page
+/// (which cannot write files) the user is offered it as a download named
+/// after the path's file name.
+///
+/// # Errors
+/// The file system's error, or the browser's.
+pub fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<()> {
+    imp::write_text(path, text)
+}
+
+/// A status line for the user beside the picture: in a page, the
+/// `tickwork-status` element (the adapter, the backend); natively nothing
+/// (a terminal has the printed lines).
+pub fn show_status(line: &str) {
+    imp::show_status(line);
+}
+
+/// Ends the program with `code` after an error it has already printed:
+/// natively the process exits; a page's script stops (a JavaScript
+/// exception that no Rust code catches), leaving the message shown.
+pub fn exit(code: i32) -> ! {
+    imp::exit(code)
+}
+
+/// Prints a line through [`say`], formatted as `println!` formats.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::platform::say(&format!($($arg)*))
+    };
+}
+
+/// Prints a line through [`complain`], formatted as `eprintln!` formats.
+#[macro_export]
+macro_rules! complain {
+    ($($arg:tt)*) => {
+        $crate::platform::complain(&format!($($arg)*))
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn native_services() {
+        const { assert!(!IS_WEB) };
+        assert_eq!(args(), std::env::args_os().collect::<Vec<_>>());
+        assert_eq!(env_var("PATH"), std::env::var_os("PATH"));
+        assert!(parallel_threads() >= 1);
+        assert_eq!(ready_now(async { 7 }), Some(7));
+        let start = Instant::now();
+        assert!(start.elapsed().as_secs_f64() >= 0.0);
+    }
+}
