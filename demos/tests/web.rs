@@ -126,9 +126,15 @@ fn native_args(options: &[&str]) -> Vec<String> {
     args
 }
 
-/// The lines of a native off-screen run of `case` that name its end state.
-fn native_ends(case: &Case) -> Vec<String> {
-    let out = std::env::temp_dir().join(format!("tickwork-web-native-{}-{}", std::process::id(), case.demo));
+/// The lines of a native off-screen run of `case` that name its end state
+/// (its frames in a scratch folder of its own, named after `test`: the
+/// tests run at once).
+fn native_ends(case: &Case, test: &str) -> Vec<String> {
+    let out = std::env::temp_dir().join(format!(
+        "tickwork-web-native-{}-{test}-{}",
+        std::process::id(),
+        case.demo
+    ));
     let _ = std::fs::remove_dir_all(&out);
     let output = Command::new(case.binary)
         .args(["--headless", "--size", "64x36", "--out"])
@@ -164,7 +170,7 @@ fn every_demo_matches_native(backend: &str, expected_adapter: &str) {
     let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
     let mut failures = Vec::new();
     for case in DEMOS {
-        let native = native_ends(case);
+        let native = native_ends(case, backend);
         assert!(!native.is_empty(), "{}: the native run printed no end line", case.demo);
         let url = server.url(&format!(
             "{}/index.html?{}",

@@ -21,6 +21,7 @@ mod run;
 mod session;
 mod source;
 mod stage;
+mod start;
 mod window;
 
 /// The input types a game meets, from [`crate::input`], where they live.
@@ -41,8 +42,9 @@ pub use options::{
 };
 pub use playback::Playback;
 pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
-pub use run::{MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config, run};
+pub use run::{MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config};
 pub use session::{GameSession, SessionOptions};
 pub use source::FrameSource;
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
+pub use start::run;
 pub use window::{WindowOptions, WindowSummary, run_window};

@@ -18,9 +18,8 @@ use super::error::RunError;
 use super::game::Game;
 use super::options::RunOptions;
 use super::run::{RunSummary, renderer_config};
-use super::session::{GameSession, SessionOptions};
+use super::session::GameSession;
 use super::source::FrameSource;
-use super::stage::Settings;
 use super::window::{WindowOptions, spawn_window};
 use crate::input::{Recording, RecordingError};
 use crate::platform::{complain, say, web};
@@ -81,21 +80,8 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         None => None,
     };
     let sync_inputs = options.sync_test.and(replay.clone());
-    let mut session = GameSession::new(
-        game,
-        SessionOptions {
-            settings: Settings {
-                integrator: options.integrator.clone(),
-                seed: options.seed,
-                networked: false,
-            },
-            hz: options.hz,
-            time_scale: options.time_scale,
-            record: options.record.clone(),
-            replay,
-            overwrite: true,
-        },
-    )?;
+    // (A page's recording is a download: nothing to overwrite.)
+    let mut session = GameSession::new(game, super::run::session_options(&options, replay))?;
     if let Some(distance) = options.sync_test {
         super::run::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
         return Ok(());

@@ -1,6 +1,6 @@
-//! [`run`]: a game in a window when a display is available, off-screen
-//! otherwise, with the shared command-line options; and [`exit_code`] for
-//! a game's `main`.
+//! A game run natively ([`run`](super::run) hands it here): in a window
+//! when a display is available, off-screen otherwise, with the shared
+//! command-line options; and [`exit_code`] for a game's `main`.
 
 use std::path::{Path, PathBuf};
 
@@ -123,28 +123,9 @@ fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunE
     Ok(())
 }
 
-/// Runs `game` with `options`: in a window when a display is available
-/// (and `--headless` is not given), else off-screen into PNG frames and a
-/// GIF, saying where. Both go through [`GameSession`]'s per-frame path.
-/// Prints where files went and the game's outcome. Call it from `main`
-/// before starting threads of your own: it may quiet a Vulkan layer
-/// through the environment ([`quiet_device_select_layer`](crate::render::quiet_device_select_layer)).
-///
-/// # Errors
-/// [`RunError`] with what went wrong: a bad option or recording, no GPU
-/// adapter, a failed step, a file that exists (without `--force`).
-pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
-    // In a browser the page's runner plays it (and returns at once).
-    #[cfg(target_arch = "wasm32")]
-    let run = super::page::run_in_page;
-    #[cfg(not(target_arch = "wasm32"))]
-    let run = run_native;
-    run(game, options)
-}
-
-/// [`run`] natively: a window or off-screen frames.
+/// [`run`](super::run) natively: a window or off-screen frames.
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
-fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     if options.backend.is_some() {
         return Err(RunError::Limit(
             "--backend chooses a page's graphics backend (webgpu or webgl2); natively, WGPU_BACKEND chooses \
@@ -191,21 +172,7 @@ fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
     // A sync test drives the ticks itself, with the recording's inputs.
     let replay_inputs = options.sync_test.and(replay.clone());
-    let mut session = GameSession::new(
-        game,
-        SessionOptions {
-            settings: Settings {
-                integrator: options.integrator.clone(),
-                seed: options.seed,
-                networked: false,
-            },
-            hz: options.hz,
-            time_scale: options.time_scale,
-            record: options.record.clone(),
-            replay,
-            overwrite: options.force,
-        },
-    )?;
+    let mut session = GameSession::new(game, session_options(&options, replay))?;
     let title = session.game().title().to_owned();
     if let Some(distance) = options.sync_test {
         return sync_test_run(&mut session, distance, &options, replay_inputs.as_ref());
@@ -237,6 +204,23 @@ fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result
         crate::say!("{title}: {outcome}");
     }
     Ok(summary)
+}
+
+/// The session a run alone asks for: `options`' settings, rate, time
+/// scale and recording, playing `replay` if given.
+pub(super) fn session_options(options: &RunOptions, replay: Option<Recording>) -> SessionOptions {
+    SessionOptions {
+        settings: Settings {
+            integrator: options.integrator.clone(),
+            seed: options.seed,
+            networked: false,
+        },
+        hz: options.hz,
+        time_scale: options.time_scale,
+        record: options.record.clone(),
+        replay,
+        overwrite: options.force,
+    }
 }
 
 /// The ticks a headless match plays without `--frames`: 600 (ten seconds

@@ -15,7 +15,7 @@
 //! | writing a file ([`write_text`]) | the file system | a download offered to the user |
 //! | waiting on a future ([`ready_now`]) | blocks (pollster) | one poll: a browser resolves futures only once the page's script yields |
 //!
-//! The browser alone has [`web`]: fetching files by URL, offering a file as
+//! The browser alone has `platform::web`: fetching files by URL, offering a file as
 //! a download, showing a message on the page. Files, windows and GPU
 //! start-up differ more than a function can hide; the runners use these
 //! services and say where they branch (`app/page.rs` is the page's runner).

@@ -1,0 +1,27 @@
+//! [`run`]: where a game's `main` starts, natively or in a page.
+
+use super::error::RunError;
+use super::game::Game;
+use super::options::RunOptions;
+use super::run::RunSummary;
+
+/// Runs `game` with `options`: in a window when a display is available
+/// (and `--headless` is not given), else off-screen into PNG frames and a
+/// GIF, saying where; in a browser, on a canvas in the page (its options
+/// from the URL; it returns at once and the page plays on). All go
+/// through [`GameSession`](super::GameSession)'s per-frame path.
+/// Prints where files went and the game's outcome. Call it from `main`
+/// before starting threads of your own: it may quiet a Vulkan layer
+/// through the environment ([`quiet_device_select_layer`](crate::render::quiet_device_select_layer)).
+///
+/// # Errors
+/// [`RunError`] with what went wrong: a bad option or recording, no GPU
+/// adapter, a failed step, a file that exists (without `--force`).
+pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+    // In a browser the page's runner plays it (and returns at once).
+    #[cfg(target_arch = "wasm32")]
+    let run = super::page::run_in_page;
+    #[cfg(not(target_arch = "wasm32"))]
+    let run = super::run::run_native;
+    run(game, options)
+}
