@@ -58,7 +58,7 @@ impl RunSummary {
     }
 }
 
-/// The renderer settings [`run`] draws a stage's frames `height` pixels
+/// The renderer settings [`run`](super::run) draws a stage's frames `height` pixels
 /// tall with (for a test that draws a game as `run` does): the stage's
 /// background, and its HUD size from 540 px up, shrinking with smaller
 /// frames down to 10/16 of it, so a legend that fits a window fits a small
@@ -392,7 +392,7 @@ pub(super) fn sync_test_run<G: Game + Clone + 'static>(
     })
 }
 
-/// The window or off-screen part of [`run`].
+/// The window or off-screen part of [`run`](super::run).
 fn show<G: Game>(
     session: &mut GameSession<G>,
     options: &RunOptions,
