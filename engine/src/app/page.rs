@@ -52,16 +52,8 @@ pub(super) fn run_in_page<G: Game + Clone + 'static>(game: G, options: RunOption
             complain(&format!("error: {error}"));
         }
     });
-    Ok(RunSummary {
-        windowed: true,
-        frames: 0,
-        ticks: 0,
-        out: None,
-        gif: None,
-        recording: None,
-        outcome: None,
-        checksum: None,
-    })
+    // The run goes on in the page; what it does, it prints.
+    Ok(RunSummary::nothing_yet(true))
 }
 
 /// Fetches the replay, makes the session and starts the canvas.

@@ -44,7 +44,7 @@ pub struct RunSummary {
 
 impl RunSummary {
     /// A run that has done nothing yet.
-    fn nothing_yet(windowed: bool) -> Self {
+    pub(super) fn nothing_yet(windowed: bool) -> Self {
         Self {
             windowed,
             frames: 0,
