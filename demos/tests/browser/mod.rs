@@ -96,6 +96,10 @@ pub const CHROMIUM_FLAGS: &[&str] = &[
     "--use-webgpu-adapter=swiftshader",
     "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader",
+    // Chromium's own compositing on SwiftShader's Vulkan: without it a
+    // WebGPU canvas shows (and screenshots) blank white, whatever was drawn.
+    "--use-vulkan=swiftshader",
+    "--enable-features=Vulkan",
     // The address is printed on stderr; 0 lets the OS choose the port.
     "--remote-debugging-port=0",
     // Screenshots are in CSS pixels.
