@@ -94,7 +94,6 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
     };
     // The page lives as long as the run: the session is the loop's for good.
     let source: &'static mut PageRun<G> = Box::leak(Box::new(PageRun {
-        title: session.game().title().to_owned(),
         session,
         frames: options.frames,
         shown: 0,
@@ -128,7 +127,6 @@ fn backends(name: Option<&str>) -> Result<wgpu::Backends, RunError> {
 /// `frames` of them, holding the last.
 struct PageRun<G: Game> {
     session: GameSession<G>,
-    title: String,
     frames: Option<u64>,
     shown: u64,
     ended: bool,
@@ -142,6 +140,7 @@ impl<G: Game> PageRun<G> {
     /// the recording.
     fn end(&mut self) -> Result<(), RunError> {
         self.ended = true;
+        let title = self.session.game().title();
         let ticks = FrameSource::ticks(&self.session);
         if let Some(path) = self.session.save_recording()? {
             say(&format!(
@@ -151,17 +150,17 @@ impl<G: Game> PageRun<G> {
         }
         say(&format!(
             "tickwork: {}: the final state at tick {ticks} has checksum {:016x}",
-            self.title,
+            title,
             self.session.checksum()
         ));
         if let Some(outcome) = self.session.outcome() {
-            say(&format!("{}: {outcome}", self.title));
+            say(&format!("{title}: {outcome}"));
         }
         if let Some(started) = self.started {
             let seconds = started.elapsed().as_secs_f64();
             say(&format!(
                 "tickwork: {}: {} frames in {seconds:.2} s of wall time, {:.1} ms a frame",
-                self.title,
+                title,
                 self.shown,
                 1e3 * seconds / self.shown.max(1) as f64
             ));

@@ -62,6 +62,23 @@ pub fn args() -> Vec<OsString> {
     imp::args()
 }
 
+/// A page's command line from its name and URL query (with or without
+/// its `?`): `?integrator=rk4&headless` is `[name, --integrator, rk4,
+/// --headless]`, each name and value through `decode` (the page's
+/// percent-decoding). Pure, so it is tested natively too.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+fn query_args(name: &str, query: &str, decode: impl Fn(&str) -> String) -> Vec<String> {
+    let mut args = vec![name.to_owned()];
+    for pair in query.trim_start_matches('?').split('&').filter(|p| !p.is_empty()) {
+        let (key, value) = pair.split_once('=').map_or((pair, None), |(k, v)| (k, Some(v)));
+        args.push(format!("--{}", decode(key)));
+        if let Some(value) = value {
+            args.push(decode(value));
+        }
+    }
+    args
+}
+
 /// An environment variable: the process's natively, none in the browser.
 #[must_use]
 pub fn env_var(name: &str) -> Option<OsString> {
@@ -147,6 +164,18 @@ macro_rules! complain {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_url_query_is_a_command_line() {
+        let upper = |s: &str| s.to_uppercase();
+        assert_eq!(
+            query_args("lander", "?hz=120&headless&&replay=../r.ron", upper),
+            ["lander", "--HZ", "120", "--HEADLESS", "--REPLAY", "../R.RON"]
+        );
+        assert_eq!(query_args("orbits", "", upper), ["orbits"]);
+        // A value may hold '=' (only the first splits).
+        assert_eq!(query_args("p", "a=b=c", str::to_owned), ["p", "--a", "b=c"]);
+    }
 
     #[test]
     fn native_services() {

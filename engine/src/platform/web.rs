@@ -29,20 +29,10 @@ pub(super) fn args() -> Vec<OsString> {
         |p| p.trim_end_matches('/').rsplit('/').next().unwrap_or("page").to_owned(),
     );
     let query = location.and_then(|l| l.search().ok()).unwrap_or_default();
-    query_args(&name, &query).into_iter().map(OsString::from).collect()
-}
-
-/// [`args`] from a page name and a query string (with or without its `?`).
-pub(crate) fn query_args(name: &str, query: &str) -> Vec<String> {
-    let mut args = vec![name.to_owned()];
-    for pair in query.trim_start_matches('?').split('&').filter(|p| !p.is_empty()) {
-        let (key, value) = pair.split_once('=').map_or((pair, None), |(k, v)| (k, Some(v)));
-        args.push(format!("--{}", decode(key)));
-        if let Some(value) = value {
-            args.push(decode(value));
-        }
-    }
-    args
+    super::query_args(&name, &query, decode)
+        .into_iter()
+        .map(OsString::from)
+        .collect()
 }
 
 /// Percent-decoding of a URL query component (`+` is a space); a broken
