@@ -2,12 +2,9 @@
 //! `scripts/web build` into `target/web/`, which `scripts/test` runs first)
 //! played in headless Chromium, under WebGPU and under WebGL2, ends in the
 //! same state as the native binary given the same options, to the bit of
-//! its checksum; a page's last frame under WebGL2 matches the native golden
-//! image (under WebGPU the canvas's lines and text come out darker in
-//! headless Chromium, 2.5% of the lander's pixels by up to 116 of 255, so
-//! that backend's frame is not compared yet); a
-//! bad option shows the native error text; a page whose GPU cannot start
-//! says so.
+//! its checksum; a page's last frame under WebGPU and under WebGL2 matches
+//! the native golden image; a bad option shows the native error text; a
+//! page whose GPU cannot start says so.
 //!
 //! Nothing here waits on time: each page is waited on for the line it
 //! prints (`the final state at tick N has checksum X`), within a generous
@@ -262,6 +259,11 @@ fn lander_frames() -> u64 {
     let recording = tickwork::engine::Recording::parse(&text, Path::new("lander_land_then_crash.ron"))
         .expect("the recording parses");
     recording.ticks + 1
+}
+
+#[test]
+fn the_landers_last_frame_matches_its_golden_image_under_webgpu() {
+    last_frame_matches_the_golden("webgpu");
 }
 
 #[test]

@@ -315,14 +315,27 @@ impl App<'_> {
                 return Err(RenderError::Surface("validation error acquiring the frame".into()).into());
             }
         };
-        let output = frame.texture.create_view(&Default::default());
+        let output = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(state.format),
+            ..Default::default()
+        });
         let mut encoder = state
             .gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("tickwork window"),
             });
-        state.renderer.encode(&mut encoder, buffers, &output);
+        match state
+            .relay
+            .as_ref()
+            .and_then(|relay| relay.view().map(|view| (relay, view)))
+        {
+            Some((relay, view)) => {
+                state.renderer.encode(&mut encoder, buffers, view);
+                relay.copy_to(&state.gpu.device, &mut encoder, &output);
+            }
+            None => state.renderer.encode(&mut encoder, buffers, &output),
+        }
         let mut commands = Vec::new();
         if self.panel_visible
             && let Some(panel) = self.panel.as_mut()
@@ -400,7 +413,7 @@ impl ApplicationHandler<Connected> for App<'_> {
         match connected {
             Ok((state, panel)) => {
                 self.summary.adapter = state.gpu.describe();
-                self.summary.surface = format!("{:?}, {:?}", state.config.format, state.config.present_mode);
+                self.summary.surface = format!("{:?}, {:?}", state.format, state.config.present_mode);
                 if crate::platform::IS_WEB {
                     // A page has no terminal that shows the adapter: the
                     // console and the page say which backend draws.

@@ -19,10 +19,73 @@ pub(super) struct WindowState {
     pub(super) gpu: Gpu,
     pub(super) surface: wgpu::Surface<'static>,
     pub(super) config: wgpu::SurfaceConfiguration,
+    /// The format drawn in: the surface's own, or an sRGB view of it
+    /// where the surface has only a plain format (WebGPU in a browser).
+    pub(super) format: wgpu::TextureFormat,
     pub(super) renderer: Renderer,
     pub(super) buffers: Option<FrameBuffers>,
+    /// Where a frame is drawn first when the surface is drawn through an
+    /// sRGB view ([`Relay`]); `None` where the surface is sRGB itself.
+    pub(super) relay: Option<Relay>,
     // Dropped last: the surface refers to it.
     pub(super) window: Arc<Window>,
+}
+
+/// A frame's first stop on a surface drawn through an sRGB view of a
+/// plain format (WebGPU canvases). Dawn (Chromium's WebGPU) resolves a
+/// multisampled frame into such a view as if it were the plain format,
+/// leaving linear values on the canvas (every colour too dark); drawing
+/// through the view is right. So the frame is drawn and resolved into
+/// this sRGB texture, which a full-screen pass then copies through the
+/// view; the panel draws on the surface after it.
+pub(super) struct Relay {
+    blitter: wgpu::util::TextureBlitter,
+    view: Option<wgpu::TextureView>,
+}
+
+impl Relay {
+    fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+        Self {
+            blitter: wgpu::util::TextureBlitter::new(device, format),
+            view: None,
+        }
+    }
+
+    /// A texture of the surface's size and draw format to draw into.
+    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32, format: wgpu::TextureFormat) {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("tickwork relay"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        self.view = Some(texture.create_view(&wgpu::TextureViewDescriptor::default()));
+    }
+
+    /// The view to draw the frame into, if the relay has been sized.
+    pub(super) fn view(&self) -> Option<&wgpu::TextureView> {
+        self.view.as_ref()
+    }
+
+    /// Copies the drawn frame onto the surface's view.
+    pub(super) fn copy_to(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+    ) {
+        if let Some(view) = &self.view {
+            self.blitter.copy(device, encoder, view, target);
+        }
+    }
 }
 
 /// The egui side of the window: context, winit input state, wgpu renderer.
@@ -87,13 +150,19 @@ impl Opening {
         } = self;
         let gpu = Gpu::request(instance, backends, Some(&surface)).await?;
         let caps = surface.get_capabilities(&gpu.adapter);
-        let format = caps
+        // The renderer blends in linear light and needs an sRGB target. A
+        // browser's WebGPU canvas offers only plain formats (bgra8unorm),
+        // so there the surface keeps its plain format and is drawn through
+        // an sRGB view of it, which WebGPU allows for any canvas format.
+        let surface_format = caps
             .formats
             .iter()
             .copied()
             .find(wgpu::TextureFormat::is_srgb)
             .or_else(|| caps.formats.first().copied())
             .ok_or_else(|| RenderError::Surface("the surface offers no format for this adapter".into()))?;
+        let format = surface_format.add_srgb_suffix();
+        let view_formats = if format == surface_format { vec![] } else { vec![format] };
         let present_mode = if options.vsync {
             wgpu::PresentMode::Fifo
         } else {
@@ -107,7 +176,7 @@ impl Opening {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_DST);
         let config = wgpu::SurfaceConfiguration {
             usage,
-            format,
+            format: surface_format,
             width: size.width.max(1),
             height: size.height.max(1),
             present_mode,
@@ -116,11 +185,12 @@ impl Opening {
                 .first()
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
+            view_formats,
             desired_maximum_frame_latency: 2,
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
         let renderer = Renderer::new(&gpu, format, options.renderer.clone())?;
+        let relay = (format != surface_format).then(|| Relay::new(&gpu.device, format));
         let context = egui::Context::default();
         let panel = Panel {
             input: egui_winit::State::new(
@@ -138,8 +208,10 @@ impl Opening {
             gpu,
             surface,
             config,
+            format,
             renderer,
             buffers: None,
+            relay,
             window,
         };
         state.resize(size.width, size.height)?;
@@ -158,11 +230,14 @@ impl WindowState {
         self.config.width = width;
         self.config.height = height;
         self.surface.configure(&self.gpu.device, &self.config);
+        if let Some(relay) = &mut self.relay {
+            relay.resize(&self.gpu.device, width, height, self.format);
+        }
         self.buffers = Some(FrameBuffers::new(
             &self.gpu,
             width,
             height,
-            self.config.format,
+            self.format,
             self.renderer.config().samples,
         )?);
         Ok(())
