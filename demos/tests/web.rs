@@ -341,3 +341,148 @@ fn a_page_whose_gpu_cannot_start_says_so() {
         "the page shows {message}"
     );
 }
+
+/// A scratch folder of this test's own (the tests run at once).
+fn scratch(test: &str) -> PathBuf {
+    let folder = std::env::temp_dir().join(format!("tickwork-web-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&folder);
+    std::fs::create_dir_all(&folder).expect("the scratch folder");
+    folder
+}
+
+/// The tick and checksum of a `the final state at tick N has checksum X`
+/// line.
+fn final_state(line: &str) -> (u64, String) {
+    let rest = line
+        .split("the final state at tick ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("not a final-state line: {line}"));
+    let (tick, checksum) = rest
+        .split_once(" has checksum ")
+        .unwrap_or_else(|| panic!("not a final-state line: {line}"));
+    (tick.parse().expect("the tick is a number"), checksum.trim().to_owned())
+}
+
+/// Plays `demo`'s page with `query` plus `record=<test>.ron`, lets `play`
+/// give it input once it draws, and returns the page's final-state line
+/// and the recording the page offered as a download.
+fn record_in_page(demo: &str, query: &str, test: &str, play: impl FnOnce(&mut browser::Page<'_>)) -> (String, String) {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    let downloads = scratch(test);
+    browser.allow_downloads(&downloads).unwrap_or_else(|e| panic!("{e}"));
+    let name = format!("{test}.ron");
+    let mut page = browser
+        .open(&server.url(&format!("{demo}/index.html?{query}&record={name}")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    page.wait_console(|l| l.starts_with("tickwork: drawing with"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    play(&mut page);
+    let end = page
+        .wait_console(|l| l.contains("the final state at tick"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let offered = page
+        .wait_console(|l| l.contains("offered as a download"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(offered.contains(&name), "{offered}");
+    let saved = browser.wait_download(PAGE_TIMEOUT).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(saved, name, "the download keeps the name given in the URL");
+    let text = std::fs::read_to_string(downloads.join(&saved)).expect("the downloaded recording reads");
+    let _ = std::fs::remove_dir_all(&downloads);
+    (end, text)
+}
+
+/// Replays `recording` (a page's) with the native `binary` and returns the
+/// tick and checksum at the recording's end (its `the replay ended at tick
+/// N with checksum X` line).
+fn replay_natively(binary: &str, recording: &str, test: &str) -> (u64, String) {
+    let folder = scratch(&format!("{test}-native"));
+    let path = folder.join("recording.ron");
+    std::fs::write(&path, recording).expect("the recording writes");
+    let output = Command::new(binary)
+        .args(["--headless", "--size", "64x36", "--out"])
+        .arg(folder.join("frames"))
+        .arg("--replay")
+        .arg(&path)
+        .output()
+        .expect("the native demo runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&folder);
+    let line = stdout
+        .lines()
+        .find_map(|l| l.split("the replay ended at tick ").nth(1))
+        .unwrap_or_else(|| panic!("the native replay printed no end:\n{stdout}"));
+    let (tick, checksum) = line
+        .split_once(" with checksum ")
+        .unwrap_or_else(|| panic!("an odd replay end: {line}"));
+    let checksum = checksum.split(|c: char| !c.is_ascii_hexdigit()).next().unwrap_or_default();
+    (tick.parse().expect("the tick is a number"), checksum.to_owned())
+}
+
+#[test]
+fn keys_pressed_in_a_page_are_recorded_and_replay_natively_to_the_same_state() {
+    let test = "keys";
+    let (end, text) = record_in_page("lander", "frames=240&size=480x270", test, |page| {
+        // The canvas has the focus from the start: keys reach the game.
+        page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+        page.key(true, "ArrowUp", "ArrowUp", 38)
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.animation_frames(30).unwrap_or_else(|e| panic!("{e}"));
+        page.key(false, "ArrowUp", "ArrowUp", 38)
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.key(true, "ArrowLeft", "ArrowLeft", 37)
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+        page.key(false, "ArrowLeft", "ArrowLeft", 37)
+            .unwrap_or_else(|e| panic!("{e}"));
+    });
+    let recording = tickwork::engine::Recording::parse(&text, Path::new("keys.ron")).expect("the recording parses");
+    let held = |key| recording.inputs.iter().any(|(_, input)| input.held.contains(key));
+    assert!(
+        held(tickwork::engine::Key::Up) && held(tickwork::engine::Key::Left),
+        "the page's keys are in its recording:\n{text}"
+    );
+    let native = replay_natively(env!("CARGO_BIN_EXE_lander"), &text, test);
+    assert_eq!(native, final_state(&end), "the native replay's end against the page's");
+}
+
+#[test]
+fn a_finger_on_the_canvas_is_the_mouse_and_replays_natively_to_the_same_state() {
+    let test = "touch";
+    // Breakout's paddle follows the pointer; a press launches the ball.
+    let (end, text) = record_in_page("breakout", "frames=240&size=480x270", test, |page| {
+        page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+        page.touch("touchStart", Some((240.0, 200.0)))
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.animation_frames(5).unwrap_or_else(|e| panic!("{e}"));
+        for x in [220.0, 190.0, 160.0] {
+            page.touch("touchMove", Some((x, 200.0)))
+                .unwrap_or_else(|e| panic!("{e}"));
+            page.animation_frames(5).unwrap_or_else(|e| panic!("{e}"));
+        }
+        page.touch("touchEnd", None).unwrap_or_else(|e| panic!("{e}"));
+    });
+    let recording = tickwork::engine::Recording::parse(&text, Path::new("touch.ron")).expect("the recording parses");
+    let pressed = recording
+        .inputs
+        .iter()
+        .any(|(_, input)| input.held.contains(tickwork::engine::Key::MouseLeft));
+    let pointers: Vec<f32> = recording
+        .inputs
+        .iter()
+        .filter_map(|(_, input)| input.pointer.map(|p| p[0]))
+        .collect();
+    assert!(pressed, "the finger down is the left button in the recording:\n{text}");
+    assert!(
+        pointers.windows(2).any(|w| w[1] < w[0]),
+        "the finger's moves to the left are the pointer's in the recording: {pointers:?}"
+    );
+    let native = replay_natively(env!("CARGO_BIN_EXE_breakout"), &text, test);
+    assert_eq!(native, final_state(&end), "the native replay's end against the page's");
+}

@@ -495,6 +495,9 @@ pub struct Browser {
     connection: RefCell<Connection>,
     /// `host:port` of the DevTools endpoint.
     endpoint: String,
+    /// The browser's download events not yet waited on (they can arrive
+    /// while a command waits for its answer).
+    downloads: RefCell<VecDeque<Value>>,
     /// Chromium's last stderr lines, kept by a thread that drains the pipe.
     stderr_tail: Arc<Mutex<VecDeque<String>>>,
     /// The process and its profile folder (dropped after `connection`).
@@ -653,6 +656,7 @@ impl Browser {
         Ok(Browser {
             connection: RefCell::new(connection),
             endpoint,
+            downloads: RefCell::new(VecDeque::new()),
             stderr_tail,
             process,
         })
@@ -691,6 +695,7 @@ impl Browser {
             target_id,
             connection,
             console: Console::default(),
+            touch_enabled: false,
         };
         // Listening starts before the navigation, so no line is missed.
         for domain in ["Runtime", "Log", "Page", "Inspector"] {
@@ -706,13 +711,77 @@ impl Browser {
         tail_text(&self.stderr_tail)
     }
 
-    /// A command to the browser itself.
+    /// Saves what pages offer as downloads into `folder` (under the name
+    /// the page suggests), and reports them to [`Browser::wait_download`].
+    pub fn allow_downloads(&self, folder: &Path) -> Result<(), String> {
+        self.call(
+            "Browser.setDownloadBehavior",
+            json!({"behavior": "allow", "downloadPath": folder, "eventsEnabled": true}),
+        )?;
+        Ok(())
+    }
+
+    /// Waits for the next download to complete and returns the file name
+    /// the page suggested (the file is in the folder given to
+    /// [`Browser::allow_downloads`]). `timeout` bounds the wait for that
+    /// signal; an error if the download is cancelled.
+    pub fn wait_download(&self, timeout: Duration) -> Result<String, String> {
+        let deadline = Instant::now() + timeout;
+        let mut names = std::collections::HashMap::new();
+        loop {
+            let event = match self.downloads.borrow_mut().pop_front() {
+                Some(event) => event,
+                None => {
+                    let mut connection = self
+                        .connection
+                        .try_borrow_mut()
+                        .map_err(|_| "waiting for a download: the browser connection is busy".to_owned())?;
+                    match connection.next_message(deadline)? {
+                        Some(message) => message,
+                        None => return Err(format!("no download completed within {timeout:?}")),
+                    }
+                }
+            };
+            let params = &event["params"];
+            let guid = params["guid"].as_str().unwrap_or_default().to_owned();
+            match event["method"].as_str() {
+                Some("Browser.downloadWillBegin") => {
+                    names.insert(
+                        guid,
+                        params["suggestedFilename"].as_str().unwrap_or_default().to_owned(),
+                    );
+                }
+                Some("Browser.downloadProgress") => match params["state"].as_str() {
+                    Some("completed") => {
+                        return names
+                            .remove(&guid)
+                            .ok_or_else(|| format!("download {guid} completed without having begun"));
+                    }
+                    Some("canceled") => return Err(format!("download {guid} ({:?}) was cancelled", names.get(&guid))),
+                    _ => {}
+                },
+                _ => {}
+            }
+        }
+    }
+
+    /// A command to the browser itself; download events that arrive
+    /// meanwhile are kept for [`Browser::wait_download`].
     fn call(&self, method: &str, params: Value) -> Result<Value, String> {
         let mut connection = self
             .connection
             .try_borrow_mut()
             .map_err(|_| format!("{method}: the browser connection is busy"))?;
-        connection.call(method, params, COMMAND_TIMEOUT, &mut |_| Ok(()))
+        let downloads = &self.downloads;
+        connection.call(method, params, COMMAND_TIMEOUT, &mut |event| {
+            if event["method"]
+                .as_str()
+                .is_some_and(|m| m.starts_with("Browser.download"))
+            {
+                downloads.borrow_mut().push_back(event.clone());
+            }
+            Ok(())
+        })
     }
 }
 
@@ -943,6 +1012,8 @@ pub struct Page<'b> {
     connection: Connection,
     /// What it has printed.
     console: Console,
+    /// Whether touch input has been switched on ([`Page::touch`]).
+    touch_enabled: bool,
 }
 
 impl Page<'_> {
@@ -1082,6 +1153,66 @@ impl Page<'_> {
         let data = result["data"].as_str().ok_or("Page.captureScreenshot gave no data")?;
         let png = base64_decode(data).ok_or("Page.captureScreenshot gave bad base64")?;
         decode_png(&png)
+    }
+
+    /// Waits until the page has shown `frames` more animation frames (a
+    /// signal from the page, not a time): input sent after it arrives
+    /// while the game runs.
+    pub fn animation_frames(&mut self, frames: u32) -> Result<(), String> {
+        self.eval(&format!(
+            "new Promise((done) => {{ let left = {frames}; \
+             const frame = () => (--left <= 0 ? done() : requestAnimationFrame(frame)); \
+             requestAnimationFrame(frame); }})"
+        ))?;
+        Ok(())
+    }
+
+    /// Presses (`down`) or releases a key, as the keyboard would, on the
+    /// focused element: `key` and `code` as in a DOM `KeyboardEvent`
+    /// ("ArrowUp", "ArrowUp"), `key_code` its Windows virtual-key code.
+    pub fn key(&mut self, down: bool, key: &str, code: &str, key_code: u32) -> Result<(), String> {
+        self.call(
+            "Input.dispatchKeyEvent",
+            json!({
+                "type": if down { "keyDown" } else { "keyUp" },
+                "key": key,
+                "code": code,
+                "windowsVirtualKeyCode": key_code,
+            }),
+        )?;
+        Ok(())
+    }
+
+    /// A mouse event at `(x, y)` in CSS pixels of the page: `kind` is
+    /// "mouseMoved", "mousePressed" or "mouseReleased" (the left button).
+    pub fn mouse(&mut self, kind: &str, x: f64, y: f64) -> Result<(), String> {
+        self.call(
+            "Input.dispatchMouseEvent",
+            json!({
+                "type": kind,
+                "x": x, "y": y,
+                "button": if kind == "mouseMoved" { "none" } else { "left" },
+                "buttons": u32::from(kind == "mousePressed"),
+                "clickCount": 1,
+            }),
+        )?;
+        Ok(())
+    }
+
+    /// A touch event with one finger at `(x, y)` in CSS pixels (none for
+    /// "touchEnd"): `kind` is "touchStart", "touchMove" or "touchEnd".
+    /// Touch input is switched on for the page the first time.
+    pub fn touch(&mut self, kind: &str, at: Option<(f64, f64)>) -> Result<(), String> {
+        if !self.touch_enabled {
+            self.call(
+                "Emulation.setTouchEmulationEnabled",
+                json!({"enabled": true, "maxTouchPoints": 1}),
+            )?;
+            self.touch_enabled = true;
+        }
+        let points: Vec<Value> = at.iter().map(|(x, y)| json!({"x": x, "y": y})).collect();
+        self.call("Input.dispatchTouchEvent", json!({"type": kind, "touchPoints": points}))?;
+        Ok(())
     }
 
     /// A command to this page, recording the messages that arrive meanwhile.

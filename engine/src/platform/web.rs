@@ -80,6 +80,12 @@ pub(super) fn window_attributes(
         None => document.body().ok_or("the page has no body")?.into(),
     };
     container.append_child(&canvas).map_err(|e| js_text(&e))?;
+    // Touches are the game's (the mouse, see app/window/touch.rs), not the
+    // page's: no scrolling or zooming on a drag or a double tap.
+    canvas
+        .style()
+        .set_property("touch-action", "none")
+        .map_err(|e| js_text(&e))?;
     let attributes = attributes
         .with_canvas(Some(canvas.clone()))
         .with_focusable(true)

@@ -19,6 +19,7 @@ mod keys;
 mod options;
 mod panel;
 mod surface;
+mod touch;
 
 use crate::platform::Instant;
 use std::path::PathBuf;
@@ -40,6 +41,7 @@ use keys::{KeyAction, game_key};
 pub use options::WindowOptions;
 use panel::draw_panel;
 use surface::{Panel, WindowState, open, screenshot};
+use touch::{Mouse, TouchMouse};
 
 /// The window's GPU, once found: the event the start-up sends back to the
 /// loop (natively at once, in a page when the browser has answered).
@@ -170,6 +172,7 @@ impl<'a> App<'a> {
             },
             drag: None,
             cursor: (0.0, 0.0),
+            touch: TouchMouse::default(),
             events: Vec::new(),
             controls: Vec::new(),
             physical_down: [0; GameKey::ALL.len()],
@@ -197,6 +200,8 @@ struct App<'a> {
     summary: WindowSummary,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
+    /// Which finger stands for the mouse.
+    touch: TouchMouse,
     /// The player's input events of the coming frame, with their arrival.
     events: Vec<(InputEvent, Instant)>,
     /// Controls from keys and the panel, applied before the next frame's steps.
@@ -441,7 +446,32 @@ impl ApplicationHandler<Connected> for App<'_> {
         }
     }
 
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, id: WindowId, event: WindowEvent) {
+        // A finger is the mouse (see `touch`): the game and the panel see
+        // the mouse events it stands for, not the touch.
+        if let WindowEvent::Touch(touch) = event {
+            let location = (touch.location.x, touch.location.y);
+            for mouse in self.touch.map(touch.id, touch.phase, location).into_iter().flatten() {
+                let device_id = touch.device_id;
+                let event = match mouse {
+                    Mouse::Move(x, y) => WindowEvent::CursorMoved {
+                        device_id,
+                        position: winit::dpi::PhysicalPosition::new(x, y),
+                    },
+                    Mouse::Press | Mouse::Release => WindowEvent::MouseInput {
+                        device_id,
+                        state: if mouse == Mouse::Press {
+                            ElementState::Pressed
+                        } else {
+                            ElementState::Released
+                        },
+                        button: MouseButton::Left,
+                    },
+                };
+                self.window_event(event_loop, id, event);
+            }
+            return;
+        }
         // The runner's own keys (F1, F12, Escape) never go to a text field.
         let runner_key = matches!(
             &event,
