@@ -421,7 +421,10 @@ fn replay_natively(binary: &str, recording: &str, test: &str) -> (u64, String) {
     let (tick, checksum) = line
         .split_once(" with checksum ")
         .unwrap_or_else(|| panic!("an odd replay end: {line}"));
-    let checksum = checksum.split(|c: char| !c.is_ascii_hexdigit()).next().unwrap_or_default();
+    let checksum = checksum
+        .split(|c: char| !c.is_ascii_hexdigit())
+        .next()
+        .unwrap_or_default();
     (tick.parse().expect("the tick is a number"), checksum.to_owned())
 }
 

@@ -446,7 +446,7 @@ impl ApplicationHandler<Connected> for App<'_> {
         }
     }
 
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, id: WindowId, event: WindowEvent) {
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         // A finger is the mouse (see `touch`): the game and the panel see
         // the mouse events it stands for, not the touch.
         if let WindowEvent::Touch(touch) = event {
@@ -468,10 +468,23 @@ impl ApplicationHandler<Connected> for App<'_> {
                         button: MouseButton::Left,
                     },
                 };
-                self.window_event(event_loop, id, event);
+                self.event(event_loop, event);
             }
             return;
         }
+        self.event(event_loop, event);
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+}
+
+impl App<'_> {
+    /// A window event other than a touch (which arrives as mouse events).
+    fn event(&mut self, event_loop: &ActiveEventLoop, event: WindowEvent) {
         // The runner's own keys (F1, F12, Escape) never go to a text field.
         let runner_key = matches!(
             &event,
@@ -586,12 +599,6 @@ impl ApplicationHandler<Connected> for App<'_> {
                 }
             }
             _ => {}
-        }
-    }
-
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(state) = &self.state {
-            state.window.request_redraw();
         }
     }
 }
