@@ -3,8 +3,11 @@
 //! played in headless Chromium, under WebGPU and under WebGL2, ends in the
 //! same state as the native binary given the same options, to the bit of
 //! its checksum; a page's last frame under WebGPU and under WebGL2 matches
-//! the native golden image; a bad option shows the native error text; a
-//! page whose GPU cannot start says so.
+//! the native golden image; keys and a finger on the canvas reach the game,
+//! and the recording the page offers as a download replays natively to the
+//! page's tick and checksum; the control panel takes the mouse; a bad
+//! option shows the native error text; a page whose GPU cannot start says
+//! so.
 //!
 //! Nothing here waits on time: each page is waited on for the line it
 //! prints (`the final state at tick N has checksum X`), within a generous
@@ -488,4 +491,36 @@ fn a_finger_on_the_canvas_is_the_mouse_and_replays_natively_to_the_same_state() 
     );
     let native = replay_natively(env!("CARGO_BIN_EXE_breakout"), &text, test);
     assert_eq!(native, final_state(&end), "the native replay's end against the page's");
+}
+
+#[test]
+fn the_control_panel_takes_the_mouse_in_a_page() {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    // The integrator race at 120 Hz: two steps a frame of the simulated
+    // 60 Hz display, 400 ticks in 200 frames unless paused.
+    let frames = 200;
+    let mut page = browser
+        .open(&server.url(&format!("orbits/index.html?size=960x540&frames={frames}")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    page.wait_console(|l| l.starts_with("tickwork: drawing with"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+    let canvas = page.element_clip("#tickwork-canvas").unwrap_or_else(|e| panic!("{e}"));
+    // The panel's "Pause (P)" button, where egui lays it out at this size
+    // (the panel's third row, at its left).
+    let (x, y) = (canvas.x + 53.0, canvas.y + 69.0);
+    for kind in ["mouseMoved", "mousePressed", "mouseReleased"] {
+        page.mouse(kind, x, y).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let end = page
+        .wait_console(|l| l.contains("the final state at tick"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (tick, _) = final_state(&end);
+    assert!(
+        tick > 0 && tick < frames,
+        "the panel's pause button stopped the clock: tick {tick} of {} unpaused",
+        2 * frames
+    );
 }
