@@ -5,7 +5,8 @@
 //! its checksum; a page's last frame under WebGPU and under WebGL2 matches
 //! the native golden image; keys and a finger on the canvas reach the game,
 //! and the recording the page offers as a download replays natively to the
-//! page's tick and checksum; the control panel takes the mouse; a bad
+//! page's tick and checksum; the control panel takes the mouse; the canvas
+//! fills the page in device pixels and follows a resize; a bad
 //! option shows the native error text; a page whose GPU cannot start says
 //! so.
 //!
@@ -523,4 +524,40 @@ fn the_control_panel_takes_the_mouse_in_a_page() {
         "the panel's pause button stopped the clock: tick {tick} of {} unpaused",
         2 * frames
     );
+}
+
+#[test]
+fn the_canvas_fills_the_page_at_its_pixel_ratio_and_follows_a_resize() {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    // A screen of two device pixels a CSS pixel. (Emulating the ratio
+    // through the DevTools protocol changes `devicePixelRatio` but not the
+    // sizes a ResizeObserver reports, so the browser's own flag it is.)
+    let scale = 2;
+    let browser = Browser::launch_with(&["--force-device-scale-factor=2"]).unwrap_or_else(|e| panic!("{e}"));
+    let mut page = browser
+        .open(&server.url("lander/index.html"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    page.wait_console(|l| l.starts_with("tickwork: drawing with"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    for (width, height) in [(640, 360), (500, 400)] {
+        // 0: the screen's own ratio.
+        page.set_viewport(width, height, 0.0).unwrap_or_else(|e| panic!("{e}"));
+        // The engine says when a new size has reached the screen.
+        let (device_width, device_height) = (width * scale, height * scale);
+        let line = format!("tickwork: resized to {device_width}x{device_height} and presented");
+        page.wait_console(|l| l == line, PAGE_TIMEOUT)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let sizes = page
+            .eval(
+                "(() => { const c = document.getElementById('tickwork-canvas'); \
+                 return [c.width, c.height, c.clientWidth, c.clientHeight]; })()",
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            sizes,
+            serde_json::json!([device_width, device_height, width, height]),
+            "the canvas fills the {width}x{height} page in device pixels at {scale}x"
+        );
+    }
 }

@@ -1155,6 +1155,19 @@ impl Page<'_> {
         decode_png(&png)
     }
 
+    /// Makes the page's viewport `width` x `height` CSS pixels, as a
+    /// resized window would, at `scale` device pixels a CSS pixel (0: the
+    /// screen's own). An emulated scale changes `devicePixelRatio` but not
+    /// the sizes a ResizeObserver reports: for a high-density screen start
+    /// the browser with `--force-device-scale-factor`.
+    pub fn set_viewport(&mut self, width: u32, height: u32, scale: f64) -> Result<(), String> {
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            json!({"width": width, "height": height, "deviceScaleFactor": scale, "mobile": false}),
+        )?;
+        Ok(())
+    }
+
     /// Waits until the page has shown `frames` more animation frames (a
     /// signal from the page, not a time): input sent after it arrives
     /// while the game runs.
