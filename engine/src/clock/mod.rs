@@ -176,7 +176,8 @@ impl fmt::Display for Number {
 /// The epoch moves when the rate changes, so time stays continuous. It is
 /// kept in the units of the rate in force, `1 / (1e9 denom)` seconds (the
 /// accumulator's), re-based at each change: exact within a rate, and
-/// rounded to under a nanosecond at a change. Keeping the epoch as an exact
+/// rounded to the nearest new unit at a change, so the time differs from
+/// the sum of its steps by at most half a nanosecond per change. Keeping the epoch as an exact
 /// fraction instead made its denominator the least common multiple of every
 /// rate ever used, which overflowed `u128` after a dozen changes between
 /// prime rates (the control panel's rate box makes one per edit) and then
@@ -188,11 +189,51 @@ pub struct Timeline {
     rate: Rate,
 }
 
-/// `a * m / d`, rounded to nearest, without overflowing for `a` up to any
-/// `u128` and `m, d` below 2^64 (the product saturates only past `u128`).
+/// `a * m / d` for `d > 0`, rounded to nearest (halves up), exact for any
+/// `u128` operands (the result saturates only past `u128`). The units of
+/// a rate from [`Rate::hz_f64`] pass 2^64 (a step's denominator reaches
+/// about 1e12, times 1e9 units a second), so `rest * m` needs 256 bits.
 fn mul_div_round(a: u128, m: u128, d: u128) -> u128 {
     let (whole, rest) = (a / d, a % d);
-    whole.saturating_mul(m).saturating_add((rest * m + d / 2) / d)
+    // rest < d, so rest * m / d < m fits; only the product is wide.
+    whole
+        .saturating_mul(m)
+        .saturating_add(wide_div_round(widening_mul(rest, m), d))
+}
+
+/// The 256-bit product `a * b`, as its `(high, low)` 128-bit halves.
+fn widening_mul(a: u128, b: u128) -> (u128, u128) {
+    const LOW: u128 = u64::MAX as u128;
+    let (a1, a0) = (a >> 64, a & LOW);
+    let (b1, b0) = (b >> 64, b & LOW);
+    let (p00, p01, p10, p11) = (a0 * b0, a0 * b1, a1 * b0, a1 * b1);
+    // Below 3 * 2^64: no overflow.
+    let middle = (p00 >> 64) + (p01 & LOW) + (p10 & LOW);
+    let low = (p00 & LOW) | (middle << 64);
+    let high = p11 + (p01 >> 64) + (p10 >> 64) + (middle >> 64);
+    (high, low)
+}
+
+/// `(n + d / 2) / d` for a 256-bit `n = (high, low)` below `d * (2^128 - 1)`
+/// (so the quotient fits `u128`): binary long division, 128 rounds, run
+/// only when the rate changes.
+fn wide_div_round((high, low): (u128, u128), d: u128) -> u128 {
+    let (low, carry) = low.overflowing_add(d / 2);
+    // n + d/2 < d * 2^128, so the high half stays below d.
+    let mut remainder = high + u128::from(carry);
+    let mut quotient = 0u128;
+    for bit in (0..128).rev() {
+        // remainder < d; doubling it may pass 2^128 (`overflow`), and then
+        // it is surely at least d, and the difference fits again.
+        let overflow = remainder >> 127 == 1;
+        remainder = (remainder << 1) | ((low >> bit) & 1);
+        quotient <<= 1;
+        if overflow || remainder >= d {
+            remainder = remainder.wrapping_sub(d);
+            quotient |= 1;
+        }
+    }
+    quotient
 }
 
 impl Timeline {

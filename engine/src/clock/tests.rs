@@ -507,3 +507,101 @@ fn deferred_steps_are_due_again_next_frame_and_only_a_frames_cap_of_them_is_kept
     );
     assert_eq!(clock.advance(0.0).expect("advances").steps, 4);
 }
+
+/// The exact time `steps` steps of `rate` add, in seconds (as f64 of an
+/// exact fraction).
+fn segment_seconds(rate: Rate, steps: u64) -> f64 {
+    let (numer, denom) = rate.fraction();
+    let total = u128::from(numer) * u128::from(steps);
+    let denom = u128::from(denom);
+    (total / denom) as f64 + (total % denom) as f64 / denom as f64
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Rates from `hz_f64` have step denominators up to about 1e12, so the
+    /// time line's units (1e9 of them a second) pass 2^64: for any sequence
+    /// of such rates, the time still equals the sum of the steps taken,
+    /// within the documented rounding of half a nanosecond per change.
+    /// (Run in the test profile, with overflow checks on: a product that
+    /// overflows panics here.)
+    #[test]
+    fn time_is_the_sum_of_its_steps_across_rates_with_large_denominators(
+        segments in proptest::collection::vec((1.0f64..1.0e6, 0u64..5_000), 1..40),
+    ) {
+        let mut c = FixedClock::default();
+        let mut expected = 0.0f64;
+        for (k, &(hz, steps)) in segments.iter().enumerate() {
+            let rate = Rate::hz_f64(hz).expect("in range");
+            c.set_rate(rate);
+            c.step(u32::try_from(steps).expect("below 5000"));
+            expected += segment_seconds(rate, steps);
+            let bound = 0.5e-9 * (k + 1) as f64 + 1e-15 * expected;
+            prop_assert!(
+                (c.time() - expected).abs() <= bound,
+                "after change {k} to {hz} Hz ({:?}): time {} vs the sum of the steps {expected}",
+                rate.fraction(),
+                c.time()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_reported_rate_change_keeps_time_the_sum_of_its_steps() {
+    // From the hardening issue: after this rate the time was 0.16 s short.
+    let mut c = FixedClock::default();
+    let mut expected = 0.0;
+    for (hz, steps) in [
+        (59.94, 1_000_000),
+        (167_545.335_9, 3_000_000),
+        (997.3, 10),
+        (12_345.678_9, 7),
+    ] {
+        let rate = Rate::hz_f64(hz).expect("in range");
+        c.set_rate(rate);
+        c.step(steps);
+        expected += segment_seconds(rate, u64::from(steps));
+        assert!(
+            (c.time() - expected).abs() < 2e-9 + 1e-15 * expected,
+            "at {hz} Hz: {} vs {expected}",
+            c.time()
+        );
+    }
+}
+
+#[test]
+fn mul_div_round_is_exact_past_u128_products() {
+    // Small values against plain arithmetic.
+    for (a, m, d) in [(7u128, 3u128, 2u128), (10, 10, 3), (1, 1, 2), (5, 0, 7), (0, 9, 4)] {
+        assert_eq!(super::mul_div_round(a, m, d), (a * m + d / 2) / d, "{a} * {m} / {d}");
+    }
+    // (2^128 - 1)^2 = 2^256 - 2^129 + 1.
+    assert_eq!(super::widening_mul(u128::MAX, u128::MAX), (u128::MAX - 1, 1));
+    // Products far past u128: the quotient q satisfies
+    // q d <= a m + d/2 < (q + 1) d, checked in 256 bits.
+    let cases = [
+        (10u128.pow(21) - 7, 10u128.pow(21) + 3, 10u128.pow(21) + 1),
+        (u128::MAX / 3, u128::MAX / 5, u128::MAX / 4),
+        (
+            123_456_789_012_345_678_901_234,
+            987_654_321_098_765_432_109,
+            555_555_555_555_555_555_555_557,
+        ),
+    ];
+    for (a, m, d) in cases {
+        let rest = a % d;
+        let q = super::mul_div_round(rest, m, d);
+        let (high, low) = super::widening_mul(rest, m);
+        let (low, carry) = low.overflowing_add(d / 2);
+        let n = (high + u128::from(carry), low);
+        let below = super::widening_mul(q, d);
+        let above = {
+            let (h, l) = super::widening_mul(q, d);
+            let (l, c) = l.overflowing_add(d);
+            (h + u128::from(c), l)
+        };
+        assert!(below <= n && n < above, "{rest} * {m} / {d} gave {q}");
+    }
+}
