@@ -60,7 +60,8 @@ impl Emitter {
     /// # Errors
     /// [`SpawnError`] naming the field (`emitter.rate`, ...): non-finite
     /// vectors, a negative or non-finite rate, speed, spread or radius, a
-    /// jitter outside `[0, 1]`, a lifetime or mass that is not above zero.
+    /// jitter outside `[0, 1]`, a lifetime or mass that is not above zero,
+    /// an `owed` outside `[0, 1)`.
     pub fn validate(&self) -> Result<(), SpawnError> {
         let check = |field: &'static str, value: f32, ok: bool, expected: &'static str| {
             if ok {
@@ -135,6 +136,12 @@ impl Emitter {
             self.radius,
             non_negative(self.radius),
             "a finite radius, not negative",
+        )?;
+        check(
+            "emitter.owed",
+            self.owed,
+            (0.0..1.0).contains(&self.owed),
+            "a fraction of a particle in [0, 1) (state the step keeps: leave it as the step left it)",
         )
     }
 

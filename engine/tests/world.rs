@@ -453,6 +453,21 @@ fn invalid_emitters_are_refused_by_name() {
             .starts_with("step 0: emitter 0: invalid particle emitter.lifetime: NaN"),
         "{err}"
     );
+    // The state it carries between steps is checked as its settings are
+    // (a NaN there once surfaced as "is due NaN particles in one step").
+    for owed in [f32::NAN, -0.5, 1.0, f32::INFINITY] {
+        w.emitters_mut()[0] = tickwork_engine::Emitter {
+            owed,
+            ..Default::default()
+        };
+        let err = w.step(step_at(0, 0.01)).expect_err("invalid owed");
+        assert!(
+            err.to_string()
+                .starts_with(&format!("step 0: emitter 0: invalid particle emitter.owed: {owed}")),
+            "{err}"
+        );
+        assert!(err.to_string().contains("[0, 1)"), "{err}");
+    }
 }
 
 #[test]
