@@ -48,7 +48,7 @@ mod text_file;
 pub mod threads;
 pub mod world;
 
-pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource};
+pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};
 pub use colliders::{
     BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, Material, Plane, SphereCollisions, Touched,
 };

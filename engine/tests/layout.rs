@@ -108,7 +108,7 @@ fn run(method: &str, threshold: usize, plain: bool, threads: usize) -> (Vec<u64>
                     dt: 1.0 / 60.0,
                 })
                 .expect("a finite step");
-            lanes = lanes.max(report.lanes);
+            lanes = lanes.max(report.fused_lanes);
             hashes.push(support::hash_without_plain_path(&mut w));
         }
         (hashes, lanes)
@@ -168,7 +168,7 @@ fn lanes_left_without_work_by_whole_chunks_report_nothing_stale() {
                 time: tick as f64 / 60.0,
                 dt: 1.0 / 60.0,
             };
-            lanes.push(w.step(step).expect("a step").lanes);
+            lanes.push(w.step(step).expect("a step").fused_lanes);
         }
         assert_eq!(w.particles().len(), 2048, "exactly the short-lived ones expired");
         assert_eq!((lanes[0], lanes[9]), (3, 2), "lanes that ran");
@@ -268,7 +268,7 @@ fn facts_run(threshold: usize, plain: bool, threads: usize) -> (Vec<u64>, u32) {
                 time: tick as f64 / 60.0,
                 dt: 1.0 / 60.0,
             };
-            lanes = lanes.max(w.step(step).expect("a finite step").lanes);
+            lanes = lanes.max(w.step(step).expect("a finite step").fused_lanes);
             hashes.push(support::hash_without_plain_path(&mut w));
         }
         // The changes took effect (a stale fact would have let row 1 600

@@ -75,7 +75,7 @@ fn steady_allocations(w: &mut World) -> (usize, u32) {
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     let mut used = 0;
     for tick in 8..40 {
-        used = step(w, tick).lanes;
+        used = step(w, tick).fused_lanes;
     }
     (ALLOCATIONS.load(Ordering::Relaxed) - before, used)
 }

@@ -273,7 +273,7 @@ fn fused_parallel_and_plain_steps_agree_bit_for_bit() {
                 time: tick as f64 / 60.0,
                 dt: 1.0 / 60.0,
             });
-            fused_lanes = fused_lanes.max(report.expect("step").lanes);
+            fused_lanes = fused_lanes.max(report.expect("step").fused_lanes);
         }
         (support::hash_without_plain_path(&mut w), fused_lanes)
     };

@@ -244,7 +244,8 @@ fn non_finite_state_names_the_entity_and_step() {
         other => panic!("unexpected {other}"),
     }
     assert!(
-        err.to_string().starts_with(&format!("step 0: {wild} has a non-finite")),
+        err.to_string()
+            .starts_with(&format!("step 0: entity {wild} has a non-finite")),
         "{err}"
     );
 }

@@ -363,6 +363,9 @@ impl FixedClock {
     pub const MIN_TIME_SCALE: f64 = 1e-6;
     /// The longest `max_frame_time`, in seconds: an hour.
     pub const MAX_FRAME_TIME: f64 = 3600.0;
+    /// The shortest `max_frame_time`, in seconds: a nanosecond, the clock's
+    /// resolution (a shorter cap would count every frame as nothing).
+    pub const MIN_FRAME_TIME: f64 = 1e-9;
     /// The lowest speed factor [`HitchPolicy::SlowDown`] goes to, so that it
     /// always recovers (an extreme time scale once drove it to 0 for good).
     pub const MIN_DILATION: f64 = 1e-3;
@@ -373,18 +376,13 @@ impl FixedClock {
     /// A clock with `config`, at tick 0 and time 0.
     ///
     /// # Errors
-    /// [`ClockError::InvalidSetting`] for a `max_frame_time` that is not
-    /// finite, above zero and at most [`MAX_FRAME_TIME`](Self::MAX_FRAME_TIME),
+    /// [`ClockError::InvalidSetting`] for a `max_frame_time` outside
+    /// [`MIN_FRAME_TIME`](Self::MIN_FRAME_TIME) to
+    /// [`MAX_FRAME_TIME`](Self::MAX_FRAME_TIME),
     /// a `time_scale` outside [`MIN_TIME_SCALE`](Self::MIN_TIME_SCALE) to
     /// [`MAX_TIME_SCALE`](Self::MAX_TIME_SCALE), or a zero `max_steps_per_frame`.
     pub fn new(config: ClockConfig) -> Result<Self, ClockError> {
-        check_range(
-            "max_frame_time",
-            config.max_frame_time,
-            f64::MIN_POSITIVE,
-            Self::MAX_FRAME_TIME,
-            "seconds above zero, at most 3600",
-        )?;
+        check_max_frame_time(config.max_frame_time)?;
         check_time_scale(config.time_scale)?;
         if config.max_steps_per_frame == 0 {
             return Err(ClockError::InvalidSetting {
@@ -588,6 +586,19 @@ impl FixedClock {
         self.config.rate = rate;
     }
 
+    /// Sets the hitch guard's cap at run time: a frame longer than
+    /// `seconds` counts as `seconds` (as Bevy's `Time::set_max_delta`).
+    ///
+    /// # Errors
+    /// [`ClockError::InvalidSetting`] for a cap outside
+    /// [`MIN_FRAME_TIME`](Self::MIN_FRAME_TIME) to
+    /// [`MAX_FRAME_TIME`](Self::MAX_FRAME_TIME); the clock is unchanged.
+    pub fn set_max_frame_time(&mut self, seconds: f64) -> Result<(), ClockError> {
+        check_max_frame_time(seconds)?;
+        self.config.max_frame_time = seconds;
+        Ok(())
+    }
+
     /// Sets the time scale (game seconds per real second).
     ///
     /// # Errors
@@ -670,6 +681,16 @@ fn check_range(field: &'static str, value: f64, min: f64, max: f64, expected: &'
     } else {
         Err(ClockError::InvalidSetting { field, value, expected })
     }
+}
+
+fn check_max_frame_time(seconds: f64) -> Result<(), ClockError> {
+    check_range(
+        "max_frame_time",
+        seconds,
+        FixedClock::MIN_FRAME_TIME,
+        FixedClock::MAX_FRAME_TIME,
+        "from 1e-9 (a nanosecond) to 3600 seconds",
+    )
 }
 
 fn check_time_scale(scale: f64) -> Result<(), ClockError> {

@@ -415,7 +415,7 @@ fn a_huge_time_scale_is_an_error_naming_the_limit() {
     .unwrap_err()
     .to_string();
     assert!(
-        error.contains("max_frame_time: 1e300 (expected seconds above zero, at most 3600)"),
+        error.contains("max_frame_time: 1e300 (expected from 1e-9 (a nanosecond) to 3600 seconds)"),
         "{error}"
     );
 }
@@ -604,4 +604,26 @@ fn mul_div_round_is_exact_past_u128_products() {
         };
         assert!(below <= n && n < above, "{rest} * {m} / {d} gave {q}");
     }
+}
+
+#[test]
+fn max_frame_time_states_its_real_bounds_and_can_change_at_run_time() {
+    // 5e-324 is above zero: the message gives the bound it is below.
+    let error = FixedClock::new(ClockConfig {
+        max_frame_time: 5e-324,
+        ..ClockConfig::default()
+    })
+    .expect_err("below a nanosecond");
+    assert_eq!(
+        error.to_string(),
+        "invalid clock setting max_frame_time: 5e-324 (expected from 1e-9 (a nanosecond) to 3600 seconds)"
+    );
+    let mut c = FixedClock::default();
+    c.set_max_frame_time(0.05).expect("in range");
+    assert_eq!(c.config().max_frame_time, 0.05);
+    // A 1 s stall now counts as 50 ms: 3 steps at 60 Hz.
+    assert_eq!(c.advance(1.0).expect("frame").steps, 3);
+    let error = c.set_max_frame_time(f64::NAN).expect_err("not a number");
+    assert!(error.to_string().contains("max_frame_time: NaN"), "{error}");
+    assert_eq!(c.config().max_frame_time, 0.05, "unchanged by the refused value");
 }

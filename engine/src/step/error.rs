@@ -102,7 +102,7 @@ impl fmt::Display for SimulationError {
                 value,
                 cause,
             } => {
-                write!(f, "step {tick}: {entity} has a non-finite {field} {value}; ")?;
+                write!(f, "step {tick}: entity {entity} has a non-finite {field} {value}; ")?;
                 f.write_str(match cause {
                     NonFiniteCause::Step => "the step is too large for the integrator's stability, or a force diverged",
                     NonFiniteCause::Start => {

@@ -63,8 +63,11 @@ pub struct StepReport {
     pub despawned: u32,
     /// Whether the fused chunked path ran.
     pub fused: bool,
-    /// Lanes (threads) the fused path used.
-    pub lanes: u32,
+    /// Lanes of the fused chunked path: the contiguous parts of the rows
+    /// stepped at once on rayon's threads (1: one part on this thread; 0:
+    /// the fused path did not run, though the plain path's passes may
+    /// still have used rayon's threads).
+    pub fused_lanes: u32,
 }
 
 /// Steps between two flushes of subnormal velocities.
@@ -219,7 +222,7 @@ impl World {
             (1, n)
         };
         report.fused = true;
-        report.lanes = lanes as u32;
+        report.fused_lanes = lanes as u32;
         // Stateless methods only (they split pointwise): each lane builds
         // its own copy, stepping blocks, by the world's method's name.
         while self.lanes.len() < lanes {

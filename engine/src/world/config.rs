@@ -67,7 +67,7 @@ impl fmt::Display for WorldError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Entity(e) => e.fmt(f),
-            Self::Invalid { entity, error } => write!(f, "{entity}: {error}"),
+            Self::Invalid { entity, error } => write!(f, "entity {entity}: {error}"),
             Self::UnregisteredComponent { type_name } => {
                 write!(
                     f,

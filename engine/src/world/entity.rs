@@ -53,12 +53,14 @@ impl Default for Entity {
     }
 }
 
+/// `3v1` (index 3, generation 1), as Bevy and hecs show a handle; messages
+/// say "entity 3v1".
 impl fmt::Display for Entity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if *self == Self::PLACEHOLDER {
             return f.write_str("Entity::PLACEHOLDER (a handle set before anything was spawned)");
         }
-        write!(f, "entity {}v{}", self.index, self.generation)
+        write!(f, "{}v{}", self.index, self.generation)
     }
 }
 
@@ -85,9 +87,9 @@ pub enum EntityError {
 impl fmt::Display for EntityError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Despawned { entity } => write!(f, "{entity} was despawned"),
-            Self::Pending { entity } => write!(f, "{entity} is queued for spawning at the end of the step"),
-            Self::Unknown { entity } => write!(f, "{entity} was never spawned in this world"),
+            Self::Despawned { entity } => write!(f, "entity {entity} was despawned"),
+            Self::Pending { entity } => write!(f, "entity {entity} is queued for spawning at the end of the step"),
+            Self::Unknown { entity } => write!(f, "entity {entity} was never spawned in this world"),
         }
     }
 }
@@ -242,6 +244,9 @@ mod tests {
             EntityError::Despawned { entity: a }.to_string(),
             "entity 0v1 was despawned"
         );
+        // The handle alone, as Bevy and hecs show it: "entity {e}" in a
+        // game's message reads once.
+        assert_eq!(format!("entity {forged}"), "entity 99v1");
     }
 }
 
