@@ -318,3 +318,46 @@ fn collider_handles_change_remove_and_refuse_with_a_message() {
         "fell past 0 to the floor at -2: {lowest}"
     );
 }
+
+#[test]
+fn collider_and_force_configs_have_the_defaults_their_fields_state() {
+    use tickwork_engine::{BoxCollider, Gravity, Material, NBody};
+    let plane = Plane::default();
+    assert_eq!(
+        (plane.normal, plane.offset, plane.material, plane.speed),
+        (Vec3::Y, 0.0, Material::default(), 0.0)
+    );
+    let cube = BoxCollider::default();
+    assert_eq!(
+        (cube.min, cube.max, cube.inside, cube.material, cube.velocity),
+        (
+            Vec3::splat(-0.5),
+            Vec3::splat(0.5),
+            false,
+            Material::default(),
+            Vec3::ZERO
+        )
+    );
+    assert_eq!(Gravity::default(), Gravity::EARTH);
+    assert_eq!(NBody::default(), NBody::new(6.674e-11, 0.0));
+    // A literal names only what it changes: a wall facing +x at x = -1
+    // stops a particle moving left.
+    let mut w = World::default();
+    w.add_collider(Plane {
+        normal: Vec3::X,
+        offset: -1.0,
+        ..Plane::default()
+    });
+    let ball = w
+        .spawn(Particle {
+            velocity: Vec3::new(-10.0, 0.0, 0.0),
+            radius: 0.1,
+            ..Particle::default()
+        })
+        .expect("spawn");
+    for _ in 0..60 {
+        step(&mut w);
+    }
+    let x = w.position(ball).expect("alive").x;
+    assert!(x >= -1.0 + 0.1 - 1e-6, "the wall holds the ball at x = {x}");
+}

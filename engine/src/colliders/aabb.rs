@@ -12,18 +12,27 @@ use super::{Collider, ContactColumns};
 /// hands them its speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoxCollider {
-    /// Lower corner.
+    /// Lower corner (default `(-0.5, -0.5, -0.5)`).
     pub min: Vec3,
-    /// Upper corner.
+    /// Upper corner (default `(0.5, 0.5, 0.5)`: a unit cube at the origin).
     pub max: Vec3,
-    /// True: particles are kept inside (a container). False: kept outside (an obstacle).
+    /// True: particles are kept inside (a container). False (default):
+    /// kept outside (an obstacle).
     pub inside: bool,
-    /// Bounce and friction.
+    /// Bounce and friction (default [`Material::default`]).
     pub material: Material,
     /// Velocity in m/s (default zero: at rest). Each step first moves the
     /// box by `velocity dt`, then resolves contacts relative to it:
     /// `v' = u + response(v - u)`.
     pub velocity: Vec3,
+}
+
+impl Default for BoxCollider {
+    /// A solid unit cube at the origin, at rest, of the default material:
+    /// so a struct literal names only what it changes.
+    fn default() -> Self {
+        Self::solid(Vec3::splat(-0.5), Vec3::splat(0.5), Material::default())
+    }
 }
 
 impl BoxCollider {

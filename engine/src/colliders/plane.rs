@@ -12,17 +12,27 @@ use super::{BlockColumns, Collider, ContactColumns};
 /// the plane when `n . x - offset - r < 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
-    /// Unit normal pointing into the free side (a floor: `(0, 1, 0)`).
+    /// Unit normal pointing into the free side (default `(0, 1, 0)`: a floor).
     pub normal: Vec3,
-    /// Signed distance of the plane from the origin along the normal.
+    /// Signed distance of the plane from the origin along the normal
+    /// (default `0.0`).
     pub offset: f32,
-    /// Bounce and friction.
+    /// Bounce and friction (default [`Material::default`]).
     pub material: Material,
     /// Speed along the normal in m/s (default zero: at rest; moving along
     /// itself would change nothing). Each step first moves the plane,
     /// `offset += speed dt`, then resolves contacts in its frame, where it
     /// is at rest: `v' = u + response(v - u)` with `u = speed n`.
     pub speed: f32,
+}
+
+impl Default for Plane {
+    /// A floor at height 0, at rest, of the default material: so a struct
+    /// literal names only what it changes (`Plane { normal: Vec3::X,
+    /// ..Plane::default() }`).
+    fn default() -> Self {
+        Self::floor(0.0, Material::default())
+    }
 }
 
 impl Plane {

@@ -7,7 +7,7 @@ use super::{Force, mass_of};
 /// A uniform gravitational field.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gravity {
-    /// The acceleration, m/s^2 (Earth: `(0, -9.81, 0)`).
+    /// The acceleration, m/s^2 (default: Earth's, `(0, -9.81, 0)`).
     pub acceleration: Vec3,
 }
 
@@ -16,6 +16,13 @@ impl Gravity {
     pub const EARTH: Self = Self {
         acceleration: Vec3::new(0.0, -9.81, 0.0),
     };
+}
+
+impl Default for Gravity {
+    /// [`Gravity::EARTH`].
+    fn default() -> Self {
+        Self::EARTH
+    }
 }
 
 impl Force for Gravity {

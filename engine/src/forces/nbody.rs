@@ -13,15 +13,26 @@ use super::{Force, mass_of};
 /// Immovable particles (infinite mass) are no source: use an [`Attractor`](super::Attractor).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NBody {
-    /// The gravitational constant in the scene's units (SI: 6.674e-11).
+    /// The gravitational constant in the scene's units (default SI's,
+    /// [`NBody::G_SI`]).
     pub g: f32,
-    /// Softening length `eps`, m.
+    /// Softening length `eps`, m (default `0.0`: exact Newtonian).
     pub softening: f32,
-    /// Particle count from which rows are evaluated in parallel (default in [`NBody::new`]: 512).
+    /// Particle count from which rows are evaluated in parallel (default: 512).
     pub parallel_threshold: usize,
 }
 
+impl Default for NBody {
+    /// SI's gravitational constant, no softening.
+    fn default() -> Self {
+        Self::new(Self::G_SI, 0.0)
+    }
+}
+
 impl NBody {
+    /// The gravitational constant in SI units, m^3 / (kg s^2).
+    pub const G_SI: f32 = 6.674e-11;
+
     /// Mutual gravity with constant `g` and softening `softening`.
     #[must_use]
     pub fn new(g: f32, softening: f32) -> Self {
