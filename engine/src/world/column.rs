@@ -15,8 +15,10 @@
 //! and never read as rows (not by `get`, `iter`, equality or the state hash).
 //!
 //! Games, tests and the renderer read and write rows through
-//! [`get`](Vec3Column::get), [`set`](Vec3Column::set) and
-//! [`iter`](Vec3Column::iter); the step's kernels take the blocks.
+//! [`get`](Vec3Column::get), [`set`](Vec3Column::set),
+//! [`update_row`](Vec3Column::update_row), [`update`](Vec3Column::update)
+//! and [`iter`](Vec3Column::iter) (an example: [`RowsMut`]); the step's
+//! kernels take the blocks.
 
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -58,6 +60,34 @@ impl core::fmt::Debug for Vec3Column {
 
 /// Write access to a column's rows that cannot change its length (which
 /// must stay the world's row count): what [`World::query_mut`](super::World::query_mut) hands out.
+///
+/// Read a row with [`get`](Self::get), change one with
+/// [`update_row`](Self::update_row), every row with
+/// [`update`](Self::update), and read them all with [`iter`](Self::iter):
+///
+/// ```
+/// use glam::{Vec3, Vec3A};
+/// use tickwork_engine::{Particle, World};
+///
+/// /// A game's column: how hard each particle is pushed.
+/// #[derive(Clone, Default)]
+/// struct Boost(f32);
+///
+/// let mut world = World::default();
+/// world.register::<Boost>();
+/// let ship = world.spawn(Particle { velocity: Vec3::X, ..Particle::default() })?;
+/// world.insert(ship, Boost(2.0))?;
+/// let row = world.row(ship)?;
+///
+/// let mut query = world.query_mut::<Boost>()?;
+/// // One row: doubled by its boost.
+/// let boost = query.component[row].0;
+/// assert_eq!(query.velocity.update_row(row, |v| v * boost), Some(Vec3A::new(2.0, 0.0, 0.0)));
+/// // Every row, with its row index: nothing moves up.
+/// query.velocity.update(|_, v| v * Vec3A::new(1.0, 0.0, 1.0));
+/// assert!(query.velocity.iter().all(|v| v.y == 0.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct RowsMut<'a> {
     column: &'a mut Vec3Column,
@@ -99,6 +129,12 @@ impl<'a> RowsMut<'a> {
     /// Applies `f` to every row's vector, in row order, with its row.
     pub fn update(&mut self, f: impl FnMut(usize, Vec3A) -> Vec3A) {
         self.column.update(f);
+    }
+
+    /// Replaces row `row`'s vector `v` with `f(v)` and returns the new
+    /// vector; `None` (and `f` not called) past the last row.
+    pub fn update_row(&mut self, row: usize, f: impl FnOnce(Vec3A) -> Vec3A) -> Option<Vec3A> {
+        self.column.update_row(row, f)
     }
 }
 
@@ -149,6 +185,18 @@ impl Vec3Column {
             let block = &mut self.blocks[row / LANES];
             block.set_lane(row % LANES, f(row, block.lane(row % LANES)));
         }
+    }
+
+    /// Replaces row `row`'s vector `v` with `f(v)` and returns the new
+    /// vector; `None` (and `f` not called) past the last row.
+    pub fn update_row(&mut self, row: usize, f: impl FnOnce(Vec3A) -> Vec3A) -> Option<Vec3A> {
+        if row >= self.len {
+            return None;
+        }
+        let block = &mut self.blocks[row / LANES];
+        let value = f(block.lane(row % LANES));
+        block.set_lane(row % LANES, value);
+        Some(value)
     }
 
     /// Row `row` (`row < len`, or a padding lane of the last block).
@@ -350,6 +398,24 @@ mod tests {
         assert_eq!(c.blocks()[1].lane(2), Vec3A::ZERO);
         assert_eq!(c.blocks()[1].x.to_array(), [4.0, 5.0, 0.0, 0.0]);
         assert_eq!(c.iter().count(), 6);
+    }
+
+    #[test]
+    fn update_row_changes_one_row_and_nothing_past_the_last() {
+        let mut c = column(6);
+        assert_eq!(c.update_row(5, |v| v * 2.0), Some(Vec3A::new(10.0, 30.0, -10.0)));
+        assert_eq!(c.get(5), Some(Vec3A::new(10.0, 30.0, -10.0)));
+        assert_eq!(c.get(4), Some(Vec3A::new(4.0, 14.0, -4.0)), "its neighbour unchanged");
+        let mut called = false;
+        assert_eq!(
+            c.update_row(6, |v| {
+                called = true;
+                v
+            }),
+            None
+        );
+        assert!(!called, "no call past the last row (padding is not a row)");
+        assert_eq!(c.blocks()[1].lane(2), Vec3A::ZERO);
     }
 
     #[test]
