@@ -541,3 +541,49 @@ fn ages_count_steps_and_edited_lifetimes_are_seen() {
     assert!(!w.contains(first) && w.contains(second));
     assert_eq!(w.age(first), Err(EntityError::Despawned { entity: first }));
 }
+
+#[test]
+fn n_body_past_the_pair_limit_is_an_error_naming_it_before_the_step() {
+    use tickwork_engine::{NBody, WorldConfig};
+    // A small limit stands for the default's 50 million (10 000 bodies).
+    let mut w = World::new(WorldConfig {
+        max_pairs: 10,
+        ..WorldConfig::default()
+    })
+    .expect("world");
+    w.add_force(NBody::new(1.0, 0.1));
+    for k in 0..5 {
+        w.spawn(Particle {
+            position: Vec3::new(k as f32, 0.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("spawn");
+    }
+    // 5 bodies: 10 pairs, at the limit.
+    w.step(step_at(0, 0.01)).expect("10 pairs are allowed");
+    let sixth = w
+        .spawn(Particle {
+            position: Vec3::new(9.0, 0.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("spawn");
+    let before = w.position(sixth).expect("alive");
+    let err = w.step(step_at(1, 0.01)).expect_err("15 pairs are past it");
+    assert_eq!(
+        err.to_string(),
+        "step 1: force nbody would visit 15 pairs among 6 particles in one evaluation, past the limit of 10 \
+         (WorldConfig::max_pairs); use fewer particles or raise the limit"
+    );
+    assert_eq!(
+        w.position(sixth).expect("alive"),
+        before,
+        "refused before the step changed anything"
+    );
+    // The default allows n-body among 10 000 particles, not 10 001.
+    let force = NBody::default();
+    use tickwork_engine::Force;
+    let limit = WorldConfig::default().max_pairs;
+    assert!(force.pairs(10_000) <= limit && force.pairs(10_001) > limit);
+    // No overflow at any size.
+    assert_eq!(force.pairs(usize::MAX), u64::MAX / 2);
+}

@@ -44,6 +44,17 @@ pub trait Force: Send + Sync + fmt::Debug + ForceState {
         true
     }
 
+    /// Pairs of particles one evaluation of the force visits among
+    /// `particles` (default: 0, a force of each particle alone; n-body:
+    /// `n (n - 1) / 2`). The step refuses to start past
+    /// [`WorldConfig::max_pairs`](crate::WorldConfig), so that quadratic
+    /// work is an error that names its size, not a step that runs for
+    /// minutes. Saturates rather than overflowing.
+    fn pairs(&self, particles: usize) -> u64 {
+        let _ = particles;
+        0
+    }
+
     /// The part of the force that is linear drag `-b v`, for exponential
     /// Euler, which integrates it exactly (default: 0).
     fn linear_drag(&self) -> f32 {

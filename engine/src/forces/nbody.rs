@@ -68,6 +68,11 @@ impl Force for NBody {
         false
     }
 
+    fn pairs(&self, particles: usize) -> u64 {
+        let n = particles as u64;
+        n.saturating_mul(n.saturating_sub(1)) / 2
+    }
+
     fn accumulate(&self, _t: f32, _first: usize, x: &[Vec3A], _v: &[Vec3A], w: &[f32], out: &mut [Vec3A]) {
         if x.len() >= self.parallel_threshold {
             out.par_iter_mut()

@@ -64,6 +64,22 @@ pub enum SimulationError {
         /// The limit in force.
         limit: usize,
     },
+    /// The forces would visit more pairs of particles in one evaluation
+    /// than [`WorldConfig::max_pairs`](crate::world::WorldConfig) allows
+    /// (n-body among too many particles); checked before the step changes
+    /// anything.
+    PairLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The force's name (`"nbody"`).
+        force: &'static str,
+        /// The particles it would act among.
+        particles: usize,
+        /// The pairs one evaluation would visit.
+        pairs: u64,
+        /// The limit in force.
+        limit: u64,
+    },
     /// The fixed step itself is invalid: a time or `dt` that is not finite
     /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
     InvalidStep {
@@ -128,6 +144,17 @@ impl fmt::Display for SimulationError {
                 "step {tick}: emitter {emitter} would take the world past its limit of {limit} particles \
                  (WorldConfig::max_particles); give its particles a shorter lifetime, lower its rate \
                  or raise the limit"
+            ),
+            Self::PairLimit {
+                tick,
+                force,
+                particles,
+                pairs,
+                limit,
+            } => write!(
+                f,
+                "step {tick}: force {force} would visit {pairs} pairs among {particles} particles in one evaluation, \
+                 past the limit of {limit} (WorldConfig::max_pairs); use fewer particles or raise the limit"
             ),
             Self::InvalidStep { tick, time, dt } => write!(
                 f,

@@ -127,6 +127,7 @@ impl World {
         }
         let (t, dt) = (step.time as f32, step.dt as f32);
         self.check_emitters(dt, tick)?;
+        self.check_pairs(tick)?;
         let mut report = StepReport::default();
         for force in &mut self.forces {
             force.prepare(&self.entities);
@@ -467,6 +468,28 @@ impl World {
                     tick,
                     emitter: k,
                     due: f64::from(due),
+                    limit,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The pairs each force would visit among the world's particles,
+    /// against [`WorldConfig::max_pairs`](crate::WorldConfig): checked
+    /// before the step changes anything (the world grows between steps,
+    /// by spawns and emitters, and forces are added between them).
+    fn check_pairs(&self, tick: u64) -> Result<(), SimulationError> {
+        let particles = self.entities.len();
+        let limit = self.config.max_pairs;
+        for force in &self.forces {
+            let pairs = force.pairs(particles);
+            if pairs > limit {
+                return Err(SimulationError::PairLimit {
+                    tick,
+                    force: force.name(),
+                    particles,
+                    pairs,
                     limit,
                 });
             }
