@@ -335,6 +335,26 @@ fn engine_step(c: &mut Criterion) {
     group.bench_function("semi_implicit_euler_grid_mixed_sizes_1t", |b| {
         b.iter_custom(|iters| timed_steps(pool, &mut world, &make_mixed, iters));
     });
+    // Two spheres of radius 1e30 far off (any ratio of radii): each size
+    // on a level of its own, so about the uniform pile's cost again (a
+    // grid of 24 levels put every grain in one cell: quadratic).
+    let make_giants = || {
+        let mut w = rain(10_000, "semi_implicit_euler", true);
+        for x in [1e31, -1e31] {
+            w.spawn(Particle {
+                position: Vec3::new(x, 0.0, 0.0),
+                radius: 1e30,
+                mass: 1e6,
+                ..Particle::default()
+            })
+            .expect("valid");
+        }
+        w
+    };
+    let mut world = make_giants();
+    group.bench_function("semi_implicit_euler_grid_giants_1t", |b| {
+        b.iter_custom(|iters| timed_steps(pool, &mut world, &make_giants, iters));
+    });
     group.finish();
 }
 

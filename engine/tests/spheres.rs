@@ -184,6 +184,104 @@ fn mixed_sizes_cost_about_as_much_as_one_size() {
     assert!(tested < 4 * n, "{tested} candidate pairs for {n} spheres");
 }
 
+/// A packed crowd of grains of radius 0.045 (the crowd scene's), in
+/// touching pairs along x, 0.3 m apart otherwise, plus `giants` (radius,
+/// x) far from them. Returns the world and the touching pairs.
+fn grains_and_giants(side: usize, giants: &[(f32, f32)]) -> (World, usize) {
+    let mut w = World::new(WorldConfig::default()).expect("default");
+    w.add_collider(SphereCollisions::new(Material::default()));
+    let mut pairs = 0;
+    for i in 0..side {
+        for j in 0..side {
+            let at = Vec3::new(i as f32 * 0.3, j as f32 * 0.3, 0.0);
+            for dx in [0.0, 0.08] {
+                w.spawn(Particle {
+                    position: at + Vec3::X * dx,
+                    radius: 0.045,
+                    ..Particle::default()
+                })
+                .expect("valid");
+            }
+            pairs += 1;
+        }
+    }
+    for &(radius, x) in giants {
+        w.spawn(Particle {
+            position: Vec3::new(x, 0.0, 0.0),
+            radius,
+            mass: 1e6,
+            ..Particle::default()
+        })
+        .expect("valid");
+    }
+    (w, pairs)
+}
+
+#[test]
+fn spheres_of_any_size_ratio_keep_the_broad_phase_linear() {
+    // Before: a grid of 24 levels put grains 2^100 times smaller than the
+    // biggest sphere all in its finest level's cells, 2.4e23 m wide: every
+    // pair of grains a candidate (a 100 000-grain crowd took over 10 s a
+    // step). Now each size has its level.
+    let side = 100;
+    let (mut alone, pairs) = grains_and_giants(side, &[]);
+    step(&mut alone).expect("step");
+    let baseline = spheres(&mut alone).pairs_tested();
+    assert_eq!(contacts(&mut alone), pairs);
+    for giants in [
+        // Two of radius 1e30 (the hardening issue's case), far off.
+        vec![(1e30, 1e31), (1e30, -1e31)],
+        // A ball 2^25 times a grain's radius (past the f32 levels).
+        vec![(1.5e6, 1e8)],
+        // The largest f32 radius and the smallest grains' ratio.
+        vec![(3e38, 3.4e38)],
+    ] {
+        let (mut w, pairs) = grains_and_giants(side, &giants);
+        step(&mut w).expect("step");
+        let n = w.particles().len();
+        let tested = spheres(&mut w).pairs_tested();
+        assert_eq!(
+            contacts(&mut w),
+            pairs,
+            "every touching pair of grains, with giants {giants:?}"
+        );
+        assert!(
+            tested <= baseline + 2 * n,
+            "with giants {giants:?}: {tested} candidate pairs, {baseline} without them, for {n} spheres"
+        );
+    }
+}
+
+#[test]
+fn a_grain_inside_a_sphere_a_hundred_million_times_bigger_is_found() {
+    // Past the f32 levels (ratio 2^27), placed in f64. (At such a ratio a
+    // grain on the surface is below the f32 resolution of the distance, so
+    // the grain that touches is well inside.)
+    let mut w = World::new(WorldConfig::default()).expect("default");
+    w.add_collider(SphereCollisions::new(Material::default()));
+    let big = 4_194_304.0f32; // 2^22 m
+    w.spawn(Particle {
+        radius: big,
+        mass: 1e9,
+        ..Particle::default()
+    })
+    .expect("valid");
+    for (x, y) in [(1000.0, -3e6), (0.0, 8_388_608.0), (-5e6, 0.0)] {
+        w.spawn(Particle {
+            position: Vec3::new(x, y, 0.0),
+            radius: 0.031_25,
+            ..Particle::default()
+        })
+        .expect("valid");
+    }
+    step(&mut w).expect("step");
+    assert_eq!(
+        contacts(&mut w),
+        1,
+        "the grain inside the ball touches it, the two outside do not"
+    );
+}
+
 /// Runs `f` on a rayon pool of `threads` threads.
 fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()

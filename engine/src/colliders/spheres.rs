@@ -19,13 +19,16 @@
 //! and a single radius-20 ball among radius-0.05 grains put thousands of
 //! grains in each cell (a step 270 times slower, quadratic in the grains).
 //! So the grid is hierarchical: a sphere of radius `r` belongs to level
-//! `l = floor(log2(r_max / r))` (at most [`LEVELS`] levels), whose cells have
-//! size `2 r_max / 2^l >= 2 r`; all levels share one hash table keyed by
-//! (level, cell). A sphere looks for partners in its own level (those later
-//! in the sorted order) and in every coarser, non-empty level (bigger
-//! spheres: their cell size covers the contact distance `r_i + r_j`), so every
-//! touching pair is found once, and the cost stays linear in the number of
-//! spheres times the number of levels.
+//! `l = floor(log2(r_max / r))` (up to [`LEVELS`], enough for any two `f32`
+//! radii), whose cells have size `2 r_max / 2^l >= 2 r`; all levels share
+//! one hash table keyed by (level, cell). A sphere looks for partners in its
+//! own level (those later in the sorted order) and in every coarser level
+//! in use (bigger spheres: their cell size covers the contact distance
+//! `r_i + r_j`), so every touching pair is found once, and the cost stays
+//! linear in the number of spheres times the number of levels in use,
+//! whatever the ratio of the radii (two spheres of radius 1e30 among grains
+//! of 0.045 add a level, not a quadratic term). Up to 24 levels the cells
+//! are placed in `f32`; a finer level places every sphere in `f64`.
 //!
 //! The gathered positions are a column per axis. On the dense grid the
 //! narrow phase tests four candidates with one comparison against the
@@ -67,10 +70,17 @@ struct SortedPair {
 /// Largest number of grid cells per particle for which the grid is dense.
 pub const DENSE_CELLS: usize = 8;
 
-/// Levels of the hierarchical grid: spheres smaller than `2^-(LEVELS - 1)`
-/// of the largest share the finest level (its cells are then larger than
-/// they need be, which costs time, never a contact).
-pub const LEVELS: u32 = 24;
+/// Levels of the hierarchical grid: enough for any two `f32` radii (the
+/// largest over the smallest positive is below `2^278`), so no mix of sizes
+/// puts small spheres in cells made for big ones (two grains of radius
+/// 1e30 among 100 000 of radius 0.045, each in a cell of its own size, cost
+/// what the grains alone cost, plus a level).
+pub const LEVELS: u32 = 280;
+
+/// Levels below this are placed in `f32` (the common case, kept bit for bit
+/// as it always was); a world using a finer one places every sphere in
+/// `f64`, whose range holds the cells of any `f32` sphere.
+const F32_LEVELS: u16 = 24;
 
 /// Sphere-sphere collisions with restitution, positions separated in
 /// proportion to inverse mass and an impulse along the line of centres.
@@ -87,8 +97,10 @@ pub struct SphereCollisions {
     /// key order, the start of each key's run, and the gathered columns.
     cell: Vec<I64Vec3>,
     /// Level of each row (mixed sizes), and the same in sorted order.
-    level: Vec<u8>,
-    sorted_level: Vec<u8>,
+    level: Vec<u16>,
+    sorted_level: Vec<u16>,
+    /// The levels some sphere is on, finest first.
+    used_levels: Vec<u16>,
     key: Vec<u32>,
     sorted: Vec<u32>,
     /// Each row's place in the sorted order (the inverse of `sorted`).
@@ -634,7 +646,7 @@ const NEIGHBOURS: [I64Vec3; 27] = {
 /// The spatial hash of Teschner et al. (2003) on 64-bit cells, with the
 /// level mixed in, folded to a bucket.
 #[inline]
-fn hash(cell: I64Vec3, level: u8, mask: u32) -> u32 {
+fn hash(cell: I64Vec3, level: u16, mask: u32) -> u32 {
     let h = cell.x.wrapping_mul(73_856_093)
         ^ cell.y.wrapping_mul(19_349_663)
         ^ cell.z.wrapping_mul(83_492_791)
@@ -648,6 +660,11 @@ fn hash(cell: I64Vec3, level: u8, mask: u32) -> u32 {
 #[inline]
 fn cell_of(x: Vec3A, inv_cell: f32) -> I64Vec3 {
     (x * inv_cell).floor().as_i64vec3()
+}
+
+/// `2^l`, exactly (`l` below 1024).
+fn power_of_two(l: u16) -> f64 {
+    f64::from_bits((1023 + u64::from(l)) << 52)
 }
 
 /// The cell at `offset` from `home`, or `None` past the edge of i64 (a
@@ -869,30 +886,66 @@ impl SphereCollisions {
         let inv_top = 1.0 / (2.0 * max_radius);
         // Level of each sphere, and its cell at that level (cells 2^l times
         // finer than the top level's). A radius of 0 touches nothing: finest.
-        self.level.clear();
-        self.level.extend(c.radius.iter().map(|&r| {
+        // The level of a radius (below 2^128 times smaller, in f32 as it
+        // always was; past it, in f64, whose range holds the ratio).
+        let level_of = |r: f32| -> Option<u16> {
             let ratio = max_radius / r;
             if ratio.is_finite() {
-                (math::log2(ratio).floor() as u32).min(LEVELS - 1) as u8
+                Some(math::log2(ratio).floor() as u16)
+            } else if r > 0.0 {
+                Some(math::log2(f64::from(max_radius) / f64::from(r)).floor() as u16)
             } else {
-                (LEVELS - 1) as u8
+                None
             }
-        }));
-        let mut used = 0u32;
+        };
+        // A radius of 0 touches only bigger spheres: the finest level in
+        // use (or, as always, the 24th).
+        let finest = c
+            .radius
+            .iter()
+            .filter_map(|&r| level_of(r))
+            .fold(F32_LEVELS - 1, u16::max)
+            .min(LEVELS as u16 - 1);
+        self.level.clear();
+        self.level.extend(
+            c.radius
+                .iter()
+                .map(|&r| level_of(r).map_or(finest, |l| l.min(LEVELS as u16 - 1))),
+        );
+        let mut used = [0u64; (LEVELS as usize).div_ceil(64)];
         for &l in &self.level {
-            used |= 1 << l;
+            used[usize::from(l / 64)] |= 1 << (l % 64);
         }
+        self.used_levels.clear();
+        self.used_levels.extend(
+            (0..LEVELS as u16)
+                .rev()
+                .filter(|l| used[usize::from(l / 64)] & (1 << (l % 64)) != 0),
+        );
         self.cell.clear();
-        let scale = |l: u8| inv_top * (1u32 << l) as f32;
-        self.cell
-            .extend(c.position.iter().zip(&self.level).map(|(x, &l)| cell_of(*x, scale(l))));
+        if finest < F32_LEVELS && inv_top.is_normal() {
+            let scale = |l: u16| inv_top * (1u32 << l) as f32;
+            self.cell
+                .extend(c.position.iter().zip(&self.level).map(|(x, &l)| cell_of(*x, scale(l))));
+        } else {
+            // Every cell from the same f64 product, scaled by exact powers
+            // of two, so a coarser level's cell is a shift of a finer one's.
+            let inv_top = 0.5 / f64::from(max_radius);
+            self.cell.extend(
+                c.position
+                    .iter()
+                    .zip(&self.level)
+                    .map(|(x, &l)| (x.as_dvec3() * inv_top * power_of_two(l)).floor().as_i64vec3()),
+            );
+        }
         let buckets = (2 * n).next_power_of_two();
         let mask = (buckets - 1) as u32;
         self.key.clear();
         self.key
             .extend(self.cell.iter().zip(&self.level).map(|(cell, &l)| hash(*cell, l, mask)));
         self.sort_and_gather(buckets, c);
-        let (sorted_cell, starts, sorted_level) = (&self.sorted_cell, &self.starts, &self.sorted_level);
+        let (sorted_cell, starts, sorted_level, used_levels) =
+            (&self.sorted_cell, &self.starts, &self.sorted_level, &self.used_levels);
         let mut w = Window::whole(
             [&mut self.x, &mut self.y, &mut self.z],
             &mut self.velocity,
@@ -905,8 +958,9 @@ impl SphereCollisions {
             let own = sorted_level[i];
             // Own level, then every coarser non-empty one, whose cells are
             // 2^(own - level) of this level's: the cell there is a shift.
-            for level in (0..=own).rev().filter(|l| used & (1 << l) != 0) {
-                let home = sorted_cell[i] >> i64::from(own - level);
+            for &level in used_levels.iter().filter(|&&l| l <= own) {
+                // Past 63 levels the shift leaves the sign: 0 or -1.
+                let home = sorted_cell[i] >> i64::from((own - level).min(63));
                 for offset in NEIGHBOURS {
                     let Some(cell) = neighbour(home, offset) else {
                         continue;
