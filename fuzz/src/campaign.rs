@@ -25,6 +25,10 @@ pub struct Campaign {
     pub case_limit: Duration,
     /// A case whose live heap peaks past this is a defect (default: 512 MiB).
     pub memory_limit: usize,
+    /// A case that takes longer than this (parse, build and its steps) is
+    /// a defect named `over budget` (default: none). For full-scale cases,
+    /// where work that grows faster than the particles shows.
+    pub case_budget: Option<Duration>,
     /// The texts mutated (default: none; see [`shipped_seeds`]).
     pub seeds: Vec<String>,
     /// What a case runs (default: [`run_case`], scenes; or
@@ -40,6 +44,7 @@ impl Default for Campaign {
             duration: None,
             case_limit: Duration::from_secs(60),
             memory_limit: 512 << 20,
+            case_budget: None,
             seeds: Vec::new(),
             target: run_case,
         }
@@ -128,15 +133,25 @@ enum Verdict {
     Defect(String),
 }
 
+/// What a case may use: heap and (if set) wall time.
+#[derive(Clone, Copy)]
+struct Limits {
+    memory: usize,
+    budget: Option<Duration>,
+}
+
 /// Runs a case; also returns its heap's peak above what was live before it.
-fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, memory_limit: usize) -> (Verdict, usize) {
+fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, limits: Limits) -> (Verdict, usize) {
     if let Ok(mut slot) = PANIC_MESSAGE.lock() {
         *slot = None;
     }
     let base = crate::limits::live_bytes();
     begin_case(case);
+    let started = Instant::now();
     let result = catch_unwind(AssertUnwindSafe(|| target(text)));
+    let took = started.elapsed();
     let peak = peak_bytes().saturating_sub(base);
+    let memory_limit = limits.memory;
     let verdict = match result {
         Err(_) => {
             let message = PANIC_MESSAGE.lock().ok().and_then(|m| m.clone()).unwrap_or_default();
@@ -146,13 +161,18 @@ fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, mem
         Ok(Ok(_)) if peak > memory_limit => Verdict::Defect(format!(
             "memory: the case's heap peaked at {peak} bytes, past the limit of {memory_limit}"
         )),
+        Ok(Ok(_)) if limits.budget.is_some_and(|budget| took > budget) => Verdict::Defect(format!(
+            "over budget: the case took {:.2} s, past its budget of {:.2} s",
+            took.as_secs_f64(),
+            limits.budget.map_or(0.0, |b| b.as_secs_f64())
+        )),
         Ok(Ok(outcome)) => Verdict::Fine(outcome),
     };
     (verdict, peak)
 }
 
-/// The kind of a defect (`panicked`, `memory`, or the message up to its
-/// first colon), which minimising keeps.
+/// The kind of a defect (`panicked`, `memory`, `over budget`, or the
+/// message up to its first colon), which minimising keeps.
 fn kind(what: &str) -> &str {
     what.split(':').next().unwrap_or(what)
 }
@@ -185,7 +205,11 @@ impl Campaign {
             }
             let text = mutator.mutate(&self.seeds);
             watchdog.begin(case, &text);
-            let (verdict, peak) = judge(self.target, case, &text, self.memory_limit);
+            let limits = Limits {
+                memory: self.memory_limit,
+                budget: self.case_budget,
+            };
+            let (verdict, peak) = judge(self.target, case, &text, limits);
             report.peak_bytes = report.peak_bytes.max(peak);
             report.cases += 1;
             match verdict {
@@ -199,15 +223,17 @@ impl Campaign {
                 }
                 Verdict::Defect(what) => {
                     let wanted = kind(&what).to_owned();
+                    // A slow case is slow to try again: fewer tries.
+                    let tries = if wanted == "over budget" { 20 } else { 2000 };
                     // Each try is a case of its own to the watchdog: the
                     // minimising as a whole may take longer than one case.
                     let minimised = minimise(
                         &text,
                         &mut |t| {
                             watchdog.begin(case, t);
-                            matches!(judge(self.target, case, t, self.memory_limit).0, Verdict::Defect(w) if kind(&w) == wanted)
+                            matches!(judge(self.target, case, t, limits).0, Verdict::Defect(w) if kind(&w) == wanted)
                         },
-                        2000,
+                        tries,
                     );
                     report.defects.push(Defect {
                         case,

@@ -14,6 +14,12 @@ pub const STEPS: u64 = 4;
 /// emitter rates reach it quickly, and the N-body force is quadratic.
 pub const MAX_PARTICLES: usize = 4096;
 
+/// The particle limit of a full-scale case ([`run_full_scale_case`]): the
+/// shipped 100 000-particle scenes fit, with room for mutations to grow
+/// them; what is quadratic at that scale shows as a case over its time
+/// budget ([`Campaign::case_budget`](crate::Campaign)).
+pub const FULL_SCALE_PARTICLES: usize = 250_000;
+
 /// Where a case stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
@@ -41,6 +47,21 @@ pub enum Outcome {
 /// # Errors
 /// The defect found.
 pub fn run_case(text: &str) -> Result<Outcome, String> {
+    run_case_with(text, MAX_PARTICLES)
+}
+
+/// [`run_case`] at full scale: the world may hold
+/// [`FULL_SCALE_PARTICLES`], so the shipped 100 000-particle scenes run
+/// as they ship (with their mutations), and only the engine's own limits
+/// (`WorldConfig::max_pairs`, the sphere grid's levels) keep a case short.
+///
+/// # Errors
+/// The defect found.
+pub fn run_full_scale_case(text: &str) -> Result<Outcome, String> {
+    run_case_with(text, FULL_SCALE_PARTICLES)
+}
+
+fn run_case_with(text: &str, max_particles: usize) -> Result<Outcome, String> {
     let scene = match Scene::parse(text, "fuzz.ron") {
         Ok(scene) => scene,
         Err(error) => {
@@ -55,7 +76,7 @@ pub fn run_case(text: &str) -> Result<Outcome, String> {
         Err(error) => return refused(Stage::Build, error.to_string()),
     };
     let config = WorldConfig {
-        max_particles: MAX_PARTICLES,
+        max_particles,
         ..scene.world_config()
     };
     let mut world = match scene.build_with(config) {

@@ -4,7 +4,9 @@
 //! allocation limit and a hang watchdog; and the shipped input recordings,
 //! mutated the same way, parsed and replayed by their game.
 //!
-//! CI runs a bounded campaign (a fixed seed, `tests/campaign.rs`); a long
+//! CI runs a bounded campaign (a fixed seed, `tests/campaign.rs`), and a
+//! full-scale one over the shipped 100 000-particle scenes where a case
+//! over its time budget is a defect (quadratic work shows only at scale); a long
 //! run is `cargo run --release -p tickwork-fuzz -- --minutes 30`. Inputs that
 //! found bugs, minimised, live in `fuzz/regressions/` with the outcome each
 //! must now have (`tests/regressions.rs`).
@@ -17,7 +19,7 @@ pub mod mutate;
 pub mod recording;
 
 pub use campaign::{Campaign, Defect, Report};
-pub use case::{Outcome, Stage, run_case};
+pub use case::{Outcome, Stage, run_case, run_full_scale_case};
 pub use limits::LimitedAlloc;
 pub use mutate::Mutator;
 pub use recording::run_recording_case;

@@ -47,6 +47,33 @@ fn a_fixed_seed_campaign_over_every_shipped_scene_finds_no_defect() {
 }
 
 #[test]
+fn a_fixed_seed_full_scale_campaign_over_the_shipped_scenes_finds_no_defect() {
+    // The shipped scenes as they ship (100 000 particles), mutated: work
+    // that grows faster than the particles (n-body, a sphere grid gone
+    // coarse) shows only here, as a case over its budget, named.
+    let _one_at_a_time = ONE_CAMPAIGN.lock();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes");
+    let seeds = tickwork_fuzz::campaign::ron_files(&scenes).expect("the shipped scenes");
+    assert!(
+        seeds.iter().any(|s| s.contains("count: (100, 10, 100)")),
+        "a 100 000-particle scene is among the seeds"
+    );
+    tickwork_fuzz::limits::set_hard_limit(4 << 30);
+    let report = Campaign {
+        seed: 20261204,
+        cases: 600,
+        seeds,
+        target: tickwork_fuzz::run_full_scale_case,
+        case_budget: Some(std::time::Duration::from_secs(2)),
+        ..Campaign::default()
+    }
+    .run();
+    assert_no_defect(&report);
+    assert_eq!(report.cases, 600);
+    assert!(report.stepped > 0, "{}", report.summary());
+}
+
+#[test]
 fn a_fixed_seed_campaign_over_the_shipped_recordings_finds_no_defect() {
     // In the same process as the scene campaign, but not at the same time:
     // the panic hook and the allocator's counters are the process's.

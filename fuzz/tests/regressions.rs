@@ -1,12 +1,21 @@
 //! Every input in `fuzz/regressions/` (minimised from a bug the fuzzer or
 //! a hostile user found) must now have the outcome its header states:
 //! `// expect: stepped`, or `// expect: <parse|build|step> <text>` for a
-//! refusal at that stage whose message contains the text.
+//! refusal at that stage whose message contains the text. An input marked
+//! `// scale: full` runs as a full-scale case (the world may hold
+//! 250 000 particles), within the full-scale campaign's time budget.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
-use tickwork_fuzz::{Outcome, Stage, run_case};
+use std::time::{Duration, Instant};
+
+use tickwork_fuzz::{Outcome, Stage, run_case, run_full_scale_case};
+
+/// A full-scale input's budget: the full-scale campaign's (a 100 000-grain
+/// crowd parses, builds and steps four times in a few tenths of a second on
+/// CI's two cores; quadratic work takes minutes).
+const FULL_SCALE_BUDGET: Duration = Duration::from_secs(2);
 
 #[test]
 fn every_regression_input_has_the_outcome_it_states() {
@@ -30,7 +39,25 @@ fn every_regression_input_has_the_outcome_it_states() {
             continue;
         };
         let (stage, contains) = expect.split_once(' ').unwrap_or((expect, ""));
-        let outcome = match catch_unwind(AssertUnwindSafe(|| run_case(&text))) {
+        let full_scale = text.lines().any(|l| l.trim() == "// scale: full");
+        let started = Instant::now();
+        let run = || {
+            if full_scale {
+                run_full_scale_case(&text)
+            } else {
+                run_case(&text)
+            }
+        };
+        let result = catch_unwind(AssertUnwindSafe(run));
+        let took = started.elapsed();
+        if full_scale && took > FULL_SCALE_BUDGET {
+            wrong.push(format!(
+                "{name}: over budget: took {:.2} s, past {:.2} s",
+                took.as_secs_f64(),
+                FULL_SCALE_BUDGET.as_secs_f64()
+            ));
+        }
+        let outcome = match result {
             Ok(Ok(outcome)) => outcome,
             Ok(Err(defect)) => {
                 wrong.push(format!("{name}: {defect}"));
