@@ -137,21 +137,27 @@ fn native_ends(case: &Case, test: &str) -> Vec<String> {
         case.demo
     ));
     let _ = std::fs::remove_dir_all(&out);
-    let output = Command::new(case.binary)
+    let stdout = run_headless(case.binary, &out, &native_args(case.options));
+    let _ = std::fs::remove_dir_all(&out);
+    end_lines(&stdout)
+}
+
+/// Runs a native demo off-screen at 64x36, its frames into `out`, with
+/// `args`; returns what it printed (it must succeed).
+fn run_headless(binary: &str, out: &Path, args: &[String]) -> String {
+    let output = Command::new(binary)
         .args(["--headless", "--size", "64x36", "--out"])
-        .arg(&out)
-        .args(native_args(case.options))
+        .arg(out)
+        .args(args)
         .output()
         .expect("the native demo runs");
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     assert!(
         output.status.success(),
-        "{}: {stdout}\n{}",
-        case.demo,
+        "{binary} {args:?}: {stdout}\n{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let _ = std::fs::remove_dir_all(&out);
-    end_lines(&stdout)
+    stdout
 }
 
 /// The replay's end and the final state's checksum, the lines a page and a
@@ -357,14 +363,16 @@ fn scratch(test: &str) -> PathBuf {
 /// The tick and checksum of a `the final state at tick N has checksum X`
 /// line.
 fn final_state(line: &str) -> (u64, String) {
-    let rest = line
-        .split("the final state at tick ")
-        .nth(1)
-        .unwrap_or_else(|| panic!("not a final-state line: {line}"));
-    let (tick, checksum) = rest
-        .split_once(" has checksum ")
-        .unwrap_or_else(|| panic!("not a final-state line: {line}"));
-    (tick.parse().expect("the tick is a number"), checksum.trim().to_owned())
+    tick_and_checksum(line, "the final state at tick ", " has checksum ")
+        .unwrap_or_else(|| panic!("not a final-state line: {line}"))
+}
+
+/// The tick after `before` and the hexadecimal checksum after `between` in
+/// `line`, if it has them.
+fn tick_and_checksum(line: &str, before: &str, between: &str) -> Option<(u64, String)> {
+    let (tick, checksum) = line.split(before).nth(1)?.split_once(between)?;
+    let checksum = checksum.split(|c: char| !c.is_ascii_hexdigit()).next()?;
+    Some((tick.parse().ok()?, checksum.to_owned()))
 }
 
 /// Plays `demo`'s page with `query` plus `record=<test>.ron`, lets `play`
@@ -404,32 +412,13 @@ fn replay_natively(binary: &str, recording: &str, test: &str) -> (u64, String) {
     let folder = scratch(&format!("{test}-native"));
     let path = folder.join("recording.ron");
     std::fs::write(&path, recording).expect("the recording writes");
-    let output = Command::new(binary)
-        .args(["--headless", "--size", "64x36", "--out"])
-        .arg(folder.join("frames"))
-        .arg("--replay")
-        .arg(&path)
-        .output()
-        .expect("the native demo runs");
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let replay = ["--replay".to_owned(), path.to_string_lossy().into_owned()];
+    let stdout = run_headless(binary, &folder.join("frames"), &replay);
     let _ = std::fs::remove_dir_all(&folder);
-    let line = stdout
+    stdout
         .lines()
-        .find_map(|l| l.split("the replay ended at tick ").nth(1))
-        .unwrap_or_else(|| panic!("the native replay printed no end:\n{stdout}"));
-    let (tick, checksum) = line
-        .split_once(" with checksum ")
-        .unwrap_or_else(|| panic!("an odd replay end: {line}"));
-    let checksum = checksum
-        .split(|c: char| !c.is_ascii_hexdigit())
-        .next()
-        .unwrap_or_default();
-    (tick.parse().expect("the tick is a number"), checksum.to_owned())
+        .find_map(|l| tick_and_checksum(l, "the replay ended at tick ", " with checksum "))
+        .unwrap_or_else(|| panic!("the native replay printed no end:\n{stdout}"))
 }
 
 #[test]

@@ -51,23 +51,28 @@ impl Relay {
         }
     }
 
-    /// A texture of the surface's size and draw format to draw into.
-    fn resize(&mut self, device: &wgpu::Device, width: u32, height: u32, format: wgpu::TextureFormat) {
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("tickwork relay"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        self.view = Some(texture.create_view(&wgpu::TextureViewDescriptor::default()));
+    /// A texture of the surface's size and draw format to draw into
+    /// (through [`Gpu::allocate`], so running out of memory is an error).
+    fn resize(&mut self, gpu: &Gpu, width: u32, height: u32, format: wgpu::TextureFormat) -> Result<(), RenderError> {
+        let view = gpu.allocate(&|| format!("a {width}x{height} relay texture"), || {
+            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("tickwork relay"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            Ok(texture.create_view(&wgpu::TextureViewDescriptor::default()))
+        })?;
+        self.view = Some(view);
+        Ok(())
     }
 
     /// The view to draw the frame into, if the relay has been sized.
@@ -231,7 +236,7 @@ impl WindowState {
         self.config.height = height;
         self.surface.configure(&self.gpu.device, &self.config);
         if let Some(relay) = &mut self.relay {
-            relay.resize(&self.gpu.device, width, height, self.format);
+            relay.resize(&self.gpu, width, height, self.format)?;
         }
         self.buffers = Some(FrameBuffers::new(
             &self.gpu,
