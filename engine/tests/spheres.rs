@@ -9,7 +9,7 @@
 use glam::Vec3;
 use tickwork_engine::clock::FixedStep;
 use tickwork_engine::{
-    Material, Particle, SimulationError, SphereCollisions, Spring, SpringEnd, Springs, World, WorldConfig,
+    Collider, Material, Particle, SimulationError, SphereCollisions, Spring, SpringEnd, Springs, World, WorldConfig,
 };
 
 fn step(w: &mut World) -> Result<(), SimulationError> {
@@ -366,4 +366,97 @@ fn a_settling_pile_is_bit_identical_on_one_two_and_three_threads() {
     assert_eq!(hashes[0], hashes[1], "1 and 2 threads");
     assert_eq!(hashes[0], hashes[2], "1 and 3 threads");
     assert_eq!(hashes[0], hashes[3], "2 threads, the world on one");
+}
+
+/// `side`^3 grains 0.1 m apart, of radius `radius`.
+fn lattice(config: WorldConfig, side: usize, radius: f32) -> World {
+    let mut w = World::new(config).expect("valid config");
+    w.add_collider(SphereCollisions::new(Material::default()));
+    for i in 0..side {
+        for j in 0..side {
+            for k in 0..side {
+                w.spawn(Particle {
+                    position: Vec3::new(i as f32, j as f32, k as f32) * 0.1,
+                    radius,
+                    ..Particle::default()
+                })
+                .expect("valid");
+            }
+        }
+    }
+    w
+}
+
+#[test]
+fn grains_that_all_overlap_are_an_error_naming_the_pair_limit_not_quadratic_work() {
+    // Before: every grain overlapping every other (the fuzzer's crowd of
+    // 100 000 with radius 9.2e18) was tested pair by pair, 5e9 pairs a
+    // step, with no word. Now the pairs sharing a cell are counted before
+    // any is tested, against WorldConfig::max_pairs.
+    let config = WorldConfig {
+        max_pairs: 1_000_000,
+        ..WorldConfig::default()
+    };
+    let n = 12 * 12 * 12;
+    let all_pairs = (n * (n - 1) / 2) as u64;
+    assert!(all_pairs > config.max_pairs);
+    let mut w = lattice(config.clone(), 12, 1e3);
+    let before = w.state_hash();
+    let error = step(&mut w).expect_err("past the limit");
+    assert_eq!(
+        error,
+        SimulationError::ContactPairLimit {
+            tick: 0,
+            collider: "spheres",
+            index: 0,
+            particles: n,
+            pairs: all_pairs,
+            limit: 1_000_000,
+        }
+    );
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "step 0: collider 0 (spheres) would test at least {all_pairs} candidate pairs among {n} particles, \
+             past the limit of 1000000 (WorldConfig::max_pairs): the spheres are crowded into the same grid \
+             cells (overlapping one another, or piled together by another collider); give them room, smaller \
+             radii, or raise the limit"
+        )
+    );
+    assert_eq!(spheres(&mut w).refused_pairs(), Some(all_pairs));
+    assert_eq!(spheres(&mut w).pairs_tested(), 0, "no pair was tested");
+    assert_eq!(w.tick(), 0, "the step did not complete");
+    assert_ne!(
+        w.state_hash(),
+        before,
+        "the world is left as the step made it (integrated)"
+    );
+
+    // Raised, the same world steps, testing every pair.
+    let mut w = lattice(
+        WorldConfig {
+            max_pairs: all_pairs,
+            ..config
+        },
+        12,
+        1e3,
+    );
+    step(&mut w).expect("within the raised limit");
+    assert_eq!(spheres(&mut w).refused_pairs(), None);
+    assert_eq!(spheres(&mut w).pairs_tested() as u64, all_pairs);
+    assert!(contacts(&mut w) > 0);
+}
+
+#[test]
+fn a_packed_lattice_is_far_below_the_default_pair_limit() {
+    // Grains touching their six neighbours (radius 0.05, 0.1 apart): each
+    // cell of the grid (0.1 wide) holds one or two, so the pairs sharing a
+    // cell are about n, not n^2; the default limit leaves room for a
+    // hundred million such grains.
+    let mut w = lattice(WorldConfig::default(), 20, 0.05);
+    for _ in 0..10 {
+        step(&mut w).expect("a packed lattice steps");
+    }
+    assert_eq!(spheres(&mut w).refused_pairs(), None);
+    assert!(contacts(&mut w) > 0, "the grains touch");
 }

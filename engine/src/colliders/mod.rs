@@ -50,6 +50,12 @@ pub struct ContactColumns<'a> {
     /// [`WorldConfig::parallel_threshold`](crate::world::WorldConfig)
     /// particles. False for a chunk of a lane, already one thread's share.
     pub parallel: bool,
+    /// The candidate pairs a collider of pairs may test in one step
+    /// ([`WorldConfig::max_pairs`](crate::world::WorldConfig)): past it,
+    /// it resolves nothing and says so through
+    /// [`Collider::refused_pairs`] (the step then fails with
+    /// [`SimulationError::ContactPairLimit`](crate::SimulationError)).
+    pub max_pairs: u64,
 }
 
 impl ContactColumns<'_> {
@@ -68,6 +74,7 @@ impl ContactColumns<'_> {
                     radius,
                     inverse_mass,
                     parallel: false,
+                    max_pairs: self.max_pairs,
                 });
             });
     }
@@ -184,6 +191,17 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     fn resolve_world_reporting(&mut self, columns: ContactColumns<'_>, report: &mut dyn FnMut(PairTouch)) -> bool {
         let _ = (columns, report);
         false
+    }
+
+    /// The candidate pairs the last [`resolve_world`](Self::resolve_world)
+    /// would have had to test, when they were past
+    /// [`ContactColumns::max_pairs`] and it therefore resolved nothing
+    /// (default: `None`, a collider that never refuses). The step turns
+    /// this into [`SimulationError::ContactPairLimit`](crate::SimulationError),
+    /// so quadratic work (every sphere overlapping every other) is an error
+    /// naming the limit rather than a step that runs for minutes.
+    fn refused_pairs(&self) -> Option<u64> {
+        None
     }
 
     /// Moves a kinematic collider by its own velocity over a step of `dt`

@@ -137,6 +137,7 @@ impl Plane {
             radius: &c.radius[whole..],
             inverse_mass: &c.inverse_mass[whole..],
             parallel: false,
+            max_pairs: c.max_pairs,
         };
         for (x, v, r, w) in tail.rows() {
             let gap = x[AXIS] * sign - self.offset - r;
@@ -374,6 +375,7 @@ mod tests {
                 radius: &radius,
                 inverse_mass: &inverse_mass,
                 parallel: false,
+                max_pairs: u64::MAX,
             };
             assert_eq!(axis_of(normal).map(|a| a.0), Some(axis));
             plane.resolve_range(columns);
@@ -410,6 +412,7 @@ mod tests {
             radius: &radius,
             inverse_mass: &inverse_mass,
             parallel: false,
+            max_pairs: u64::MAX,
         });
         for k in 0..8 {
             let (mut xt, mut vt) = ([x[k]], [v[k]]);
@@ -419,6 +422,7 @@ mod tests {
                 radius: &radius[k..=k],
                 inverse_mass: &inverse_mass[k..=k],
                 parallel: false,
+                max_pairs: u64::MAX,
             });
             let bits = |a: Vec3A| a.to_array().map(f32::to_bits);
             assert_eq!(bits(xb[k]), bits(xt[0]), "position {k}");

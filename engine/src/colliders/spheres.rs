@@ -126,6 +126,9 @@ pub struct SphereCollisions {
     /// Whether this step records its pairs (contact reporting), and them.
     recording: bool,
     pairs: Vec<SortedPair>,
+    /// The candidate pairs the last step refused to test (past
+    /// [`ContactColumns::max_pairs`]), if it did.
+    refused: Option<u64>,
 }
 
 impl Clone for SphereCollisions {
@@ -135,6 +138,7 @@ impl Clone for SphereCollisions {
             contacts: self.contacts,
             tested: self.tested,
             slabs: self.slabs,
+            refused: self.refused,
             ..Self::default()
         }
     }
@@ -144,12 +148,13 @@ impl Clone for SphereCollisions {
         self.contacts = source.contacts;
         self.tested = source.tested;
         self.slabs = source.slabs;
+        self.refused = source.refused;
     }
 }
 
 impl PartialEq for SphereCollisions {
     fn eq(&self, other: &Self) -> bool {
-        let state = |s: &Self| (s.material, s.contacts, s.tested, s.slabs);
+        let state = |s: &Self| (s.material, s.contacts, s.tested, s.slabs, s.refused);
         state(self) == state(other)
     }
 }
@@ -161,6 +166,7 @@ impl core::fmt::Debug for SphereCollisions {
             .field("contacts", &self.contacts)
             .field("tested", &self.tested)
             .field("slabs", &self.slabs)
+            .field("refused", &self.refused)
             .finish_non_exhaustive()
     }
 }
@@ -202,16 +208,34 @@ impl SphereCollisions {
     }
 
     /// Counting sort of the rows by `key` (stable: equal keys keep row order),
-    /// then gathers the columns in that order.
-    fn sort_and_gather(&mut self, keys: usize, c: &ContactColumns<'_>) {
+    /// then gathers the columns in that order; or, when the spheres sharing
+    /// a key make more pairs than `c.max_pairs`, refuses: records them in
+    /// `refused` and returns false, having sorted and gathered nothing.
+    ///
+    /// Spheres sharing a key (a cell, or a bucket of the hash) are all
+    /// tested against each other, so those pairs are a lower bound on the
+    /// narrow phase's work, and, with the 27 neighbouring keys, bound it
+    /// (`sum c_k c_m <= 27 sum c_k^2`): a world whose grains all overlap, or
+    /// that another collider piled into one cell, is refused here, in time
+    /// linear in the keys, rather than tested pair by pair.
+    #[must_use]
+    fn sort_and_gather(&mut self, keys: usize, c: &ContactColumns<'_>) -> bool {
         let n = self.key.len();
         self.starts.clear();
         self.starts.resize(keys + 1, 0);
         for &k in &self.key {
             self.starts[k as usize + 1] += 1;
         }
+        // At most n(n-1)/2 < 2^64 for n below 2^32.
+        let mut pairs = 0u64;
         for i in 0..keys {
+            let count = u64::from(self.starts[i + 1]);
+            pairs += count * count.saturating_sub(1) / 2;
             self.starts[i + 1] += self.starts[i];
+        }
+        if pairs > c.max_pairs {
+            self.refused = Some(pairs);
+            return false;
         }
         self.sorted.clear();
         self.sorted.resize(n, 0);
@@ -240,6 +264,7 @@ impl SphereCollisions {
         } else {
             gather(&mut self.sorted_level, rows, &self.level, parallel);
         }
+        true
     }
 
     /// `x, y, z = position[sorted[k]]` for every `k`: [`gather`] into a
@@ -721,6 +746,7 @@ impl Collider for SphereCollisions {
         self.contacts = 0;
         self.tested = 0;
         self.slabs = 0;
+        self.refused = None;
         let n = c.position.len();
         // The largest radius and the smallest positive one (NaN is neither:
         // `max` and `min` pass it over). Min and max are exact in any
@@ -736,13 +762,19 @@ impl Collider for SphereCollisions {
             return;
         }
         let min_radius = min_radius.min(max_radius);
-        if min_radius * 2.0 > max_radius {
+        let solved = if min_radius * 2.0 > max_radius {
             self.level.clear();
-            self.resolve_one_size(&c, max_radius);
+            self.resolve_one_size(&c, max_radius)
         } else {
-            self.resolve_levels(&c, max_radius);
+            self.resolve_levels(&c, max_radius)
+        };
+        if solved {
+            self.write_back(c);
         }
-        self.write_back(c);
+    }
+
+    fn refused_pairs(&self) -> Option<u64> {
+        self.refused
     }
 
     fn resolve_world_reporting(&mut self, c: ContactColumns<'_>, report: &mut dyn FnMut(PairTouch)) -> bool {
@@ -767,8 +799,9 @@ impl Collider for SphereCollisions {
 
 impl SphereCollisions {
     /// Spheres within a factor 2 of each other in radius: one grid of cells
-    /// the largest diameter wide, dense when it is small enough.
-    fn resolve_one_size(&mut self, c: &ContactColumns<'_>, max_radius: f32) {
+    /// the largest diameter wide, dense when it is small enough. False if
+    /// refused (see [`sort_and_gather`](Self::sort_and_gather)).
+    fn resolve_one_size(&mut self, c: &ContactColumns<'_>, max_radius: f32) -> bool {
         let n = c.position.len();
         let inv_cell = 1.0 / (2.0 * max_radius);
         map_into(&mut self.cell, c.position, c.parallel, |x| cell_of(*x, inv_cell));
@@ -788,13 +821,13 @@ impl SphereCollisions {
         };
         match (cells, size) {
             (Some(cells), [Some(x), Some(y), Some(z)]) if cells <= (DENSE_CELLS * n) as i64 => {
-                self.resolve_dense(c, lo, I64Vec3::new(x, y, z));
+                self.resolve_dense(c, lo, I64Vec3::new(x, y, z))
             }
             _ => self.resolve_hashed(c),
         }
     }
 
-    fn resolve_dense(&mut self, c: &ContactColumns<'_>, lo: I64Vec3, size: I64Vec3) {
+    fn resolve_dense(&mut self, c: &ContactColumns<'_>, lo: I64Vec3, size: I64Vec3) -> bool {
         let grid = DenseGrid {
             lo,
             size,
@@ -803,7 +836,9 @@ impl SphereCollisions {
         };
         map_into(&mut self.key, &self.cell, c.parallel, |cell| grid.index(*cell));
         let keys = (size.x * size.y * size.z) as usize;
-        self.sort_and_gather(keys, c);
+        if !self.sort_and_gather(keys, c) {
+            return false;
+        }
         let n = self.x.len();
         // Slabs of `thickness` z planes, each starting at its first cell's key.
         let planes = size.z as usize;
@@ -842,14 +877,17 @@ impl SphereCollisions {
             self.tested += tested;
             self.contacts += contacts;
         }
+        true
     }
 
-    fn resolve_hashed(&mut self, c: &ContactColumns<'_>) {
+    fn resolve_hashed(&mut self, c: &ContactColumns<'_>) -> bool {
         let n = c.position.len();
         let buckets = (2 * n).next_power_of_two();
         let mask = (buckets - 1) as u32;
         map_into(&mut self.key, &self.cell, c.parallel, |cell| hash(*cell, 0, mask));
-        self.sort_and_gather(buckets, c);
+        if !self.sort_and_gather(buckets, c) {
+            return false;
+        }
         let (sorted_cell, starts) = (&self.sorted_cell, &self.starts);
         let mut w = Window::whole(
             [&mut self.x, &mut self.y, &mut self.z],
@@ -878,10 +916,11 @@ impl SphereCollisions {
             }
         }
         (self.tested, self.contacts) = (w.tested, w.contacts);
+        true
     }
 
     /// Mixed sizes: the hierarchical grid of the module documentation.
-    fn resolve_levels(&mut self, c: &ContactColumns<'_>, max_radius: f32) {
+    fn resolve_levels(&mut self, c: &ContactColumns<'_>, max_radius: f32) -> bool {
         let n = c.position.len();
         let inv_top = 1.0 / (2.0 * max_radius);
         // Level of each sphere, and its cell at that level (cells 2^l times
@@ -943,7 +982,9 @@ impl SphereCollisions {
         self.key.clear();
         self.key
             .extend(self.cell.iter().zip(&self.level).map(|(cell, &l)| hash(*cell, l, mask)));
-        self.sort_and_gather(buckets, c);
+        if !self.sort_and_gather(buckets, c) {
+            return false;
+        }
         let (sorted_cell, starts, sorted_level, used_levels) =
             (&self.sorted_cell, &self.starts, &self.sorted_level, &self.used_levels);
         let mut w = Window::whole(
@@ -977,6 +1018,7 @@ impl SphereCollisions {
             }
         }
         (self.tested, self.contacts) = (w.tested, w.contacts);
+        true
     }
 }
 

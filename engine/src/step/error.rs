@@ -80,6 +80,26 @@ pub enum SimulationError {
         /// The limit in force.
         limit: u64,
     },
+    /// A collider of pairs (sphere collisions) would test more candidate
+    /// pairs in one step than [`WorldConfig::max_pairs`](crate::world::WorldConfig)
+    /// allows: spheres crowded into the same grid cells (overlapping each
+    /// other, or piled together by another collider). Found after the
+    /// integration, before those contacts are resolved: the world is left
+    /// as the step made it (as for `NonFinite`); restore a snapshot to go on.
+    ContactPairLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The collider's name (`"spheres"`).
+        collider: &'static str,
+        /// Its index among the world's colliders.
+        index: usize,
+        /// The particles it would resolve among.
+        particles: usize,
+        /// The candidate pairs it would test, at least.
+        pairs: u64,
+        /// The limit in force.
+        limit: u64,
+    },
     /// The fixed step itself is invalid: a time or `dt` that is not finite
     /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
     InvalidStep {
@@ -155,6 +175,20 @@ impl fmt::Display for SimulationError {
                 f,
                 "step {tick}: force {force} would visit {pairs} pairs among {particles} particles in one evaluation, \
                  past the limit of {limit} (WorldConfig::max_pairs); use fewer particles or raise the limit"
+            ),
+            Self::ContactPairLimit {
+                tick,
+                collider,
+                index,
+                particles,
+                pairs,
+                limit,
+            } => write!(
+                f,
+                "step {tick}: collider {index} ({collider}) would test at least {pairs} candidate pairs among \
+                 {particles} particles, past the limit of {limit} (WorldConfig::max_pairs): the spheres are \
+                 crowded into the same grid cells (overlapping one another, or piled together by another \
+                 collider); give them room, smaller radii, or raise the limit"
             ),
             Self::InvalidStep { tick, time, dt } => write!(
                 f,

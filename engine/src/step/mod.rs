@@ -199,6 +199,18 @@ impl World {
         if let Some(row) = outcome.first_bad {
             return Err(self.non_finite(tick, row, NonFiniteCause::Step));
         }
+        for (index, collider) in self.colliders.colliders.iter().enumerate() {
+            if let Some(pairs) = collider.refused_pairs() {
+                return Err(SimulationError::ContactPairLimit {
+                    tick,
+                    collider: collider.name(),
+                    index,
+                    particles: self.particles.len(),
+                    pairs,
+                    limit: self.config.max_pairs,
+                });
+            }
+        }
         Ok(())
     }
 
@@ -304,6 +316,7 @@ impl World {
                 radius: &p.radius,
                 inverse_mass: &p.inverse_mass,
                 parallel,
+                max_pairs: self.config.max_pairs,
             };
             if set.reports[k] {
                 resolve_world_reporting(

@@ -39,6 +39,8 @@ pub(super) fn resolve_rows(
         radius,
         inverse_mass,
         parallel: false,
+        // A chunk of pointwise contacts: no pairs to count.
+        max_pairs: u64::MAX,
     });
     if let Some(r) = reporting {
         let s = &*scratch;
@@ -92,6 +94,7 @@ pub(super) fn resolve_world_reporting(
             radius,
             inverse_mass,
             parallel: false,
+            max_pairs: c.max_pairs,
         };
         if collider.resolve_world_reporting(reborrow, &mut report) {
             return;

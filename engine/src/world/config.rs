@@ -34,7 +34,13 @@ pub struct WorldConfig {
     /// of a second a step on one core): a step past it is
     /// [`SimulationError::PairLimit`](crate::step::SimulationError), naming
     /// the force, the pairs and this limit, not a step that runs for
-    /// minutes (n-body among 100 000 particles is 5e9 pairs).
+    /// minutes (n-body among 100 000 particles is 5e9 pairs). Sphere
+    /// collisions are held to it too: spheres sharing a grid cell are
+    /// tested pair by pair, and past this many such pairs a step is
+    /// [`SimulationError::ContactPairLimit`](crate::step::SimulationError)
+    /// (grains of one size that do not overlap fit at most eight to a
+    /// cell, so a pile makes at most 3.5 such pairs a grain: ten million
+    /// grains stay below the default).
     pub max_pairs: u64,
 }
 
