@@ -171,15 +171,20 @@ fn sim_reports_energy_drift_by_integrator() {
 
 #[test]
 fn sim_errors_say_what_was_wrong() {
+    // The first line says what the command was doing; a `caused by` line
+    // gives the engine's details.
     let cases: [(&[&str], &str); 5] = [
-        (&["sim", "no/such.ron"], "tickwork: no/such.ron: cannot read the scene:"),
+        (
+            &["sim", "no/such.ron"],
+            "tickwork: cannot load the scene no/such.ron\n  caused by: no/such.ron: cannot read the scene:",
+        ),
         (
             &["sim", &scene("projectile.ron"), "--integrator", "rk5"],
-            "tickwork: unknown integrator 'rk5'; valid names",
+            "tickwork: --integrator rk5: no such method\n  caused by: unknown integrator 'rk5'; valid names",
         ),
         (
             &["sim", &scene("projectile.ron"), "--dt", "-0.1"],
-            "tickwork: --dt: invalid step in seconds: -0.1",
+            "tickwork: --dt -0.1: not a step the fixed clock accepts\n  caused by: invalid step in seconds: -0.1",
         ),
         (
             &["sim", &scene("projectile.ron"), "--until", "NaN"],
@@ -260,7 +265,10 @@ fn rates_outside_the_range_are_errors_stating_it_never_a_silent_substitute() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(!output.status.success(), "{option} {value} was accepted");
         assert!(!stderr.contains("panicked at"), "{stderr}");
-        assert!(stderr.contains(&format!("{option}: ")), "{option} {value}: {stderr}");
+        assert!(
+            stderr.contains(&format!("{option} {value}: ")),
+            "{option} {value}: {stderr}"
+        );
         assert!(stderr.contains(range), "{option} {value}: {stderr}");
     }
     let output = tickwork(&["sim", &scene("projectile.ron"), "--hz", "1e308", "--until", "1"]);
@@ -370,4 +378,155 @@ fn view_shows_the_control_panel_unless_told_not_to() {
     assert_eq!(output.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("cannot be used with"), "{stderr}");
+}
+
+/// What `tickwork args...` returns, run in this process (no output is
+/// printed on an error).
+fn execute(args: &[&str]) -> Result<(), tickwork_demos::cli::CliError> {
+    use clap::Parser;
+    let cli = tickwork_demos::cli::Cli::try_parse_from(std::iter::once("tickwork").chain(args.iter().copied()))
+        .expect("parses");
+    tickwork_demos::cli::execute(cli)
+}
+
+#[test]
+fn a_missing_scene_is_a_cli_error_whose_source_is_the_engines_scene_error() {
+    use std::error::Error as _;
+    use tickwork_demos::cli::CliError;
+    let error = execute(&["sim", "no/such.ron"]).expect_err("no such scene");
+    assert!(
+        matches!(&error, CliError::SceneLoad(scene) if scene.file == "no/such.ron"),
+        "{error:?}"
+    );
+    assert_eq!(error.to_string(), "cannot load the scene no/such.ron");
+    let scene = error
+        .source()
+        .and_then(|s| s.downcast_ref::<tickwork_engine::SceneError>())
+        .expect("the scene error is the source");
+    assert_eq!(scene.file, "no/such.ron");
+    assert!(scene.message.starts_with("cannot read the scene"), "{scene:?}");
+    // The binary's text: the context, then the engine's message.
+    let report = tickwork_demos::cli::report(&error);
+    assert_eq!(
+        report.lines().collect::<Vec<_>>()[..2],
+        [
+            "tickwork: cannot load the scene no/such.ron",
+            &format!("  caused by: {scene}")
+        ]
+    );
+}
+
+#[test]
+fn a_malformed_scene_keeps_its_line_and_field_in_the_source() {
+    use std::error::Error as _;
+    let path = temp_path("malformed.ron");
+    std::fs::write(&path, "SceneFile(particles: [(position: (0, 2, 0), radius: \"big\")])").expect("written");
+    let path_text = path.to_str().expect("utf-8");
+    let error = execute(&["sim", path_text]).expect_err("malformed");
+    let scene = error
+        .source()
+        .and_then(|s| s.downcast_ref::<tickwork_engine::SceneError>())
+        .expect("the scene error is the source");
+    assert_eq!(scene.file, path_text);
+    assert!(scene.position.is_some(), "{scene:?}");
+    let output = tickwork(&["sim", path_text]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains(&format!("  caused by: {scene}")), "{stderr}");
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn an_unknown_integrator_is_a_variant_naming_it_with_the_registrys_error() {
+    use std::error::Error as _;
+    use tickwork_demos::cli::CliError;
+    for command in ["sim", "view"] {
+        let error = execute(&[command, &scene("projectile.ron"), "--integrator", "rk5"]).expect_err("no such method");
+        let CliError::Integrator(unknown) = &error else {
+            panic!("{command}: {error:?}");
+        };
+        assert_eq!(unknown.name, "rk5");
+        assert!(unknown.valid.contains(&"rk4"), "{unknown:?}");
+        assert_eq!(error.to_string(), "--integrator rk5: no such method");
+        assert!(
+            error
+                .source()
+                .and_then(|s| s.downcast_ref::<tickwork_integrators::UnknownMethod>())
+                .is_some_and(|s| s == unknown),
+            "{command}"
+        );
+    }
+}
+
+#[test]
+fn a_refused_rate_names_the_option_and_keeps_the_clocks_range() {
+    use std::error::Error as _;
+    use tickwork_demos::cli::CliError;
+    use tickwork_engine::ClockError;
+    let error = execute(&["sim", &scene("projectile.ron"), "--hz", "1e7"]).expect_err("too fast");
+    assert!(
+        matches!(
+            &error,
+            CliError::Rate {
+                option: "--hz",
+                value,
+                source: ClockError::InvalidRate { .. }
+            } if *value == 1e7
+        ),
+        "{error:?}"
+    );
+    let clock = error.source().expect("the clock's error").to_string();
+    assert!(clock.contains("accepted: from 1/3600"), "{clock}");
+}
+
+#[test]
+fn lab_errors_keep_their_text_and_their_source() {
+    use std::error::Error as _;
+    use tickwork_demos::cli::CliError;
+    use tickwork_demos::lab::LabError;
+    // An unknown problem has no cause: one line, as before.
+    let error = execute(&["lab", "convergence", "--problem", "pendulum"]).expect_err("no such problem");
+    assert!(
+        matches!(&error, CliError::Lab(LabError::UnknownProblem { name, .. }) if name == "pendulum"),
+        "{error:?}"
+    );
+    assert!(error.source().is_none());
+    assert_eq!(
+        tickwork_demos::cli::report(&error),
+        "tickwork: unknown problem 'pendulum'; valid problems are: harmonic, damped, projectile, kepler"
+    );
+    // An output directory under a file: the system's error is the source.
+    let file = temp_path("not-a-directory");
+    std::fs::write(&file, "a file").expect("written");
+    let out = file.join("lab");
+    let out_text = out.to_str().expect("utf-8");
+    let error = execute(&["lab", "stability", "--out", out_text]).expect_err("cannot create");
+    assert!(
+        matches!(&error, CliError::Lab(LabError::CreateDir { path, .. }) if *path == out),
+        "{error:?}"
+    );
+    assert_eq!(error.to_string(), format!("cannot create the directory {out_text}"));
+    assert!(
+        error
+            .source()
+            .and_then(|s| s.downcast_ref::<std::io::Error>())
+            .is_some(),
+        "{error:?}"
+    );
+    let _ = std::fs::remove_file(&file);
+}
+
+#[test]
+fn a_cause_that_repeats_the_line_above_is_printed_once() {
+    // `GameError::Engine` shows its source's message as its own.
+    let scene = tickwork_engine::SceneError {
+        file: "a.ron".into(),
+        position: Some((3, 7)),
+        field: "rate".into(),
+        message: "invalid rate in Hz: 0".into(),
+    };
+    let game = tickwork_engine::app::GameError::from(scene);
+    assert_eq!(
+        tickwork_demos::cli::report(&game),
+        "tickwork: a.ron:3:7: rate: invalid rate in Hz: 0"
+    );
 }

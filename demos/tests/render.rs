@@ -182,7 +182,9 @@ fn no_adapter_is_an_error_naming_the_backends_and_the_package() {
     assert_eq!(output.status.code(), Some(1), "a clean non-zero exit, not a panic");
     let stderr = text(&output.stderr);
     assert!(
-        stderr.starts_with("tickwork: no graphics adapter found (backends tried: Metal;"),
+        stderr.starts_with(
+            "tickwork: no graphics device to render on\n  caused by: no graphics adapter found (backends tried: Metal;"
+        ),
         "{stderr}"
     );
     assert!(
@@ -204,7 +206,10 @@ fn view_without_a_display_says_so_and_what_to_do() {
     assert_eq!(output.status.code(), Some(1));
     assert_eq!(
         text(&output.stderr).trim_end(),
-        "tickwork: cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a \
+        format!(
+            "tickwork: cannot show the scene {} in a window\n  caused by: ",
+            scene("tops.ron")
+        ) + "cannot open a window: no display (neither DISPLAY nor WAYLAND_DISPLAY is set): run it in a \
          desktop session or under `xvfb-run`, or draw frames without a window with `tickwork render`"
     );
 }

@@ -1,10 +1,14 @@
-//! The `tickwork` command line: one file per subcommand.
+//! The `tickwork` command line: one file per subcommand, and `error.rs`
+//! for [`CliError`], what they all return.
 
+pub mod error;
 pub mod integrators;
 pub mod render;
 pub mod sim;
 
 use clap::{Parser, Subcommand};
+
+pub use error::{CliError, report};
 
 /// Tickwork: a fixed-timestep game loop with verified numerical integrators.
 #[derive(Debug, Parser)]
@@ -37,28 +41,38 @@ pub enum Command {
     View(render::WindowArgs),
 }
 
-/// Runs the command line; returns the process exit code.
+/// Runs the command line; returns the process exit code. An error is
+/// printed as [`report`] writes it: the error, then each of its causes.
 pub fn run(cli: Cli) -> std::process::ExitCode {
-    let result = match cli.command {
+    match execute(cli) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("{}", report(&error));
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs the command line's subcommand, printing its output.
+///
+/// # Errors
+/// The [`CliError`] of the subcommand that failed.
+pub fn execute(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
         Some(Command::Integrators(args)) => {
-            integrators::run(&args, &mut std::io::stdout().lock()).map_err(|e| e.to_string())
+            integrators::run(&args, &mut std::io::stdout().lock()).map_err(CliError::Output)
         }
         Some(Command::Sim(args)) => sim::run(&args, &mut std::io::stdout().lock()),
-        Some(Command::Lab(args)) => crate::lab::run(&args).map(|written| {
+        Some(Command::Lab(args)) => {
+            let written = crate::lab::run(&args)?;
             for file in written.files {
                 println!("wrote {}", file.display());
             }
-        }),
+            Ok(())
+        }
         Some(Command::Render(args)) => render::render(&args),
         Some(Command::View(args)) => render::view(&args),
         None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
-            .map_err(|e| e.to_string()),
-    };
-    match result {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(error) => {
-            eprintln!("tickwork: {error}");
-            std::process::ExitCode::FAILURE
-        }
+            .map_err(CliError::Output),
     }
 }

@@ -8,10 +8,13 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use tickwork_engine::Scene;
 use tickwork_engine::app::{
-    FrameOutput, OffscreenRun, Playback, WindowOptions, display_hz, non_negative_seconds, parse_size, run_window,
+    FrameOutput, OffscreenRun, Playback, PlaybackError, WindowOptions, display_hz, non_negative_seconds, parse_size,
+    run_window,
 };
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::render::{Blend, Gpu, Interpolation, RendererConfig};
+
+use super::error::CliError;
 
 /// How particles are composited (`--blend`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
@@ -61,9 +64,15 @@ pub struct ViewArgs {
 }
 
 impl ViewArgs {
-    fn playback(&self) -> Result<Playback, String> {
-        let scene = Scene::load(&self.scene).map_err(|e| e.to_string())?;
-        Playback::from_scene(&scene, self.integrator.as_deref()).map_err(|e| e.to_string())
+    fn playback(&self) -> Result<Playback, CliError> {
+        let scene = Scene::load(&self.scene).map_err(CliError::SceneLoad)?;
+        Playback::from_scene(&scene, self.integrator.as_deref()).map_err(|e| match e {
+            PlaybackError::Integrator(e) => CliError::Integrator(e),
+            source => CliError::Playback {
+                path: self.scene.clone(),
+                source: Box::new(source),
+            },
+        })
     }
 
     fn renderer(&self) -> RendererConfig {
@@ -146,20 +155,30 @@ pub struct WindowArgs {
 /// Runs `tickwork render`.
 ///
 /// # Errors
-/// A message for a bad scene, option, adapter, or an output that exists.
-pub fn render(args: &RenderArgs) -> Result<(), String> {
+/// A [`CliError`] for a bad scene or option, no adapter, an output that
+/// exists, or a run that stopped.
+pub fn render(args: &RenderArgs) -> Result<(), CliError> {
     if args.frames == 0 {
         // Refused before anything is written: an empty GIF named as written
         // helped no one.
-        return Err("--frames: 0 frames; pass at least 1".into());
+        return Err(CliError::NoFrames);
     }
     if let Some(gif) = args.gif.as_ref().filter(|gif| gif.is_dir()) {
-        return Err(format!("--gif: {} is a directory; name a .gif file", gif.display()));
+        return Err(CliError::IsDirectory {
+            option: "--gif",
+            path: gif.clone(),
+            wanted: "a .gif file",
+        });
     }
     let mut playback = args.view.playback()?;
     let (width, height) = args.view.size.unwrap_or((640, 360));
-    let gpu = Gpu::headless().map_err(|e| e.to_string())?;
-    let mut run = OffscreenRun::new(&gpu, width, height, args.view.renderer()).map_err(|e| e.to_string())?;
+    let gpu = Gpu::headless().map_err(CliError::Gpu)?;
+    let mut run =
+        OffscreenRun::new(&gpu, width, height, args.view.renderer()).map_err(|source| CliError::RenderSetup {
+            width,
+            height,
+            source: Box::new(source),
+        })?;
     let mut display: Box<dyn TimeSource> = if args.jitter {
         Box::new(JitteryCadence::new(1.0 / args.display_hz, args.jitter_seed))
     } else {
@@ -185,7 +204,10 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
                 bar.set_position(k);
             }
         })
-        .map_err(|e| e.to_string())?;
+        .map_err(|source| CliError::Render {
+            path: args.view.scene.clone(),
+            source: Box::new(source),
+        })?;
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
@@ -233,10 +255,14 @@ impl WindowArgs {
 /// Runs `tickwork view`.
 ///
 /// # Errors
-/// A message for a bad scene or option, no display, no adapter.
-pub fn view(args: &WindowArgs) -> Result<(), String> {
+/// A [`CliError`] for a bad scene or option, no display, no adapter, or a
+/// run that stopped.
+pub fn view(args: &WindowArgs) -> Result<(), CliError> {
     let mut playback = args.view.playback()?;
-    let summary = run_window(&mut playback, args.window_options()).map_err(|e| e.to_string())?;
+    let summary = run_window(&mut playback, args.window_options()).map_err(|source| CliError::Window {
+        path: args.view.scene.clone(),
+        source: Box::new(source),
+    })?;
     println!(
         "showed {} frames on {} ({})",
         summary.frames, summary.adapter, summary.surface

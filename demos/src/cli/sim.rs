@@ -2,12 +2,14 @@
 
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use tickwork_engine::clock::{Number, Rate};
-use tickwork_engine::{Scene, TraceWriter, run_headless};
+use tickwork_engine::clock::Rate;
+use tickwork_engine::{HeadlessError, Scene, TraceWriter, run_headless};
+
+use super::error::CliError;
 
 /// Arguments of `tickwork sim`.
 #[derive(Debug, Args)]
@@ -48,62 +50,55 @@ const MAX_STEPS: u64 = 10_000_000_000;
 /// Runs the scene and prints the summary to `out`.
 ///
 /// # Errors
-/// A message for a bad scene, integrator, rate, duration, trace file or a
-/// simulation that failed.
-pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
-    let scene = Scene::load(&args.scene).map_err(|e| e.to_string())?;
-    let (mut world, _) = scene.build().map_err(|e| e.to_string())?;
+/// A [`CliError`] for a bad scene, integrator, rate, duration, trace file,
+/// a simulation that failed, or an output that cannot be written.
+pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
+    let scene = Scene::load(&args.scene).map_err(CliError::SceneLoad)?;
+    let (mut world, _) = scene.build().map_err(CliError::SceneBuild)?;
     if let Some(name) = &args.integrator {
-        world.set_integrator(name).map_err(|e| e.to_string())?;
+        world.set_integrator(name)?;
     }
     let rate = match (args.hz, args.dt) {
-        (Some(hz), _) => Rate::hz_f64(hz).map_err(|e| format!("--hz: {e}"))?,
-        (_, Some(dt)) => Rate::seconds(dt).map_err(|e| format!("--dt: {e}"))?,
-        _ => scene.rate().map_err(|e| e.to_string())?,
+        (Some(hz), _) => Rate::hz_f64(hz).map_err(|source| CliError::Rate {
+            option: "--hz",
+            value: hz,
+            source,
+        })?,
+        (_, Some(dt)) => Rate::seconds(dt).map_err(|source| CliError::Rate {
+            option: "--dt",
+            value: dt,
+            source,
+        })?,
+        _ => scene.rate().map_err(CliError::SceneRate)?,
     };
     if args.every == 0 {
-        return Err("--every: must be at least 1".into());
+        return Err(CliError::EveryZero);
     }
     let steps = match (args.steps, args.until) {
         (Some(n), _) if n > MAX_STEPS => {
-            return Err(format!(
-                "--steps: {n} steps, past the limit of {MAX_STEPS} steps a run; run fewer"
-            ));
+            return Err(CliError::TooManySteps {
+                steps: n,
+                limit: MAX_STEPS,
+            });
         }
         (Some(n), _) => n,
         (_, Some(t)) if t.is_finite() && t >= 0.0 => {
             let steps = (t / rate.step_seconds()).round();
             if steps > MAX_STEPS as f64 {
-                return Err(format!(
-                    "--until: {} s is {} steps at {rate}, past the limit of {MAX_STEPS} steps a run; \
-                     simulate less time, or pass --steps",
-                    Number(t),
-                    Number(steps)
-                ));
+                return Err(CliError::TooLong {
+                    seconds: t,
+                    steps,
+                    rate,
+                    limit: MAX_STEPS,
+                });
             }
             steps as u64
         }
-        (_, Some(t)) => return Err(format!("--until: {t} is not a finite time, not negative")),
+        (_, Some(t)) => return Err(CliError::BadUntil(t)),
         _ => (f64::from(scene.spec.duration.0) / rate.step_seconds()).round() as u64,
     };
     let mut trace = match &args.trace {
-        Some(path) => {
-            if path.is_dir() {
-                return Err(format!("--trace: {} is a directory; name a file", path.display()));
-            }
-            if path.exists() && !args.force {
-                return Err(format!("{}: exists; pass --force to overwrite it", path.display()));
-            }
-            if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty() && !p.is_dir()) {
-                return Err(format!(
-                    "--trace: {}: the directory {} does not exist",
-                    path.display(),
-                    parent.display()
-                ));
-            }
-            let file = File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            Some(TraceWriter::new(BufWriter::new(file)).map_err(|e| format!("{}: {e}", path.display()))?)
-        }
+        Some(path) => Some(open_trace(path, args.force)?),
         None => None,
     };
     let bar = if std::io::stderr().is_terminal() && steps >= 1000 {
@@ -119,10 +114,22 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
     let summary = run_headless(&mut world, rate, steps, trace.as_mut(), args.every, |done| {
         bar.set_position(done)
     })
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| match e {
+        HeadlessError::Simulation(source) => CliError::Simulation {
+            path: args.scene.clone(),
+            source,
+        },
+        HeadlessError::Trace(source) => CliError::TraceWrite {
+            path: args.trace.clone().unwrap_or_default(),
+            source,
+        },
+    })?;
     bar.finish_and_clear();
-    if let Some(trace) = trace {
-        trace.finish().map_err(|e| format!("writing the trace: {e}"))?;
+    if let (Some(trace), Some(path)) = (trace, &args.trace) {
+        trace.finish().map_err(|source| CliError::TraceWrite {
+            path: path.clone(),
+            source,
+        })?;
     }
     let (start, end, peak) = summary.particles;
     let write = |out: &mut dyn Write| -> std::io::Result<()> {
@@ -146,5 +153,35 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), String> {
         }
         Ok(())
     };
-    write(out).map_err(|e| e.to_string())
+    write(out).map_err(CliError::Output)
+}
+
+/// Opens the trace file at `path`, refusing a directory, a missing
+/// directory, and an existing file unless `force`.
+fn open_trace(path: &Path, force: bool) -> Result<TraceWriter<BufWriter<File>>, CliError> {
+    if path.is_dir() {
+        return Err(CliError::IsDirectory {
+            option: "--trace",
+            path: path.to_path_buf(),
+            wanted: "a file",
+        });
+    }
+    if path.exists() && !force {
+        return Err(CliError::Exists(path.to_path_buf()));
+    }
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty() && !p.is_dir()) {
+        return Err(CliError::MissingDirectory {
+            option: "--trace",
+            path: path.to_path_buf(),
+            parent: parent.to_path_buf(),
+        });
+    }
+    let file = File::create(path).map_err(|source| CliError::TraceCreate {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    TraceWriter::new(BufWriter::new(file)).map_err(|source| CliError::TraceWrite {
+        path: path.to_path_buf(),
+        source,
+    })
 }

@@ -2,6 +2,7 @@
 
 use tickwork_integrators::METHODS;
 
+use super::LabError;
 use super::problems::{Problem, integrate, log_slope, method};
 
 /// Errors below this are round-off, not truncation, and are left out of fits.
@@ -27,8 +28,8 @@ pub struct Convergence {
 /// run whose step fails records an infinite error.
 ///
 /// # Errors
-/// A message for a method that cannot be built.
-pub fn study(problem: Problem) -> Result<Vec<Convergence>, String> {
+/// [`LabError::Method`] for a method that cannot be built.
+pub fn study(problem: Problem) -> Result<Vec<Convergence>, LabError> {
     let reference = problem.reference();
     let (x0, v0) = problem.start();
     METHODS

@@ -5,6 +5,7 @@ use core::f64::consts::TAU;
 use glam::DVec2;
 use tickwork_integrators::METHODS;
 
+use super::LabError;
 use super::problems::{Problem, ProblemSystem, method};
 
 /// Orbits simulated.
@@ -70,8 +71,8 @@ fn energy(x: DVec2, v: DVec2) -> f64 {
 /// keeps its history up to the failure.
 ///
 /// # Errors
-/// A message for a method that cannot be built.
-pub fn study() -> Result<Vec<EnergyHistory>, String> {
+/// [`LabError::Method`] for a method that cannot be built.
+pub fn study() -> Result<Vec<EnergyHistory>, LabError> {
     let (x0, v0) = Problem::Kepler.start();
     let e0 = energy(x0, v0);
     let dt = TAU / STEPS_PER_ORBIT as f64;

@@ -2,11 +2,13 @@
 //! (`tickwork lab convergence | energy | stability | cost | all`).
 //!
 //! Each study writes PNG charts, the same data as CSV, and a Markdown table;
-//! `all` also writes `report.md`, which embeds the charts and tables.
+//! `all` also writes `report.md`, which embeds the charts and tables. A
+//! study that cannot finish returns a [`LabError`].
 
 pub mod convergence;
 pub mod cost;
 pub mod energy;
+pub mod error;
 pub mod plot;
 pub mod problems;
 pub mod stability;
@@ -18,6 +20,7 @@ use clap::{Args, ValueEnum};
 use tickwork_integrators::METHODS;
 
 use convergence::Convergence;
+pub use error::LabError;
 use plot::Series;
 use problems::Problem;
 
@@ -69,38 +72,39 @@ struct Out<'a> {
 }
 
 impl Out<'_> {
-    fn path(&mut self, name: &str) -> Result<PathBuf, String> {
+    fn path(&mut self, name: &str) -> Result<PathBuf, LabError> {
         let path = self.dir.join(name);
         if path.exists() && !self.force {
-            return Err(format!(
-                "{}: exists; pass --force to overwrite the lab's files",
-                path.display()
-            ));
+            return Err(LabError::Exists(path));
         }
         self.written.files.push(path.clone());
         Ok(path)
     }
 
-    fn text(&mut self, name: &str, text: &str) -> Result<(), String> {
+    fn text(&mut self, name: &str, text: &str) -> Result<(), LabError> {
         let path = self.path(name)?;
-        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+        std::fs::write(&path, text).map_err(|source| LabError::Write { path, source })
     }
 }
 
 /// Runs a study, writing into `args.out`; returns what was written.
 ///
 /// # Errors
-/// A message for an unknown problem, an existing file without `--force`, a
-/// file that cannot be written, or a method that failed.
-pub fn run(args: &LabArgs) -> Result<Written, String> {
+/// A [`LabError`] for an unknown problem, an existing file without
+/// `--force`, a file or chart that cannot be written, or a method that
+/// cannot be built.
+pub fn run(args: &LabArgs) -> Result<Written, LabError> {
     let problems = match &args.problem {
         Some(name) => vec![Problem::parse(name)?],
         None => Problem::ALL.to_vec(),
     };
     if args.out.exists() && !args.out.is_dir() {
-        return Err(format!("--out: {} is a file; name a directory", args.out.display()));
+        return Err(LabError::OutIsFile(args.out.clone()));
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(|source| LabError::CreateDir {
+        path: args.out.clone(),
+        source,
+    })?;
     let mut out = Out {
         dir: &args.out,
         force: args.force,
@@ -139,7 +143,7 @@ pub fn run(args: &LabArgs) -> Result<Written, String> {
     Ok(out.written)
 }
 
-fn write_convergence(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(), String> {
+fn write_convergence(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(), LabError> {
     let mut csv = String::from("problem,method,dt,error,evaluations\n");
     let mut md = String::from(
         "## Convergence\n\nError against time step for every method (dt halved four times), and the \
@@ -201,7 +205,7 @@ fn write_convergence(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(),
     Ok(())
 }
 
-fn write_energy(out: &mut Out<'_>) -> Result<(), String> {
+fn write_energy(out: &mut Out<'_>) -> Result<(), LabError> {
     let histories = energy::study()?;
     let series: Vec<Series> = histories
         .iter()
@@ -264,7 +268,7 @@ fn limit_text(v: f64) -> String {
     }
 }
 
-fn write_stability(out: &mut Out<'_>) -> Result<(), String> {
+fn write_stability(out: &mut Out<'_>) -> Result<(), LabError> {
     let limits = stability::study()?;
     let mut csv = String::from("method,equation,measured,theory\n");
     let mut md = String::from(
@@ -322,7 +326,7 @@ fn write_stability(out: &mut Out<'_>) -> Result<(), String> {
 /// A method and the evaluations it needs for the two error targets.
 type CostRow<'a> = (&'a str, Option<(f64, bool)>, Option<(f64, bool)>);
 
-fn write_cost(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(), String> {
+fn write_cost(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(), LabError> {
     let targets = [1e-3, 1e-6];
     let mut csv = String::from("problem,method,evaluations,error\n");
     let mut md = String::from(

@@ -8,17 +8,15 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
+use super::LabError;
+
 /// The font, shipped in `assets/fonts/` with its licence.
 static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 
-fn font() -> Result<(), String> {
+fn font() -> Result<(), LabError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| register_font("sans-serif", FontStyle::Normal, FONT).is_ok());
-    if ok {
-        Ok(())
-    } else {
-        Err("the shipped font assets/fonts/DejaVuSans.ttf could not be read".into())
-    }
+    if ok { Ok(()) } else { Err(LabError::Font) }
 }
 
 /// One line on a chart.
@@ -74,8 +72,13 @@ fn exponent_label(v: &f64) -> String {
     format!("{v:.0e}")
 }
 
-fn error(path: &Path, e: impl std::fmt::Display) -> String {
-    format!("{}: {e}", path.display())
+/// A chart at `path` that could not be drawn: [`LabError::Plot`], with
+/// plotters' error as its source.
+fn error(path: &Path, e: impl std::error::Error + Send + Sync + 'static) -> LabError {
+    LabError::Plot {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    }
 }
 
 fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
@@ -93,7 +96,7 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
-fn frame(path: &Path) -> Result<DrawingArea<BitMapBackend<'_>, Shift>, String> {
+fn frame(path: &Path) -> Result<DrawingArea<BitMapBackend<'_>, Shift>, LabError> {
     font()?;
     let root = BitMapBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|e| error(path, e))?;
@@ -104,7 +107,7 @@ fn frame(path: &Path) -> Result<DrawingArea<BitMapBackend<'_>, Shift>, String> {
 /// and the legend in a panel to the right of the plot.
 ///
 /// # Errors
-/// A message naming the file when it cannot be drawn or written.
+/// [`LabError::Plot`], naming the file, when it cannot be drawn or written.
 pub fn lines(
     path: &Path,
     title: &str,
@@ -112,7 +115,7 @@ pub fn lines(
     y_label: &str,
     log_x: bool,
     series: &[Series],
-) -> Result<(), String> {
+) -> Result<(), LabError> {
     let root = frame(path)?;
     let (plot, legend) = root.split_horizontally(SIZE.0 - LEGEND_WIDTH);
     let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
@@ -179,8 +182,8 @@ pub fn lines(
 /// method; infinite limits are drawn at the right edge, marked "any h".
 ///
 /// # Errors
-/// A message naming the file when it cannot be drawn or written.
-pub fn limits(path: &Path, title: &str, x_label: &str, rows: &[(&str, f64, Option<f64>)]) -> Result<(), String> {
+/// [`LabError::Plot`], naming the file, when it cannot be drawn or written.
+pub fn limits(path: &Path, title: &str, x_label: &str, rows: &[(&str, f64, Option<f64>)]) -> Result<(), LabError> {
     let root = frame(path)?;
     let right = 4.0;
     let clip = |v: f64| if v.is_finite() { v.min(right) } else { right };

@@ -6,6 +6,8 @@ use glam::DVec2;
 use tickwork_integrators::math;
 use tickwork_integrators::{DormandPrince, Integrator, MethodInfo, StepError, System, build};
 
+use super::LabError;
+
 /// A problem `x'' = a(t, x, v)` in the plane, one particle, `f64`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Problem {
@@ -54,11 +56,14 @@ impl Problem {
     ///
     /// # Errors
     /// A message listing the valid names.
-    pub fn parse(name: &str) -> Result<Self, String> {
-        Self::ALL.into_iter().find(|p| p.name() == name).ok_or_else(|| {
-            let names: Vec<&str> = Self::ALL.iter().map(|p| p.name()).collect();
-            format!("unknown problem '{name}'; valid problems are: {}", names.join(", "))
-        })
+    pub fn parse(name: &str) -> Result<Self, LabError> {
+        Self::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| LabError::UnknownProblem {
+                name: name.to_owned(),
+                valid: Self::ALL.iter().map(|p| p.name()).collect(),
+            })
     }
 
     /// Initial position and velocity.
@@ -194,12 +199,13 @@ impl System<DVec2> for ProblemSystem {
 /// otherwise hide it); every other method as the registry builds it.
 ///
 /// # Errors
-/// The registry's message for an unknown name.
-pub fn method(name: &str) -> Result<Box<dyn Integrator<DVec2>>, String> {
-    if tickwork_integrators::find(name).map_err(|e| e.to_string())?.name == "dormand_prince" {
+/// [`LabError::Method`], with the registry's [`UnknownMethod`](tickwork_integrators::UnknownMethod)
+/// as its source, for an unknown name.
+pub fn method(name: &str) -> Result<Box<dyn Integrator<DVec2>>, LabError> {
+    if tickwork_integrators::find(name)?.name == "dormand_prince" {
         return Ok(Box::new(DormandPrince::with_tolerances(1.0, 1.0)));
     }
-    build::<DVec2>(name).map_err(|e| e.to_string())
+    Ok(build::<DVec2>(name)?)
 }
 
 /// Runs `steps` steps over the problem's duration; returns the final state

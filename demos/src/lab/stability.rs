@@ -13,6 +13,7 @@
 use glam::DVec2;
 use tickwork_integrators::{METHODS, System, math};
 
+use super::LabError;
 use super::problems::method;
 
 /// Steps per stability probe.
@@ -119,12 +120,12 @@ pub fn theory(method: &str, equation: TestEquation) -> Option<f64> {
 }
 
 /// Whether `method` stays bounded at step `h`.
-fn stable(name: &str, equation: TestEquation, h: f64) -> Result<bool, String> {
+fn stable(name: &str, equation: TestEquation, h: f64) -> Result<bool, LabError> {
     let mut m = method(name)?;
     if name == "dormand_prince" {
         // Adaptive: sub-steps to its (loose) tolerance, so it cannot blow up;
         // probing it costs thousands of sub-steps per step at large h.
-        m = tickwork_integrators::build::<DVec2>(name).map_err(|e| e.to_string())?;
+        m = tickwork_integrators::build::<DVec2>(name)?;
     }
     let mut system = Linear(equation);
     let (mut x, mut v) = match equation {
@@ -171,8 +172,8 @@ pub struct Limit {
 /// Finds every method's limit on both test equations.
 ///
 /// # Errors
-/// A message for a method that cannot be built.
-pub fn study() -> Result<Vec<Limit>, String> {
+/// [`LabError::Method`] for a method that cannot be built.
+pub fn study() -> Result<Vec<Limit>, LabError> {
     let mut limits = Vec::new();
     for equation in [TestEquation::Oscillator, TestEquation::Drag] {
         for info in METHODS {
