@@ -7,6 +7,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use crate::case::{Outcome, Stage, run_case};
+use crate::cpu_time::process_cpu_time;
 use crate::limits::{Watchdog, begin_case, peak_bytes};
 use crate::minimise::minimise;
 use crate::mutate::Mutator;
@@ -25,9 +26,11 @@ pub struct Campaign {
     pub case_limit: Duration,
     /// A case whose live heap peaks past this is a defect (default: 512 MiB).
     pub memory_limit: usize,
-    /// A case that takes longer than this (parse, build and its steps) is
-    /// a defect named `over budget` (default: none). For full-scale cases,
-    /// where work that grows faster than the particles shows.
+    /// A case that uses more CPU time than this (parse, build and its
+    /// steps, on all threads; see [`process_cpu_time`]) is a defect named
+    /// `over budget` (default: none). For full-scale cases, where work that
+    /// grows faster than the particles shows; CPU time, so a busy machine
+    /// does not make a case over budget.
     pub case_budget: Option<Duration>,
     /// The texts mutated (default: none; see [`shipped_seeds`]).
     pub seeds: Vec<String>,
@@ -133,7 +136,7 @@ enum Verdict {
     Defect(String),
 }
 
-/// What a case may use: heap and (if set) wall time.
+/// What a case may use: heap and (if set) CPU time.
 #[derive(Clone, Copy)]
 struct Limits {
     memory: usize,
@@ -147,9 +150,9 @@ fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, lim
     }
     let base = crate::limits::live_bytes();
     begin_case(case);
-    let started = Instant::now();
+    let started = process_cpu_time();
     let result = catch_unwind(AssertUnwindSafe(|| target(text)));
-    let took = started.elapsed();
+    let took = process_cpu_time().saturating_sub(started);
     let peak = peak_bytes().saturating_sub(base);
     let memory_limit = limits.memory;
     let verdict = match result {
@@ -162,7 +165,7 @@ fn judge(target: fn(&str) -> Result<Outcome, String>, case: u64, text: &str, lim
             "memory: the case's heap peaked at {peak} bytes, past the limit of {memory_limit}"
         )),
         Ok(Ok(_)) if limits.budget.is_some_and(|budget| took > budget) => Verdict::Defect(format!(
-            "over budget: the case took {:.2} s, past its budget of {:.2} s",
+            "over budget: the case used {:.2} s of CPU time, past its budget of {:.2} s",
             took.as_secs_f64(),
             limits.budget.map_or(0.0, |b| b.as_secs_f64())
         )),

@@ -6,13 +6,14 @@
 //!
 //! CI runs a bounded campaign (a fixed seed, `tests/campaign.rs`), and a
 //! full-scale one over the shipped 100 000-particle scenes where a case
-//! over its time budget is a defect (quadratic work shows only at scale); a long
+//! over its budget of CPU time is a defect (quadratic work shows only at scale); a long
 //! run is `cargo run --release -p tickwork-fuzz -- --minutes 30`. Inputs that
 //! found bugs, minimised, live in `fuzz/regressions/` with the outcome each
 //! must now have (`tests/regressions.rs`).
 
 pub mod campaign;
 pub mod case;
+pub mod cpu_time;
 pub mod limits;
 pub mod minimise;
 pub mod mutate;
@@ -20,6 +21,7 @@ pub mod recording;
 
 pub use campaign::{Campaign, Defect, Report};
 pub use case::{Outcome, Stage, run_case, run_full_scale_case};
+pub use cpu_time::process_cpu_time;
 pub use limits::LimitedAlloc;
 pub use mutate::Mutator;
 pub use recording::run_recording_case;
