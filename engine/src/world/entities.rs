@@ -1,14 +1,8 @@
 //! The world's entities: spawning and despawning them, now or queued to
 //! the end of a step, and asking which live and in which row.
 
+use super::command::Command;
 use super::{Entities, Entity, EntityError, Particle, RigidBody, SpawnError, World};
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Command {
-    Spawn(Entity, Particle),
-    SpawnRigid(Entity, RigidBody),
-    Despawn(Entity),
-}
 
 impl World {
     /// Spawns a particle now.

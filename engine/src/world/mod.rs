@@ -8,30 +8,16 @@
 //! hands the integrator as they are ([`Vec3Column`]), the scalars as slices.
 //! The integrator's per-particle history follows the same swap.
 
-/// `Clone` with a field-wise `clone_from`, so copying into an existing value
-/// reuses every `Vec`'s buffer (`#[derive(Clone)]` reallocates them all).
-macro_rules! clone_fields {
-    ($ty:ty { $($field:ident),* $(,)? }) => {
-        impl Clone for $ty {
-            fn clone(&self) -> Self {
-                Self { $($field: self.$field.clone()),* }
-            }
-            fn clone_from(&mut self, source: &Self) {
-                $(self.$field.clone_from(&source.$field);)*
-            }
-        }
-    };
-}
-
 mod checksum;
 mod colliders;
-pub(crate) mod column;
+mod columns;
+mod command;
 mod components;
 mod config;
 mod dynamics;
 mod entities;
-mod entity;
 pub(crate) mod facts;
+mod lane;
 mod particle_data;
 mod particles;
 mod rigid;
@@ -40,14 +26,14 @@ mod snapshot;
 mod world;
 
 pub use checksum::StableHasher;
-pub use column::{RowsMut, Vec3Column};
-pub use components::{Component, QueryMut};
+pub use columns::Component;
+pub use components::QueryMut;
 pub use config::{WorldConfig, WorldError};
-pub use entity::{Entities, Entity, EntityError};
-pub use particles::{Colour, Particle, Particles, SpawnError};
+pub use particles::Particles;
 pub use rigid::{RigidBodies, RigidBody};
 pub use snapshot::Snapshot;
 pub use world::World;
 
-pub(crate) use crate::step::{Lane, Rows};
-pub(crate) use entities::Command;
+pub use crate::layout::{Colour, Entities, Entity, EntityError, Particle, RowsMut, SpawnError, Vec3Column};
+pub(crate) use command::Command;
+pub(crate) use lane::Lane;

@@ -5,6 +5,7 @@
 use glam::{Quat, Vec3};
 
 use super::{Entity, EntityError, Particles, RigidBodies, World, WorldError};
+use crate::layout::check_vector;
 
 impl World {
     /// The particle columns.
@@ -82,7 +83,7 @@ impl World {
     /// [`WorldError`] for a dead handle or a non-finite velocity.
     pub fn set_velocity(&mut self, entity: Entity, velocity: Vec3) -> Result<(), WorldError> {
         let row = self.row(entity)?;
-        super::particles::check_vector("velocity", velocity).map_err(|error| WorldError::Invalid { entity, error })?;
+        check_vector("velocity", velocity).map_err(|error| WorldError::Invalid { entity, error })?;
         self.particles.velocity.set(row, velocity.into());
         Ok(())
     }
@@ -95,7 +96,7 @@ impl World {
     /// [`WorldError`] for a dead handle or a non-finite position.
     pub fn teleport(&mut self, entity: Entity, position: Vec3) -> Result<(), WorldError> {
         let row = self.row(entity)?;
-        super::particles::check_vector("position", position).map_err(|error| WorldError::Invalid { entity, error })?;
+        check_vector("position", position).map_err(|error| WorldError::Invalid { entity, error })?;
         self.particles.position.set(row, position.into());
         self.particles.previous_position.set(row, position.into());
         self.particles.teleported_at[row] = self.tick;

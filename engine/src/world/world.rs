@@ -11,13 +11,14 @@ use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
 use tickwork_integrators::{Integrator, UnknownMethod, build};
 
-use super::components::Columns;
-use super::entities::Command;
-use super::{Entities, Entity, Lane, Particles, RigidBodies, Rows, WorldConfig};
+use super::columns::Columns;
+use super::command::Command;
+use super::{Entities, Entity, Lane, Particles, RigidBodies, WorldConfig};
 use crate::colliders::set::ColliderSet;
 use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
 use crate::forces::Force;
+use crate::layout::Rows;
 
 /// The particle world. See the [module docs](super).
 pub struct World {
