@@ -12,15 +12,16 @@ pub enum HitchPolicy {
     Drop,
     /// Throw it away and slow the game down: the clock lowers an internal
     /// speed factor to what the cap could simulate (never below
-    /// [`FixedClock::MIN_DILATION`](super::FixedClock::MIN_DILATION), so it always recovers), so following
-    /// frames run smoothly in slow motion instead of in bursts of
-    /// `max_steps_per_frame`, then recovers by 5% per frame once frames fit
-    /// again.
+    /// [`FixedClock::MIN_DILATION`](super::FixedClock::MIN_DILATION), so it
+    /// always recovers), so following frames run smoothly in slow motion
+    /// instead of in bursts of `max_steps_per_frame`, then recovers by 5% per
+    /// frame once frames fit again.
     SlowDown,
     /// Keep it as a debt and run it over the next frames, at most
     /// `max_steps_per_frame` steps per frame, until the game has caught up.
-    /// The debt is bounded: beyond [`FixedClock::MAX_DEBT_FRAMES`](super::FixedClock::MAX_DEBT_FRAMES) frames'
-    /// worth of capped steps it is dropped (and reported as dropped).
+    /// The debt is bounded: beyond
+    /// [`FixedClock::MAX_DEBT_FRAMES`](super::FixedClock::MAX_DEBT_FRAMES)
+    /// frames' worth of capped steps it is dropped (and reported as dropped).
     CatchUp,
 }
 
@@ -39,9 +40,10 @@ pub struct ClockConfig {
     /// What happens to time beyond the step cap (default: [`HitchPolicy::Drop`]).
     pub hitch_policy: HitchPolicy,
     /// Game seconds per real second: 0.25 is slow motion, 2 fast forward
-    /// (default: `1.0`; from [`FixedClock::MIN_TIME_SCALE`](super::FixedClock::MIN_TIME_SCALE) to
-    /// [`FixedClock::MAX_TIME_SCALE`](super::FixedClock::MAX_TIME_SCALE)). Changes how many steps run, never the
-    /// step size.
+    /// (default: `1.0`; from
+    /// [`FixedClock::MIN_TIME_SCALE`](super::FixedClock::MIN_TIME_SCALE) to
+    /// [`FixedClock::MAX_TIME_SCALE`](super::FixedClock::MAX_TIME_SCALE)).
+    /// Changes how many steps run, never the step size.
     pub time_scale: f64,
 }
 

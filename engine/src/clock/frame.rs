@@ -23,7 +23,8 @@ pub struct Frame {
     /// step, as a fraction of a step. Render `previous + alpha * (current - previous)`.
     pub alpha: f64,
     /// Real seconds this frame that will never be simulated (hitches and the
-    /// step cap under [`HitchPolicy::Drop`](super::HitchPolicy::Drop) and [`HitchPolicy::SlowDown`](super::HitchPolicy::SlowDown)).
+    /// step cap under [`HitchPolicy::Drop`](super::HitchPolicy::Drop) and
+    /// [`HitchPolicy::SlowDown`](super::HitchPolicy::SlowDown)).
     pub dropped: f64,
     /// Simulated seconds per real second this frame (1 at normal speed, the
     /// time scale in slow motion, lower when the hitch guard acted; 0 for a
