@@ -4,8 +4,8 @@ use glam::{Quat, Vec3};
 use rand::RngExt;
 use rand_pcg::Pcg32;
 
+use crate::layout::{Colour, Particle, SpawnError};
 use crate::math;
-use crate::world::{Colour, Particle, SpawnError};
 
 /// Spawns `rate` particles per second from a point, in a cone around
 /// `direction`, with the world's seeded generator (so runs are reproducible).

@@ -29,6 +29,21 @@
 #![warn(missing_docs)]
 #![allow(clippy::needless_range_loop)]
 
+/// `Clone` with a field-wise `clone_from`, so copying into an existing value
+/// reuses every `Vec`'s buffer (`#[derive(Clone)]` reallocates them all).
+macro_rules! clone_fields {
+    ($ty:ty { $($field:ident),* $(,)? }) => {
+        impl Clone for $ty {
+            fn clone(&self) -> Self {
+                Self { $($field: self.$field.clone()),* }
+            }
+            fn clone_from(&mut self, source: &Self) {
+                $(self.$field.clone_from(&source.$field);)*
+            }
+        }
+    };
+}
+
 #[cfg(feature = "render")]
 pub mod app;
 pub mod clock;
@@ -39,6 +54,7 @@ pub mod forces;
 pub mod headless;
 pub mod input;
 pub mod interpolation;
+mod layout;
 pub mod platform;
 #[cfg(feature = "render")]
 pub mod render;
@@ -60,8 +76,9 @@ pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Sp
 pub use glam;
 pub use headless::{HeadlessError, HeadlessSummary, TraceWriter, run_headless};
 pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
+pub use layout::CHUNK;
 pub use scene::{Scene, SceneError};
-pub use step::{CHUNK, NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
+pub use step::{NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
 /// Transcendental functions with the same bits on every platform (libm):
 /// what a step calls instead of `f32::sin` and friends.

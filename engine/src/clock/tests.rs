@@ -572,41 +572,6 @@ fn the_reported_rate_change_keeps_time_the_sum_of_its_steps() {
 }
 
 #[test]
-fn mul_div_round_is_exact_past_u128_products() {
-    // Small values against plain arithmetic.
-    for (a, m, d) in [(7u128, 3u128, 2u128), (10, 10, 3), (1, 1, 2), (5, 0, 7), (0, 9, 4)] {
-        assert_eq!(super::mul_div_round(a, m, d), (a * m + d / 2) / d, "{a} * {m} / {d}");
-    }
-    // (2^128 - 1)^2 = 2^256 - 2^129 + 1.
-    assert_eq!(super::widening_mul(u128::MAX, u128::MAX), (u128::MAX - 1, 1));
-    // Products far past u128: the quotient q satisfies
-    // q d <= a m + d/2 < (q + 1) d, checked in 256 bits.
-    let cases = [
-        (10u128.pow(21) - 7, 10u128.pow(21) + 3, 10u128.pow(21) + 1),
-        (u128::MAX / 3, u128::MAX / 5, u128::MAX / 4),
-        (
-            123_456_789_012_345_678_901_234,
-            987_654_321_098_765_432_109,
-            555_555_555_555_555_555_555_557,
-        ),
-    ];
-    for (a, m, d) in cases {
-        let rest = a % d;
-        let q = super::mul_div_round(rest, m, d);
-        let (high, low) = super::widening_mul(rest, m);
-        let (low, carry) = low.overflowing_add(d / 2);
-        let n = (high + u128::from(carry), low);
-        let below = super::widening_mul(q, d);
-        let above = {
-            let (h, l) = super::widening_mul(q, d);
-            let (l, c) = l.overflowing_add(d);
-            (h + u128::from(c), l)
-        };
-        assert!(below <= n && n < above, "{rest} * {m} / {d} gave {q}");
-    }
-}
-
-#[test]
 fn max_frame_time_states_its_real_bounds_and_can_change_at_run_time() {
     // 5e-324 is above zero: the message gives the bound it is below.
     let error = FixedClock::new(ClockConfig {

@@ -25,7 +25,7 @@ use core::fmt;
 
 use glam::{Vec3, Vec3A};
 
-use crate::world::Entity;
+use crate::layout::Entity;
 
 /// A collider's handle, from [`World::add_collider`](crate::World::add_collider):
 /// stable while the collider is in its world (removing others does not

@@ -29,8 +29,7 @@ pub use nbody::NBody;
 pub use springs::{Spring, SpringEnd, Springs};
 pub use wind::Wind;
 
-use crate::world::column::{LANES, gather, scatter};
-use crate::world::{Entities, Rows};
+use crate::layout::{Entities, LANES, Rows, gather, scatter};
 
 /// A force generator. Accelerations are in m/s^2; a force that is physically a
 /// force (springs) divides by mass with the inverse masses it is given.

@@ -6,7 +6,7 @@
 use glam::{Vec3, Vec3A};
 
 use super::Force;
-use crate::world::{Entities, Entity};
+use crate::layout::{Entities, Entity};
 
 /// One end of a spring.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::Gpu;
 use super::frame_view::FrameView;
-use super::renderer::{instance_buffer_layout, record_buffer, write_records};
+use super::records::{instance_buffer_layout, record_buffer, write_records};
 
 /// One particle's current velocity as the shader reads it (12 bytes, as
 /// the WGSL `Velocity`), row for row with the instance records.
@@ -122,7 +122,7 @@ fn velocity_block(particles: &crate::world::Particles, first: usize, records: &m
 #[cfg(test)]
 mod tests {
     use super::Velocity;
-    use crate::render::renderer::Instance;
+    use crate::render::records::Instance;
 
     #[test]
     fn lerp_keeps_its_32_byte_record_and_hermite_adds_12() {

@@ -3,24 +3,27 @@
 //!
 //! Per frame it uploads, only when the world changed since the last upload,
 //! one 32-byte record per particle (previous position, radius, current
-//! position, colour); the vertex shader interpolates with the frame's
+//! position, colour: `records.rs`); the vertex shader interpolates with the frame's
 //! alpha, so a frame without a fixed step uploads nothing but a uniform.
 //! In [`Interpolation::Hermite`] mode a 12-byte velocity per particle goes
 //! into a second buffer too (see `hermite.rs`).
 //! Lines (springs, trails, rigid-body boxes, a game's own) are few and built
-//! on the CPU.
+//! on the CPU (`line_vertices.rs`). The pipelines are built by
+//! `pipeline.rs`.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
-use rayon::prelude::{IndexedParallelIterator, ParallelIterator, ParallelSliceMut};
 
 use super::camera::{Camera, CameraMatrices};
-use super::config::{Blend, RendererConfig};
+use super::config::RendererConfig;
 use super::frame_view::FrameView;
 use super::hermite::HermiteParticles;
 use super::hud::{Hud, PlacedText};
+use super::line_vertices::{LineVertex, upload_vertices, vertex_buffer};
+use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
+use super::records::{Instance, instance_block, instance_buffer_layout, record_buffer, write_records};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
-use super::target::{DEPTH_FORMAT, FrameBuffers};
+use super::target::FrameBuffers;
 use super::{Gpu, RenderError};
 use crate::interpolation::Interpolation;
 
@@ -47,27 +50,6 @@ struct Globals {
     dt: f32,
     _pad: [u32; 2],
 }
-
-/// One particle as the shader reads it (32 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub(crate) struct Instance {
-    previous: [f32; 3],
-    radius: f32,
-    current: [f32; 3],
-    colour: u32,
-}
-
-/// One line vertex (16 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct LineVertex {
-    position: [f32; 3],
-    colour: [u8; 4],
-}
-
-/// Rows per parallel upload job; below two of them the upload is serial.
-const UPLOAD_CHUNK: usize = 32 * 1024;
 
 /// Pipelines, GPU buffers and CPU scratch for drawing frames. One renderer
 /// draws into targets of one colour format and sample count.
@@ -617,63 +599,6 @@ impl Renderer {
     }
 }
 
-/// The shader records of the block of four rows from row `first`: the
-/// per-axis blocks are read as arrays, so the repack from blocks to records
-/// is plain moves.
-fn instance_block(particles: &crate::world::Particles, first: usize, records: &mut [Instance]) {
-    let block = first / 4;
-    let axes = |v: &tickwork_integrators::Vec3x4| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
-    let (p, c) = (
-        axes(&particles.previous_position.blocks()[block]),
-        axes(&particles.position.blocks()[block]),
-    );
-    for (k, record) in records.iter_mut().enumerate() {
-        let i = first + k;
-        *record = Instance {
-            previous: [p[0][k], p[1][k], p[2][k]],
-            radius: particles.radius[i],
-            current: [c[0][k], c[1][k], c[2][k]],
-            colour: u32::from_le_bytes(particles.colour[i]),
-        };
-    }
-}
-
-/// One record per particle of every world `view` shows, in order, into
-/// `scratch` (reused), then into `buffer`: `block(particles, row, records)`
-/// fills the records of the block of four rows from `row`, in parallel
-/// chunks of [`UPLOAD_CHUNK`] rows for large worlds. The instance records
-/// and Hermite's velocities are uploaded through it.
-pub(crate) fn write_records<T: Pod + Default + Send>(
-    gpu: &Gpu,
-    view: &FrameView<'_>,
-    n: usize,
-    scratch: &mut Vec<T>,
-    buffer: &wgpu::Buffer,
-    block: impl Fn(&crate::world::Particles, usize, &mut [T]) + Sync,
-) {
-    scratch.resize(n, T::default());
-    let mut offset = 0;
-    for shown in view.worlds() {
-        let particles = shown.world.particles();
-        let out = &mut scratch[offset..offset + particles.len()];
-        // `first` is a multiple of 4 (UPLOAD_CHUNK is).
-        let fill = |first: usize, out: &mut [T]| {
-            for (b, records) in out.chunks_mut(4).enumerate() {
-                block(particles, first + 4 * b, records);
-            }
-        };
-        if out.len() >= 2 * UPLOAD_CHUNK {
-            out.par_chunks_mut(UPLOAD_CHUNK)
-                .enumerate()
-                .for_each(|(chunk, out)| fill(chunk * UPLOAD_CHUNK, out));
-        } else {
-            fill(0, out);
-        }
-        offset += particles.len();
-    }
-    gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(scratch));
-}
-
 /// sRGB transfer function, for the clear colour.
 fn srgb_to_linear(c: f64) -> f64 {
     if c <= 0.04045 {
@@ -681,46 +606,6 @@ fn srgb_to_linear(c: f64) -> f64 {
     } else {
         crate::math::powf((c + 0.055) / 1.055, 2.4)
     }
-}
-
-/// A buffer for `particles` records of type `T` (at least one), written
-/// by [`write_records`]: per-instance vertex data for the quads, and a
-/// storage buffer for the splat where the device has them (WebGL2 has not).
-pub(crate) fn record_buffer<T>(device: &wgpu::Device, label: &str, particles: usize) -> wgpu::Buffer {
-    let storage = if device.limits().max_storage_buffers_per_shader_stage > 0 {
-        wgpu::BufferUsages::STORAGE
-    } else {
-        wgpu::BufferUsages::empty()
-    };
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: (particles.max(1) * std::mem::size_of::<T>()) as u64,
-        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST | storage,
-        mapped_at_creation: false,
-    })
-}
-
-/// Writes `vertices` into `buffer`, growing it to a power of two when they
-/// do not fit; returns how many there are.
-fn upload_vertices(gpu: &Gpu, vertices: &[LineVertex], buffer: &mut wgpu::Buffer) -> u32 {
-    if vertices.is_empty() {
-        return 0;
-    }
-    let bytes: &[u8] = bytemuck::cast_slice(vertices);
-    if bytes.len() as u64 > buffer.size() {
-        *buffer = vertex_buffer(&gpu.device, vertices.len().next_power_of_two());
-    }
-    gpu.queue.write_buffer(buffer, 0, bytes);
-    vertices.len() as u32
-}
-
-fn vertex_buffer(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("tickwork lines"),
-        size: (vertices.max(1) * std::mem::size_of::<LineVertex>()) as u64,
-        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// Refuses a Hermite step that cannot scale velocities into a step.
@@ -731,167 +616,4 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
         ))),
         _ => Ok(()),
     }
-}
-
-/// The particle passes' binding: the uniforms (the records come as
-/// instance vertex buffers, which WebGL2 has too).
-fn particle_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
-    [entry(
-        0,
-        wgpu::ShaderStages::VERTEX_FRAGMENT,
-        wgpu::BufferBindingType::Uniform,
-    )]
-}
-
-/// The instance records as the quads' per-instance vertex attributes
-/// (`InstanceIn` in particles.wgsl), slot 0.
-const INSTANCE_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
-
-/// Slot 0's layout: one 32-byte [`Instance`] per quad.
-pub(crate) fn instance_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
-    wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<Instance>() as u64,
-        step_mode: wgpu::VertexStepMode::Instance,
-        attributes: &INSTANCE_ATTRIBUTES,
-    }
-}
-
-/// The particle pipeline drawing through `vertex_entry` (`vs_main`: lerp,
-/// `vs_hermite`: Hermite) with `config`'s blend and samples.
-fn particle_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    shader: &wgpu::ShaderModule,
-    vertex_entry: &str,
-    buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
-    format: wgpu::TextureFormat,
-    config: &RendererConfig,
-) -> wgpu::RenderPipeline {
-    let multisample = wgpu::MultisampleState {
-        count: config.samples,
-        mask: !0,
-        alpha_to_coverage_enabled: false,
-    };
-    let blend = match config.blend {
-        Blend::Alpha => wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING,
-        Blend::Additive => wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-            alpha: wgpu::BlendComponent::OVER,
-        },
-    };
-    pipeline(
-        device,
-        layout,
-        shader,
-        vertex_entry,
-        buffers,
-        wgpu::PrimitiveTopology::TriangleStrip,
-        format,
-        blend,
-        config.blend == Blend::Alpha,
-        multisample,
-    )
-}
-
-/// A layout entry for a whole buffer at `binding`, seen by `visibility`.
-pub(crate) fn entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BufferBindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A bind group of whole buffers at bindings 0, 1, 2, ...
-pub(crate) fn bind_buffers(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    buffers: &[&wgpu::Buffer],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-        .iter()
-        .zip(0..)
-        .map(|(buffer, binding)| wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("tickwork"),
-        layout,
-        entries: &entries,
-    })
-}
-
-/// Depth test (less or equal) with or without writes.
-pub(crate) fn depth_state(write: bool) -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: DEPTH_FORMAT,
-        depth_write_enabled: Some(write),
-        depth_compare: Some(wgpu::CompareFunction::LessEqual),
-        stencil: Default::default(),
-        bias: Default::default(),
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    shader: &wgpu::ShaderModule,
-    vertex_entry: &str,
-    buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
-    topology: wgpu::PrimitiveTopology,
-    format: wgpu::TextureFormat,
-    blend: wgpu::BlendState,
-    depth_write: bool,
-    multisample: wgpu::MultisampleState,
-) -> wgpu::RenderPipeline {
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: None,
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: None,
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: shader,
-            entry_point: Some(vertex_entry),
-            compilation_options: Default::default(),
-            buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            topology,
-            ..Default::default()
-        },
-        depth_stencil: Some(depth_state(depth_write)),
-        multisample,
-        fragment: Some(wgpu::FragmentState {
-            module: shader,
-            entry_point: Some("fs_main"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: Some(blend),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }

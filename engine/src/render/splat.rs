@@ -5,7 +5,7 @@
 //! a second bind group that adds the velocities (built on first use).
 
 use super::config::Blend;
-use super::renderer::{bind_buffers, depth_state, entry};
+use super::pipeline::{bind_buffers, depth_state, entry};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;

@@ -4,11 +4,10 @@
 use tickwork_integrators::{StepError, Vec3x4};
 
 use super::reporting::{Reporting, resolve_rows};
-use super::{CHUNK, Lane};
 use crate::colliders::{BlockColumns, Collider};
 use crate::forces::{BlockField, Force, ForceField};
-use crate::world::Vec3Column;
-use crate::world::column::LANES;
+use crate::layout::{CHUNK, LANES, Vec3Column};
+use crate::world::Lane;
 use crate::world::facts::Facts;
 
 /// The particle columns one lane steps: `previous` holds the positions at

@@ -26,12 +26,10 @@
 //! particle's arithmetic is the same.
 
 mod error;
-mod lane;
 mod lane_step;
 mod reporting;
 
 pub use error::{NonFiniteCause, SimulationError};
-pub(crate) use lane::{Lane, Rows};
 use lane_step::{LaneColumns, LaneOutcome, merge, step_lane};
 use reporting::resolve_world_reporting;
 
@@ -43,12 +41,8 @@ use tickwork_integrators::{StepError, Vec3x4, build};
 use crate::clock::FixedStep;
 use crate::colliders::{ContactColumns, RowTouch};
 use crate::forces::ForceField;
-use crate::world::column::LANES;
-use crate::world::{Vec3Column, World};
-
-/// Particles integrated together in the fused step: the integrators'
-/// chunk, defined once (see [`tickwork_integrators::CHUNK`]).
-pub use tickwork_integrators::CHUNK;
+use crate::layout::{CHUNK, LANES, Rows, Vec3Column};
+use crate::world::{Lane, World};
 
 /// What a step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -4,9 +4,8 @@
 use glam::Vec3A;
 use tickwork_integrators::Vec3x4;
 
-use super::Rows;
 use crate::colliders::{Collider, ContactColumns, PairTouch, RowTouch, diff_touches};
-use crate::world::column::{gather, scatter};
+use crate::layout::{Rows, gather, scatter};
 
 /// Where a reporting collider's contacts go: its index, the global row of
 /// the first row it is given, and the list.

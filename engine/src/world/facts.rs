@@ -20,7 +20,7 @@
 use core::fmt;
 
 use crate::forces::all_movable;
-use crate::step::CHUNK;
+use crate::layout::CHUNK;
 
 /// The facts of one chunk.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

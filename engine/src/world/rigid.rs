@@ -2,7 +2,7 @@
 
 use glam::{Quat, Vec3};
 
-use super::particles::{Particle, SpawnError, check_vector};
+use crate::layout::{Particle, SpawnError, check_vector};
 
 /// A rigid body to spawn: its centre of mass moves as a [`Particle`]; its
 /// orientation turns under Euler's equations with a diagonal inertia tensor.

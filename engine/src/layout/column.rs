@@ -59,7 +59,7 @@ impl core::fmt::Debug for Vec3Column {
 }
 
 /// Write access to a column's rows that cannot change its length (which
-/// must stay the world's row count): what [`World::query_mut`](super::World::query_mut) hands out.
+/// must stay the world's row count): what [`World::query_mut`](crate::World::query_mut) hands out.
 ///
 /// Read a row with [`get`](Self::get), change one with
 /// [`update_row`](Self::update_row), every row with
