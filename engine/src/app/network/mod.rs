@@ -16,10 +16,14 @@
 
 mod impairment;
 mod lobby;
+mod match_report;
+mod net_options;
 mod session;
 mod transport;
 
 pub use impairment::{ImpairedSocket, Impairment, ImpairmentCounts};
 pub use lobby::{Lobby, Peer};
-pub use session::{MatchReport, NetOptions, NetSession};
+pub use match_report::MatchReport;
+pub use net_options::NetOptions;
+pub use session::NetSession;
 pub use transport::Welcome;

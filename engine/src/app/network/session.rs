@@ -25,8 +25,10 @@ use crate::platform::Instant;
 
 use ggrs::{DesyncDetection, GgrsError, GgrsEvent, P2PSession, PlayerType, SessionBuilder, SessionState};
 
-use super::impairment::{ImpairedSocket, Impairment};
+use super::impairment::ImpairedSocket;
 use super::lobby::{Lobby, Peer};
+use super::match_report::MatchReport;
+use super::net_options::NetOptions;
 use super::transport::{ControlMessage, Shared, UdpTransport, Welcome};
 use crate::app::rollback::{Rollback, RollbackCursor, SavedTick, fulfil};
 use crate::app::stage::Settings;
@@ -34,124 +36,6 @@ use crate::app::{Control, FrameSource, Game, GameError, GameSession, RunError, S
 use crate::input::{InputEvent, Recording, TickInput};
 use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
-
-/// How a match is played over the network.
-#[derive(Clone, Debug, PartialEq)]
-pub struct NetOptions {
-    /// Ticks a player's input waits before it counts (default 2): hides
-    /// that much latency without a rollback, at the price of that much lag.
-    pub input_delay: usize,
-    /// Ticks a side runs ahead on predicted input before it waits for the
-    /// other (default 8, GGRS's default; 0 is lockstep).
-    pub max_prediction: usize,
-    /// Delay, jitter and loss laid on what this side sends (default none).
-    pub impairment: Option<Impairment>,
-    /// How long to wait for the other player to join, answer or
-    /// synchronise, in seconds (default 60).
-    pub wait_seconds: f64,
-    /// Ticks between the peers' checksum comparisons (default 10: six a
-    /// second at 60 Hz).
-    pub desync_interval: u32,
-    /// Seconds without word from the other player before it counts as
-    /// gone (default 5: GGRS's 2 drops a peer that a busy machine stalls
-    /// for a moment, and 5 still tells a player soon that the other left).
-    pub disconnect_seconds: f64,
-}
-
-impl Default for NetOptions {
-    fn default() -> Self {
-        Self {
-            input_delay: 2,
-            max_prediction: 8,
-            impairment: None,
-            wait_seconds: 60.0,
-            desync_interval: 10,
-            disconnect_seconds: 5.0,
-        }
-    }
-}
-
-impl NetOptions {
-    /// The longest input delay: 8 ticks (past it the lag is plain to feel).
-    pub const MAX_INPUT_DELAY: usize = 8;
-    /// The widest prediction window: 16 ticks (a rollback then re-runs up
-    /// to 16 ticks in one frame).
-    pub const MAX_PREDICTION: usize = 16;
-    /// The longest wait for the other player: a day.
-    pub const MAX_WAIT_SECONDS: f64 = 86_400.0;
-
-    /// Checks every field's range.
-    ///
-    /// # Errors
-    /// [`RunError::Limit`] naming the field, its value and the range.
-    pub fn check(&self) -> Result<(), RunError> {
-        let limit = |field: &str, value: String, range: String| {
-            Err(RunError::Limit(format!("{field} {value}: accepted {range}")))
-        };
-        if self.input_delay > Self::MAX_INPUT_DELAY {
-            return limit(
-                "--input-delay",
-                self.input_delay.to_string(),
-                format!("0 to {} ticks (NetOptions::MAX_INPUT_DELAY)", Self::MAX_INPUT_DELAY),
-            );
-        }
-        if self.max_prediction > Self::MAX_PREDICTION {
-            return limit(
-                "--max-prediction",
-                self.max_prediction.to_string(),
-                format!("0 to {} ticks (NetOptions::MAX_PREDICTION)", Self::MAX_PREDICTION),
-            );
-        }
-        if !(self.wait_seconds > 0.0 && self.wait_seconds <= Self::MAX_WAIT_SECONDS) {
-            return limit(
-                "--wait-seconds",
-                self.wait_seconds.to_string(),
-                format!(
-                    "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
-                    Self::MAX_WAIT_SECONDS
-                ),
-            );
-        }
-        if !(self.disconnect_seconds > 0.0 && self.disconnect_seconds <= Self::MAX_WAIT_SECONDS) {
-            return limit(
-                "disconnect_seconds",
-                self.disconnect_seconds.to_string(),
-                format!(
-                    "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
-                    Self::MAX_WAIT_SECONDS
-                ),
-            );
-        }
-        if self.desync_interval == 0 {
-            return limit("desync_interval", "0".into(), "at least 1 tick".into());
-        }
-        if let Some(impairment) = &self.impairment {
-            impairment
-                .check()
-                .map_err(|e| RunError::Limit(format!("--impair: {e}")))?;
-        }
-        Ok(())
-    }
-}
-
-/// What a match did.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MatchReport {
-    /// The tick the match ended at (its final state is at the start of it).
-    pub ticks: u64,
-    /// The final state's checksum (the same on both sides).
-    pub checksum: u64,
-    /// States loaded to correct a misprediction.
-    pub rollbacks: u64,
-    /// Ticks run again after those loads.
-    pub resimulated: u64,
-    /// Due ticks that waited for the other player (prediction window full).
-    pub waits: u64,
-    /// Ticks skipped on GGRS's advice, to let the other side catch up.
-    pub skipped: u64,
-    /// The game's outcome line.
-    pub outcome: Option<String>,
-}
 
 /// A local player's input read from a recording instead of the keyboard.
 #[derive(Debug)]
