@@ -19,6 +19,7 @@ mod playback;
 mod rollback;
 mod run;
 mod session;
+mod session_options;
 mod source;
 mod stage;
 mod start;
@@ -43,7 +44,8 @@ pub use options::{
 pub use playback::Playback;
 pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
 pub use run::{MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config};
-pub use session::{GameSession, SessionOptions};
+pub use session::GameSession;
+pub use session_options::SessionOptions;
 pub use source::FrameSource;
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 pub use start::run;

@@ -16,8 +16,9 @@ use super::error::RunError;
 use super::frame_rate::FrameRate;
 use super::game::{Game, GameError};
 use super::panel::{ClockRow, WorldRow};
+use super::session_options::SessionOptions;
 use super::source::FrameSource;
-use super::stage::{Settings, Stage};
+use super::stage::Stage;
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::interpolation::Interpolation;
@@ -36,36 +37,6 @@ enum InputMode {
         cursors: Vec<usize>,
         next_control: usize,
     },
-}
-
-/// What a [`GameSession`] is started with.
-#[derive(Clone, Debug)]
-pub struct SessionOptions {
-    /// Passed to [`Game::setup`].
-    pub settings: Settings,
-    /// Fixed steps per second, overriding the stage's rate (default: none).
-    pub hz: Option<f64>,
-    /// Simulated seconds per real second (default 1).
-    pub time_scale: f64,
-    /// Record inputs to this file at the end of the run (default: none).
-    pub record: Option<PathBuf>,
-    /// Replay this recording instead of the keyboard (default: none).
-    pub replay: Option<Recording>,
-    /// Overwrite the recording file if it exists (default false).
-    pub overwrite: bool,
-}
-
-impl Default for SessionOptions {
-    fn default() -> Self {
-        Self {
-            settings: Settings::default(),
-            hz: None,
-            time_scale: 1.0,
-            record: None,
-            replay: None,
-            overwrite: false,
-        }
-    }
 }
 
 /// A game, its stage and its clock: the per-frame path both runners share.
