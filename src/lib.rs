@@ -36,8 +36,8 @@ pub mod prelude {
     pub use tickwork_engine::interpolation::Interpolated;
     pub use tickwork_engine::render::{Anchor, Camera, Line};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, ColliderId, Contact, Emitter, Entity, FixedStep, Gravity, LinearDrag, Material,
-        Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs, StableHasher,
-        Touched, Wind, World, WorldConfig,
+        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, LinearDrag,
+        Material, Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs,
+        StableHasher, Touched, Wind, World, WorldConfig,
     };
 }

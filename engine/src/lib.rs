@@ -66,7 +66,8 @@ pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};
 pub use colliders::{
-    BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, Material, Plane, SphereCollisions, Touched,
+    BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, Material, Plane,
+    SphereCollisions, Touched,
 };
 pub use emitter::Emitter;
 pub use energy::Energy;

@@ -301,6 +301,7 @@ fn collider_handles_change_remove_and_refuse_with_a_message() {
         offset: -5.0,
         material: bouncy(),
         speed: 0.0,
+        ..Plane::default()
     };
     let wall = w.add_collider(ceiling);
     assert!(wall != brick && wall != floor);

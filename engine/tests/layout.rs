@@ -50,12 +50,14 @@ fn scene(method: &str, threshold: usize, plain: bool) -> World {
             friction: 0.0,
         },
         speed: 0.0,
+        ..Plane::default()
     });
     w.add_collider(Plane {
         normal: Vec3::new(1.0, 1.0, 0.0).normalize(),
         offset: -3.0,
         material: Material::default(),
         speed: 0.0,
+        ..Plane::default()
     });
     w.add_collider(BoxCollider {
         min: Vec3::splat(-5.0),
@@ -63,6 +65,7 @@ fn scene(method: &str, threshold: usize, plain: bool) -> World {
         inside: true,
         material: Material::default(),
         velocity: Vec3::ZERO,
+        ..BoxCollider::default()
     });
     if plain {
         w.add_collider(ForcePlainPath);
@@ -201,6 +204,7 @@ fn facts_scene(threshold: usize, plain: bool) -> World {
             friction: 0.0,
         },
         speed: 0.0,
+        ..Plane::default()
     });
     if plain {
         w.add_collider(ForcePlainPath);

@@ -138,6 +138,7 @@ fn box_container_keeps_particles_inside_and_obstacle_keeps_them_out() {
             friction: 0.0,
         },
         velocity: Vec3::ZERO,
+        ..BoxCollider::default()
     });
     let mut obstacle = world("semi_implicit_euler");
     obstacle.add_force(Gravity::EARTH);
@@ -147,6 +148,7 @@ fn box_container_keeps_particles_inside_and_obstacle_keeps_them_out() {
         inside: false,
         material: Material::default(),
         velocity: Vec3::ZERO,
+        ..BoxCollider::default()
     });
     let mut inside = Vec::new();
     let mut outside = Vec::new();
@@ -231,6 +233,7 @@ fn sphere_grid_resolves_a_crowd_without_overlaps() {
         inside: true,
         material: Material::default(),
         velocity: Vec3::ZERO,
+        ..BoxCollider::default()
     });
     w.add_collider(SphereCollisions::new(Material {
         restitution: 0.1,
@@ -399,6 +402,7 @@ fn particle_slides_down_an_inclined_plane_at_g_sin_theta() {
             friction: 0.0,
         },
         speed: 0.0,
+        ..Plane::default()
     });
     let p = w
         .spawn(Particle {

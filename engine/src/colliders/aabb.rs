@@ -1,9 +1,10 @@
 //! An axis-aligned box: a container particles stay inside, or a solid
 //! obstacle they stay out of.
 
-use glam::{Vec3, Vec3A};
+use glam::{DVec3, Vec3, Vec3A};
 
-use super::contact::{Material, resolve};
+use super::contact::{ContactRule, Material, resolve};
+use super::sweep::{StepPath, SweptHit};
 use super::{Collider, ContactColumns};
 
 /// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
@@ -25,6 +26,8 @@ pub struct BoxCollider {
     /// box by `velocity dt`, then resolves contacts relative to it:
     /// `v' = u + response(v - u)`.
     pub velocity: Vec3,
+    /// When contacts are found (default [`ContactRule::EndOfStep`]).
+    pub contact: ContactRule,
 }
 
 impl Default for BoxCollider {
@@ -45,6 +48,7 @@ impl BoxCollider {
             inside: false,
             material,
             velocity: Vec3::ZERO,
+            contact: ContactRule::EndOfStep,
         }
     }
 
@@ -148,6 +152,56 @@ impl Collider for BoxCollider {
         "box"
     }
 
+    fn in_step(&self) -> bool {
+        self.contact == ContactRule::InStep
+    }
+
+    fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
+        // Each face is a plane moving with the box; a container's faces
+        // face inwards (every crossing is a contact), a solid box's
+        // outwards (a crossing is a contact where the path then is within
+        // the face, the box grown by the radius).
+        let (min, max) = (self.min.as_dvec3(), self.max.as_dvec3());
+        let u = self.velocity.as_dvec3();
+        let r = f64::from(radius);
+        let mut best: Option<SweptHit> = None;
+        for axis in 0..3 {
+            for outward in [-1.0, 1.0] {
+                let mut n = DVec3::ZERO;
+                n[axis] = if self.inside { -outward } else { outward };
+                // The face's plane n . x = offset at the step's end.
+                let face = if outward < 0.0 { min[axis] } else { max[axis] };
+                let offset = n[axis] * face;
+                let travel = n.dot(u) * path.dt;
+                let Some(s) = path.first_crossing(n, offset, travel, r) else {
+                    continue;
+                };
+                if best.is_some_and(|b| b.fraction <= s) {
+                    continue;
+                }
+                if !self.inside {
+                    // Within the face: the other axes inside the grown box,
+                    // where the box is at that instant.
+                    let at = path.at(s) - u * path.dt * (1.0 - s);
+                    let within = (0..3)
+                        .filter(|&k| k != axis)
+                        .all(|k| at[k] >= min[k] - r && at[k] <= max[k] + r);
+                    if !within {
+                        continue;
+                    }
+                }
+                best = Some(SweptHit {
+                    fraction: s,
+                    normal: n,
+                    offset,
+                    velocity: u,
+                    material: self.material,
+                });
+            }
+        }
+        best
+    }
+
     fn resolve_range(&self, mut c: ContactColumns<'_>) {
         if self.velocity == Vec3::ZERO {
             for (x, v, r, w) in c.rows() {
@@ -190,6 +244,7 @@ mod tests {
                 friction: 0.3,
             },
             velocity: Vec3::ZERO,
+            contact: ContactRule::EndOfStep,
         };
         // A lattice through and around the box, including points exactly a
         // radius from a wall (the boundary of the skip).

@@ -76,6 +76,12 @@ pub struct Contact {
     /// The normal impulse the entity received, `m dv . n`, in kg m/s: 0 for
     /// a particle pushed out without bouncing (resting), large for a fast hit.
     pub impulse: f32,
+    /// When, as the fraction of the step in `[0, 1]`: the instant of
+    /// contact for a collider that finds contacts inside the step
+    /// ([`ContactRule::InStep`](super::ContactRule)), so an effect, a sound
+    /// or a score lands where it happened; 1 (the step's end) for contacts
+    /// found at the end of the step.
+    pub fraction: f32,
 }
 
 /// A contact as the step finds it, by row and collider index: turned into a
@@ -91,12 +97,15 @@ pub(crate) struct RowTouch {
     pub point: Vec3A,
     pub normal: Vec3A,
     pub impulse: f32,
+    /// The fraction of the step it happened at (1: the end).
+    pub fraction: f32,
 }
 
 impl RowTouch {
-    /// The canonical order: collider, row, other row.
-    pub fn key(&self) -> (u32, u32, u32) {
-        (self.collider, self.row, self.other)
+    /// The canonical order: collider, row, other row, instant (a fraction
+    /// in `[0, 1]`, whose bits sort as it does).
+    pub fn key(&self) -> (u32, u32, u32, u32) {
+        (self.collider, self.row, self.other, self.fraction.to_bits())
     }
 }
 
@@ -148,6 +157,7 @@ pub(crate) fn diff_touches(
             point: x[k] - normal * radius[k],
             normal,
             impulse,
+            fraction: 1.0,
         });
     }
 }

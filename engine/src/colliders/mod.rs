@@ -16,6 +16,7 @@ mod contacts;
 mod plane;
 pub(crate) mod set;
 mod spheres;
+pub mod sweep;
 
 use core::any::Any;
 use core::fmt;
@@ -27,12 +28,15 @@ use tickwork_integrators::Vec3x4;
 use crate::threads::ROWS_PER_JOB;
 
 pub use aabb::BoxCollider;
-pub use contact::Material;
+pub(crate) use contact::bounce;
+pub use contact::{ContactRule, Material};
 pub use contacts::{ColliderId, Contact, PairTouch, Touched};
 pub(crate) use contacts::{RowTouch, diff_touches};
 pub use plane::Plane;
 pub use set::ColliderError;
 pub use spheres::SphereCollisions;
+pub(crate) use sweep::EventOverflow;
+pub use sweep::{MAX_CONTACT_EVENTS, StepPath, SweptHit};
 
 /// The particle columns a collider may read and change.
 #[derive(Debug)]
@@ -201,6 +205,25 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// so quadratic work (every sphere overlapping every other) is an error
     /// naming the limit rather than a step that runs for minutes.
     fn refused_pairs(&self) -> Option<u64> {
+        None
+    }
+
+    /// Whether this collider finds its contacts inside the step
+    /// ([`ContactRule::InStep`]): the step then asks
+    /// [`first_contact`](Self::first_contact) along each particle's path,
+    /// before [`resolve_world`](Self::resolve_world) resolves what is left
+    /// at the end of the step (particles that started inside). Default:
+    /// false.
+    fn in_step(&self) -> bool {
+        false
+    }
+
+    /// The first contact of a particle of `radius` moving along `path`
+    /// (part or all of a step, ending at the step's end, where the collider
+    /// now is), or `None` (the default). Asked only when
+    /// [`in_step`](Self::in_step).
+    fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
+        let _ = (path, radius);
         None
     }
 

@@ -5,7 +5,8 @@
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
-use super::contact::{Material, resolve};
+use super::contact::{ContactRule, Material, resolve};
+use super::sweep::{StepPath, SweptHit};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -24,6 +25,8 @@ pub struct Plane {
     /// `offset += speed dt`, then resolves contacts in its frame, where it
     /// is at rest: `v' = u + response(v - u)` with `u = speed n`.
     pub speed: f32,
+    /// When contacts are found (default [`ContactRule::EndOfStep`]).
+    pub contact: ContactRule,
 }
 
 impl Default for Plane {
@@ -44,6 +47,7 @@ impl Plane {
             offset: y,
             material,
             speed: 0.0,
+            contact: ContactRule::EndOfStep,
         }
     }
 
@@ -261,6 +265,24 @@ impl Collider for Plane {
         "plane"
     }
 
+    fn in_step(&self) -> bool {
+        self.contact == ContactRule::InStep
+    }
+
+    fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
+        let n = self.normal.as_dvec3();
+        let speed = f64::from(self.speed);
+        let offset = f64::from(self.offset);
+        let fraction = path.first_crossing(n, offset, speed * path.dt, f64::from(radius))?;
+        Some(SweptHit {
+            fraction,
+            normal: n,
+            offset,
+            velocity: n * speed,
+            material: self.material,
+        })
+    }
+
     fn resolve_blocks(&self, c: BlockColumns<'_>) -> bool {
         if self.speed != 0.0 {
             return false;
@@ -356,7 +378,7 @@ mod tests {
                 normal,
                 offset: 0.1,
                 material,
-                speed: 0.0,
+                ..Plane::default()
             };
             let n = 23; // five blocks of four and a padded tail of three
             let mut x: Vec<Vec3A> = (0..n).map(|_| Vec3A::new(random(), random(), random()) * 0.3).collect();

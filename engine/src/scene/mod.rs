@@ -291,7 +291,7 @@ impl Scene {
                         normal: unit,
                         offset: offset.0,
                         material: material_of(material),
-                        speed: 0.0,
+                        ..Plane::default()
                     });
                 }
                 ColliderSpec::Box {
@@ -305,7 +305,7 @@ impl Scene {
                         max: max.into(),
                         inside,
                         material: material_of(material),
-                        velocity: Vec3::ZERO,
+                        ..BoxCollider::default()
                     });
                 }
                 ColliderSpec::Spheres { material } => {

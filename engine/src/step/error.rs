@@ -100,6 +100,23 @@ pub enum SimulationError {
         /// The limit in force.
         limit: u64,
     },
+    /// A particle met more contacts in one step than
+    /// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS), with
+    /// colliders that find contacts inside the step (squeezed between
+    /// surfaces closing in, or between walls far closer than its travel in
+    /// a step). The world is left as the step made it.
+    ContactEventLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The particle.
+        entity: crate::layout::Entity,
+        /// The collider of its last contact (`"plane"`, `"box"`).
+        collider: &'static str,
+        /// That collider's index among the world's colliders.
+        index: usize,
+        /// The limit.
+        limit: u32,
+    },
     /// The fixed step itself is invalid: a time or `dt` that is not finite
     /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
     InvalidStep {
@@ -189,6 +206,19 @@ impl fmt::Display for SimulationError {
                  {particles} particles, past the limit of {limit} (WorldConfig::max_pairs): the spheres are \
                  crowded into the same grid cells (overlapping one another, or piled together by another \
                  collider); give them room, smaller radii, or raise the limit"
+            ),
+            Self::ContactEventLimit {
+                tick,
+                entity,
+                collider,
+                index,
+                limit,
+            } => write!(
+                f,
+                "step {tick}: entity {entity} met more than {limit} contacts in one step (the last with \
+                 collider {index}, {collider}; MAX_CONTACT_EVENTS): it is squeezed between surfaces, or \
+                 bounces between walls far closer than it travels in a step; give it room or take a \
+                 smaller step"
             ),
             Self::InvalidStep { tick, time, dt } => write!(
                 f,

@@ -26,6 +26,7 @@
 //! particle's arithmetic is the same.
 
 mod error;
+mod in_step;
 mod lane_step;
 mod reporting;
 
@@ -165,7 +166,11 @@ impl World {
     fn integrate(&mut self, t: f32, dt: f32, tick: u64, report: &mut StepReport) -> Result<(), SimulationError> {
         let fused = self.integrator.splits_pointwise()
             && self.forces.iter().all(|f| f.is_pointwise())
-            && self.colliders.colliders.iter().all(|c| c.is_pointwise());
+            && self
+                .colliders
+                .colliders
+                .iter()
+                .all(|c| c.is_pointwise() && !c.in_step());
         // Double buffering: the positions at the start of the step become
         // the previous positions (for interpolation) by a swap, and the step
         // writes the new positions into the other buffer; nothing is copied.
@@ -192,6 +197,16 @@ impl World {
         self.name_contacts(fused);
         if let Some(row) = outcome.first_bad {
             return Err(self.non_finite(tick, row, NonFiniteCause::Step));
+        }
+        if let Some(overflow) = self.event_overflow.take() {
+            let collider = &self.colliders.colliders[overflow.collider];
+            return Err(SimulationError::ContactEventLimit {
+                tick,
+                entity: self.entities.rows()[overflow.row],
+                collider: collider.name(),
+                index: overflow.collider,
+                limit: crate::colliders::MAX_CONTACT_EVENTS,
+            });
         }
         for (index, collider) in self.colliders.colliders.iter().enumerate() {
             if let Some(pairs) = collider.refused_pairs() {
@@ -302,6 +317,9 @@ impl World {
             .integrator
             .step_from(t, dt, &g.other, &mut g.x, &mut g.v, &mut field)?;
         self.touches.clear();
+        self.event_overflow = self.resolve_in_step(dt);
+        let p = &mut self.particles;
+        let g = &mut self.gathered;
         let set = &mut self.colliders;
         for (k, collider) in set.colliders.iter_mut().enumerate() {
             let columns = ContactColumns {
@@ -364,6 +382,7 @@ impl World {
                 point: t.point.into(),
                 normal: t.normal.into(),
                 impulse: t.impulse,
+                fraction: t.fraction,
             }));
     }
 

@@ -85,6 +85,7 @@ pub(super) fn resolve_world_reporting(
                 point: pair.point,
                 normal,
                 impulse: pair.impulse,
+                fraction: 1.0,
             });
         };
         let reborrow = ContactColumns {

@@ -42,6 +42,14 @@ pub struct WorldConfig {
     /// cell, so a pile makes at most 3.5 such pairs a grain: ten million
     /// grains stay below the default).
     pub max_pairs: u64,
+    /// Below this approach speed, in m/s, a contact found inside the step
+    /// ([`ContactRule::InStep`](crate::colliders::ContactRule)) does not
+    /// bounce: the particle comes to rest on the surface (default `0.5`,
+    /// about what gravity gives in two steps at 60 Hz, as Box2D's
+    /// restitution threshold of 1 m/s). Without it a ball with restitution
+    /// below 1 would bounce ever lower, infinitely often (Zeno); 0 keeps
+    /// every bounce.
+    pub rest_speed: f32,
 }
 
 impl Default for WorldConfig {
@@ -54,6 +62,7 @@ impl Default for WorldConfig {
             max_spawns_per_step: 1_000_000,
             max_particles: 10_000_000,
             max_pairs: 50_000_000,
+            rest_speed: 0.5,
         }
     }
 }

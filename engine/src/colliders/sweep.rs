@@ -1,0 +1,248 @@
+//! The precise instant of a contact inside a step.
+//!
+//! A particle's path over one step of `dt` is taken to be the curve the
+//! renderer draws between the step's two states: the quadratic through the
+//! start position `x0` and the end position `x1` whose velocity at the end
+//! is `v1`,
+//!
+//! ```text
+//! q(s) = x0 + b s + a s^2,   s in [0, 1],
+//! a = v1 dt - (x1 - x0),     b = 2 (x1 - x0) - v1 dt,
+//! q'(s) / dt = (b + 2 a s) / dt   (the velocity along it).
+//! ```
+//!
+//! It is exact for constant acceleration (a ball under gravity stepped by
+//! velocity Verlet, or any method that lands on the exact parabola), and
+//! needs only the end state and the start position, which the step keeps
+//! anyway (for interpolation). The gap to a plane along it is a quadratic
+//! in `s` too, whose first root in `[0, 1]` is the instant of contact:
+//! found in closed form, in `f64` (correctly rounded on every platform, so
+//! the same bits natively and in a page).
+
+use glam::{DVec3, Vec3A};
+
+use super::contact::Material;
+
+/// Most contacts one particle may meet in one step ([`ContactRule::InStep`](super::ContactRule)):
+/// a particle that would need more (squeezed between two surfaces closing
+/// in, or bouncing between walls closer than its travel a step many times
+/// over) is [`SimulationError::ContactEventLimit`](crate::SimulationError),
+/// naming the entity, the collider and this limit, never a hang.
+pub const MAX_CONTACT_EVENTS: u32 = 16;
+
+/// Where a path first meets a collider's surface: the plane it meets there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweptHit {
+    /// The fraction of the path, in `[0, 1]`.
+    pub fraction: f64,
+    /// The surface's unit normal, towards the free side.
+    pub normal: DVec3,
+    /// The surface's plane at the end of the step: `normal . x = offset`.
+    pub offset: f64,
+    /// The surface's velocity (a kinematic collider's), m/s.
+    pub velocity: DVec3,
+    /// Its bounce and friction.
+    pub material: Material,
+}
+
+/// One step's path: `q(s) = start + b s + a s^2` over `s` in `[0, 1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepPath {
+    /// Position at `s = 0`.
+    pub start: DVec3,
+    /// Coefficient of `s`.
+    pub b: DVec3,
+    /// Coefficient of `s^2`.
+    pub a: DVec3,
+    /// The step's length in seconds.
+    pub dt: f64,
+}
+
+impl StepPath {
+    /// The path from `x0` to `x1` arriving with velocity `v1` after `dt`
+    /// seconds (the renderer's curve).
+    #[must_use]
+    pub fn new(x0: Vec3A, x1: Vec3A, v1: Vec3A, dt: f32) -> Self {
+        let (x0, x1, v1, dt) = (x0.as_dvec3(), x1.as_dvec3(), v1.as_dvec3(), f64::from(dt));
+        let delta = x1 - x0;
+        let vdt = v1 * dt;
+        Self {
+            start: x0,
+            b: 2.0 * delta - vdt,
+            a: vdt - delta,
+            dt,
+        }
+    }
+
+    /// The position at fraction `s` of the step.
+    #[must_use]
+    pub fn at(&self, s: f64) -> DVec3 {
+        self.start + (self.b + self.a * s) * s
+    }
+
+    /// The velocity at fraction `s` of the step.
+    #[must_use]
+    pub fn velocity(&self, s: f64) -> DVec3 {
+        (self.b + 2.0 * self.a * s) / self.dt
+    }
+
+    /// The path's (constant) acceleration.
+    #[must_use]
+    pub fn acceleration(&self) -> DVec3 {
+        2.0 * self.a / (self.dt * self.dt)
+    }
+
+    /// The first fraction `s` in `[0, 1]` at which the gap to the plane
+    /// `n . x = offset` (minus `radius`) reaches zero from above, the plane
+    /// moving by `travel` along `n` over the step and at `offset` at its
+    /// end; `None` if the path stays clear, or starts inside (a particle
+    /// already through the surface is left to the end-of-step projection).
+    #[must_use]
+    pub fn first_crossing(&self, n: DVec3, offset: f64, travel: f64, radius: f64) -> Option<f64> {
+        // gap(s) = c + b s + a s^2, the plane at offset - travel (1 - s).
+        let c = n.dot(self.start) - (offset - travel) - radius;
+        let b = n.dot(self.b) - travel;
+        let a = n.dot(self.a);
+        first_root(a, b, c)
+    }
+}
+
+/// The first `s` in `[0, 1]` where `c + b s + a s^2` falls to zero from
+/// `c >= 0`, or `None`.
+fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    if c.is_nan() || c < 0.0 {
+        return None;
+    }
+    let end = c + b + a;
+    if end >= 0.0 {
+        // Clear at both ends: inside in between only for a path that dips
+        // (a > 0) with its lowest point inside the step and below zero.
+        if a <= 0.0 {
+            return None;
+        }
+        let lowest = -b / (2.0 * a);
+        if !(0.0..1.0).contains(&lowest) || c + (b + a * lowest) * lowest >= 0.0 {
+            return None;
+        }
+    }
+    // A root exists in [0, 1]: the smaller root of the quadratic (or the
+    // linear one), computed without cancellation.
+    let root = if a == 0.0 {
+        -c / b
+    } else {
+        let disc = (b * b - 4.0 * a * c).max(0.0);
+        let q = -0.5 * (b + disc.sqrt().copysign(b));
+        let (r1, r2) = (q / a, if q == 0.0 { 0.0 } else { c / q });
+        let (lo, hi) = if r1 <= r2 { (r1, r2) } else { (r2, r1) };
+        if lo >= 0.0 { lo } else { hi }
+    };
+    Some(root.clamp(0.0, 1.0))
+}
+
+/// A particle that met more contacts in one step than
+/// [`MAX_CONTACT_EVENTS`]: its row and the collider of the last one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct EventOverflow {
+    pub row: usize,
+    pub collider: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_path_is_exact_for_constant_acceleration() {
+        // x(t) = x0 + v0 t + g t^2 / 2 over dt: the quadratic through the
+        // ends with the end velocity is that parabola.
+        let (x0, v0, g, dt) = (
+            Vec3A::new(1.0, 10.0, -2.0),
+            Vec3A::new(3.0, 0.5, 1.0),
+            Vec3A::new(0.0, -9.81, 0.0),
+            0.125f32,
+        );
+        let x1 = x0 + v0 * dt + g * (dt * dt / 2.0);
+        let v1 = v0 + g * dt;
+        let path = StepPath::new(x0, x1, v1, dt);
+        for s in [0.0, 0.25, 0.5, 1.0] {
+            let t = s * f64::from(dt);
+            let exact = x0.as_dvec3() + v0.as_dvec3() * t + g.as_dvec3() * (t * t / 2.0);
+            assert!((path.at(s) - exact).length() < 1e-6, "at {s}");
+            let v = v0.as_dvec3() + g.as_dvec3() * t;
+            assert!((path.velocity(s) - v).length() < 1e-5, "velocity at {s}");
+        }
+        assert!((path.acceleration() - g.as_dvec3()).length() < 1e-3);
+    }
+
+    #[test]
+    fn a_falling_ball_meets_the_floor_when_theory_says() {
+        // Dropped from rest at height 1 with radius 0.1 under g: it touches
+        // y = 0 when 1 - g t^2 / 2 = 0.1, t = sqrt(1.8 / g).
+        let g = 9.81f32;
+        let touch = (1.8 / f64::from(g)).sqrt();
+        let dt = 0.5f32;
+        let x1 = Vec3A::new(0.0, 1.0 - g * dt * dt / 2.0, 0.0);
+        let path = StepPath::new(Vec3A::Y, x1, Vec3A::new(0.0, -g * dt, 0.0), dt);
+        let s = path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1).expect("a contact");
+        assert!(
+            (s * f64::from(dt) - touch).abs() < 1e-6,
+            "{} vs {touch}",
+            s * f64::from(dt)
+        );
+    }
+
+    #[test]
+    fn crossings_through_a_thin_wall_at_any_speed_are_found() {
+        // A straight path from x = -5 to far past a plane at x = 0.
+        for speed in [10.0f32, 100.0, 1e3, 1e4, 1e6] {
+            let dt = 1.0 / 60.0;
+            let x0 = Vec3A::new(-5.0, 0.0, 0.0);
+            let v = Vec3A::new(speed, 0.0, 0.0);
+            let path = StepPath::new(x0, x0 + v * dt, v, dt);
+            let hit = path.first_crossing(-DVec3::X, 0.0, 0.0, 0.01);
+            let wanted = (5.0 - 0.01) / (f64::from(speed) * f64::from(dt));
+            match hit {
+                Some(s) => assert!(
+                    (s - wanted).abs() < 1e-6 * wanted.max(1e-3),
+                    "speed {speed}: {s} vs {wanted}"
+                ),
+                None => assert!(wanted > 1.0, "speed {speed} reaches the wall in the step"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_moving_plane_is_met_where_both_are() {
+        // A particle at rest at x = 0; a plane with normal -x (free side
+        // x <= -offset) moving from x = 2 towards it at 4 m/s over a step
+        // of 1 s, 4 m along its normal, to x = -2 (offset 2): the gap
+        // 2 - 4 s - 0.5 closes at s = 0.375.
+        let path = StepPath::new(Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO, 1.0);
+        let s = path.first_crossing(-DVec3::X, 2.0, 4.0, 0.5).expect("met");
+        assert!((s - 0.375).abs() < 1e-12, "{s}");
+    }
+
+    #[test]
+    fn clear_paths_and_paths_that_start_inside_have_no_crossing() {
+        // Rising away from a floor.
+        let path = StepPath::new(Vec3A::Y, Vec3A::Y * 2.0, Vec3A::Y, 1.0);
+        assert_eq!(path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1), None);
+        // Already through the floor at the start.
+        let path = StepPath::new(-Vec3A::Y, -Vec3A::Y * 2.0, -Vec3A::Y, 1.0);
+        assert_eq!(path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1), None);
+        // A NaN start.
+        let path = StepPath::new(Vec3A::splat(f32::NAN), Vec3A::ZERO, Vec3A::ZERO, 1.0);
+        assert_eq!(path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1), None);
+    }
+
+    #[test]
+    fn a_path_that_rises_through_and_back_within_the_step_is_caught() {
+        // Thrown up at 6 m/s under g = 10 for 1 s: y = 6 t - 5 t^2 ends at
+        // 1, below a ceiling at 1.5 (the free side y <= 1.5), but its top
+        // (1.8, at t = 0.6) is above: it meets the ceiling at
+        // t = (6 - sqrt 6) / 10.
+        let path = StepPath::new(Vec3A::ZERO, Vec3A::new(0.0, 1.0, 0.0), Vec3A::new(0.0, -4.0, 0.0), 1.0);
+        let s = path.first_crossing(-DVec3::Y, -1.5, 0.0, 0.0).expect("met");
+        assert!((s - (6.0 - 6f64.sqrt()) / 10.0).abs() < 1e-12, "{s}");
+    }
+}
