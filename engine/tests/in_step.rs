@@ -7,6 +7,8 @@
 // functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
+mod support;
+
 use glam::Vec3;
 use proptest::prelude::*;
 use tickwork_engine::clock::FixedStep;
@@ -458,48 +460,67 @@ fn a_particle_that_would_need_more_events_than_the_limit_is_an_error_naming_it()
     );
 }
 
-#[test]
-fn in_step_contacts_are_the_same_bits_on_one_and_three_threads() {
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("a pool")
-            .install(|| {
-                let mut w = world("semi_implicit_euler");
-                w.add_force(Gravity {
-                    acceleration: Vec3::new(0.0, -G as f32, 0.0),
-                });
-                w.add_collider(Plane {
-                    contact: ContactRule::InStep,
-                    ..Plane::default()
-                });
-                w.add_collider(BoxCollider {
-                    min: Vec3::new(-2.0, -1.0, -2.0),
-                    max: Vec3::new(2.0, 10.0, 2.0),
-                    inside: true,
-                    contact: ContactRule::InStep,
-                    ..BoxCollider::default()
-                });
-                for k in 0..6_000 {
-                    let f = k as f32;
-                    w.spawn(Particle {
-                        position: Vec3::new(
-                            (f * 0.37).sin() * 1.5,
-                            1.0 + (f * 0.11).fract() * 8.0,
-                            (f * 0.53).cos() * 1.5,
-                        ),
-                        velocity: Vec3::new((f * 0.7).sin() * 30.0, (f * 0.3).cos() * 30.0, (f * 0.9).sin() * 30.0),
-                        radius: 0.02,
-                        ..Particle::default()
-                    })
-                    .expect("valid");
-                }
-                for _ in 0..60 {
-                    step(&mut w, 1.0 / 60.0).expect("steps");
-                }
+/// A crowd of fast particles in a box over a floor, both in-step, with
+/// contacts reported: the world after 60 steps at 60 Hz.
+fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool")
+        .install(|| {
+            let mut w = world("semi_implicit_euler");
+            w.add_force(Gravity {
+                acceleration: Vec3::new(0.0, -G as f32, 0.0),
+            });
+            let floor = w.add_collider(Plane {
+                contact: ContactRule::InStep,
+                ..Plane::default()
+            });
+            w.add_collider(BoxCollider {
+                min: Vec3::new(-2.0, -1.0, -2.0),
+                max: Vec3::new(2.0, 10.0, 2.0),
+                inside: true,
+                contact: ContactRule::InStep,
+                ..BoxCollider::default()
+            });
+            w.report_contacts(floor).expect("the floor");
+            if plain {
+                w.add_collider(support::ForcePlainPath);
+            }
+            for k in 0..6_000 {
+                let f = k as f32;
+                w.spawn(Particle {
+                    position: Vec3::new(
+                        (f * 0.37).sin() * 1.5,
+                        1.0 + (f * 0.11).fract() * 8.0,
+                        (f * 0.53).cos() * 1.5,
+                    ),
+                    velocity: Vec3::new((f * 0.7).sin() * 30.0, (f * 0.3).cos() * 30.0, (f * 0.9).sin() * 30.0),
+                    radius: 0.02,
+                    ..Particle::default()
+                })
+                .expect("valid");
+            }
+            let mut contacts = Vec::new();
+            for _ in 0..60 {
+                step(&mut w, 1.0 / 60.0).expect("steps");
+                contacts.extend_from_slice(w.contacts());
+            }
+            let hash = if plain {
+                support::hash_without_plain_path(&mut w)
+            } else {
                 w.state_hash()
-            })
-    };
-    assert_eq!(run(1), run(3));
+            };
+            (hash, contacts)
+        })
+}
+
+#[test]
+fn in_step_contacts_are_the_same_bits_on_any_threads_and_either_path() {
+    let fused = crowd(1, false);
+    assert!(fused.1.len() > 1_000, "the floor is hit: {}", fused.1.len());
+    assert!(fused.1.iter().any(|c| c.fraction < 1.0), "at instants inside the step");
+    assert_eq!(fused, crowd(3, false), "fused, 1 and 3 threads");
+    assert_eq!(fused, crowd(1, true), "fused and plain");
+    assert_eq!(fused, crowd(3, true), "plain on 3 threads");
 }

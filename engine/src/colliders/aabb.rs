@@ -1,10 +1,11 @@
 //! An axis-aligned box: a container particles stay inside, or a solid
 //! obstacle they stay out of.
 
-use glam::{DVec3, Vec3, Vec3A};
+use glam::{DVec3, Vec3, Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit};
+use super::sweep::{StepPath, SweptHit, clearance4};
 use super::{Collider, ContactColumns};
 
 /// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
@@ -154,6 +155,28 @@ impl Collider for BoxCollider {
 
     fn in_step(&self) -> bool {
         self.contact == ContactRule::InStep
+    }
+
+    fn clear_blocks(&self, x0: &Vec3x4, x: &Vec3x4, v: &Vec3x4, radius: Vec4, dt: f32) -> u8 {
+        // A solid box is missed by a path that stays on the free side of
+        // any one face (the contact test asks for a point within the faces);
+        // a container's inside by one that stays clear of all six.
+        let mut any = 0u8;
+        let mut all = 0b1111u8;
+        for axis in 0..3 {
+            for outward in [-1.0f32, 1.0] {
+                let mut n = Vec3A::ZERO;
+                n[axis] = if self.inside { -outward } else { outward };
+                let face = if outward < 0.0 { self.min[axis] } else { self.max[axis] };
+                let travel = n.dot(Vec3A::from(self.velocity)) * dt;
+                let clear = clearance4(n, n[axis] * face, travel, x0, x, v, radius, dt)
+                    .cmpgt(Vec4::ZERO)
+                    .bitmask() as u8;
+                any |= clear;
+                all &= clear;
+            }
+        }
+        if self.inside { all } else { any }
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {

@@ -19,7 +19,8 @@
 //! found in closed form, in `f64` (correctly rounded on every platform, so
 //! the same bits natively and in a page).
 
-use glam::{DVec3, Vec3A};
+use glam::{DVec3, Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
 
 use super::contact::Material;
 
@@ -105,6 +106,36 @@ impl StepPath {
         let a = n.dot(self.a);
         first_root(a, b, c)
     }
+}
+
+/// A lower bound on the gap between four paths (blocks of the start and
+/// end positions and end velocities, as the fused step holds them) and the
+/// plane `n . x = offset` moving `travel` along `n` over the step, less a
+/// margin for `f32` rounding: a lane above zero certainly does not touch
+/// it in the step (the exact test, [`StepPath::first_crossing`], would find
+/// nothing), so it is skipped. Along the path the gap is
+/// `(1 - s) g0 + s g1 - A s (1 - s)`, at least `min(g0, g1) - max(A, 0) / 4`.
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn clearance4(
+    n: Vec3A,
+    offset: f32,
+    travel: f32,
+    x0: &Vec3x4,
+    x1: &Vec3x4,
+    v1: &Vec3x4,
+    radius: Vec4,
+    dt: f32,
+) -> Vec4 {
+    let dot = |p: &Vec3x4| p.x * n.x + p.y * n.y + p.z * n.z;
+    let (d0, d1, dv) = (dot(x0), dot(x1), dot(v1) * dt);
+    let g0 = d0 - Vec4::splat(offset - travel) - radius;
+    let g1 = d1 - Vec4::splat(offset) - radius;
+    let a = dv - (d1 - d0);
+    let bound = g0.min(g1) - a.max(Vec4::ZERO) * 0.25;
+    // Each term is rounded once or twice at its own magnitude.
+    let scale = d0.abs() + d1.abs() + dv.abs() + radius + Vec4::splat(offset.abs() + travel.abs());
+    bound - scale * 1e-6 - Vec4::splat(f32::MIN_POSITIVE)
 }
 
 /// The first `s` in `[0, 1]` where `c + b s + a s^2` falls to zero from

@@ -32,92 +32,187 @@
 //! bits on any number of threads; a particle that touches nothing costs
 //! one path test a collider.
 
+use glam::{Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
+
 use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
 use crate::world::World;
+
+/// The in-step contacts of one step: the colliders, which of them report,
+/// the step's length and the world's rest speed.
+#[derive(Clone, Copy)]
+pub(super) struct Sweep<'a> {
+    pub colliders: &'a [Box<dyn Collider>],
+    pub reports: &'a [bool],
+    pub dt: f32,
+    pub rest_speed: f64,
+}
+
+impl Sweep<'_> {
+    /// Whether any collider finds contacts inside the step.
+    pub fn wanted(colliders: &[Box<dyn Collider>]) -> bool {
+        colliders.iter().any(|c| c.in_step())
+    }
+
+    /// The in-step contacts of four particles in a block (`real` of them
+    /// real, rows `first_row ..`): lanes every collider's conservative test
+    /// clears (most, most steps) cost that test alone; the others go
+    /// through [`row`](Self::row), whose result they would have had.
+    #[allow(clippy::too_many_arguments)]
+    pub fn block(
+        &self,
+        first_row: usize,
+        real: usize,
+        x0: &Vec3x4,
+        x: &mut Vec3x4,
+        v: &mut Vec3x4,
+        radius: Vec4,
+        inverse_mass: Vec4,
+        touches: &mut Vec<RowTouch>,
+    ) -> Result<(), EventOverflow> {
+        let mut clear = 0u8;
+        let mut first = true;
+        for collider in self.colliders.iter().filter(|c| c.in_step()) {
+            let this = collider.clear_blocks(x0, x, v, radius, self.dt);
+            clear = if first { this } else { clear & this };
+            first = false;
+        }
+        let movable = inverse_mass.cmpgt(Vec4::ZERO).bitmask() as u8;
+        for k in 0..real {
+            if clear & (1 << k) != 0 || movable & (1 << k) == 0 {
+                continue;
+            }
+            let (mut xk, mut vk) = (x.lane(k), v.lane(k));
+            self.row(
+                first_row + k,
+                x0.lane(k),
+                &mut xk,
+                &mut vk,
+                radius[k],
+                inverse_mass[k],
+                touches,
+            )?;
+            x.set_lane(k, xk);
+            v.set_lane(k, vk);
+        }
+        Ok(())
+    }
+
+    /// The in-step contacts of one particle (row `row`, of `radius` and
+    /// inverse mass `w`) that stepped from `x0` to `x` with end velocity
+    /// `v`: both changed in place.
+    #[allow(clippy::too_many_arguments)]
+    pub fn row(
+        &self,
+        row: usize,
+        x0: Vec3A,
+        x: &mut Vec3A,
+        v: &mut Vec3A,
+        radius: f32,
+        w: f32,
+        touches: &mut Vec<RowTouch>,
+    ) -> Result<(), EventOverflow> {
+        if w.is_nan() || w <= 0.0 {
+            return Ok(());
+        }
+        let dt = f64::from(self.dt);
+        let mut path = StepPath::new(x0, *x, *v, self.dt);
+        // The fraction of the step before the path's start.
+        let mut done = 0.0f64;
+        let mut events = 0;
+        while let Some((k, hit)) = first_hit(self.colliders, &path, radius) {
+            events += 1;
+            if events > MAX_CONTACT_EVENTS {
+                return Err(EventOverflow { row, collider: k });
+            }
+            let s = hit.fraction;
+            let at = path.at(s);
+            let arriving = path.velocity(s);
+            let relative = arriving - hit.velocity;
+            let resting = -relative.dot(hit.normal) <= self.rest_speed;
+            let restitution = if resting {
+                0.0
+            } else {
+                f64::from(hit.material.restitution)
+            };
+            let after = hit.velocity + bounce(relative, hit.normal, restitution, f64::from(hit.material.friction));
+            let fraction = done + s * (1.0 - done);
+            if self.reports[k] {
+                touches.push(RowTouch {
+                    collider: k as u32,
+                    row: row as u32,
+                    other: u32::MAX,
+                    point: (at - hit.normal * f64::from(radius)).as_vec3a(),
+                    normal: hit.normal.as_vec3a(),
+                    impulse: ((after - arriving).dot(hit.normal) / f64::from(w)) as f32,
+                    fraction: fraction as f32,
+                });
+            }
+            // The rest of the step, from the contact, on the path's own
+            // acceleration.
+            let rest = (1.0 - fraction) * dt;
+            let (mut end, mut velocity) = (at, after);
+            if rest > 0.0 {
+                let a = path.acceleration();
+                end = at + after * rest + a * (rest * rest / 2.0);
+                velocity = after + a * rest;
+            }
+            if resting {
+                // On the surface, with nothing left going into it.
+                let gap = hit.normal.dot(end) - hit.offset - f64::from(radius);
+                if gap < 0.0 {
+                    end -= hit.normal * gap;
+                }
+                let into = (velocity - hit.velocity).dot(hit.normal);
+                if into < 0.0 {
+                    velocity -= hit.normal * into;
+                }
+            }
+            *x = end.as_vec3a();
+            *v = velocity.as_vec3a();
+            if resting || rest <= 0.0 {
+                break;
+            }
+            path = StepPath::new(at.as_vec3a(), *x, *v, rest as f32);
+            done = fraction;
+        }
+        Ok(())
+    }
+}
 
 impl World {
     /// The in-step contacts of every movable particle, on the gathered
     /// rows of the plain step (`other`: start positions; `x`, `v`: the
     /// method's end state, changed in place).
     pub(super) fn resolve_in_step(&mut self, dt: f32) -> Option<EventOverflow> {
-        let colliders = &self.colliders.colliders;
-        if !colliders.iter().any(|c| c.in_step()) {
+        if !Sweep::wanted(&self.colliders.colliders) {
             return None;
         }
-        let p = &self.particles;
-        let g = &mut self.gathered;
-        let rest_speed = f64::from(self.config.rest_speed);
-        let reports = &self.colliders.reports;
+        let sweep = Sweep {
+            colliders: &self.colliders.colliders,
+            reports: &self.colliders.reports,
+            dt,
+            rest_speed: f64::from(self.config.rest_speed),
+        };
+        let (p, g) = (&self.particles, &mut self.gathered);
+        let mut first = None;
         for row in 0..g.x.len() {
-            let w = p.inverse_mass[row];
-            if w.is_nan() || w <= 0.0 {
-                continue;
-            }
-            let radius = p.radius[row];
-            let mut path = StepPath::new(g.other[row], g.x[row], g.v[row], dt);
-            // The fraction of the step before the path's start.
-            let mut done = 0.0f64;
-            let mut events = 0;
-            while let Some((k, hit)) = first_hit(colliders, &path, radius) {
-                events += 1;
-                if events > MAX_CONTACT_EVENTS {
-                    return Some(EventOverflow { row, collider: k });
-                }
-                let s = hit.fraction;
-                let at = path.at(s);
-                let relative = path.velocity(s) - hit.velocity;
-                let approach = -relative.dot(hit.normal);
-                let resting = approach <= rest_speed;
-                let restitution = if resting {
-                    0.0
-                } else {
-                    f64::from(hit.material.restitution)
-                };
-                let after = hit.velocity + bounce(relative, hit.normal, restitution, f64::from(hit.material.friction));
-                let fraction = done + s * (1.0 - done);
-                if reports[k] {
-                    let dv = after - path.velocity(s);
-                    let w = f64::from(w);
-                    let normal = hit.normal.as_vec3a();
-                    self.touches.push(RowTouch {
-                        collider: k as u32,
-                        row: row as u32,
-                        other: u32::MAX,
-                        point: (at - hit.normal * f64::from(radius)).as_vec3a(),
-                        normal,
-                        impulse: (dv.dot(hit.normal) / w) as f32,
-                        fraction: fraction as f32,
-                    });
-                }
-                // The rest of the step, from the contact.
-                let rest = (1.0 - fraction) * f64::from(dt);
-                let (mut x, mut v) = (at, after);
-                if rest > 0.0 {
-                    let a = path.acceleration();
-                    x = at + after * rest + a * (rest * rest / 2.0);
-                    v = after + a * rest;
-                }
-                if resting {
-                    // On the surface, with nothing left going into it.
-                    let gap = hit.normal.dot(x) - hit.offset - f64::from(radius);
-                    if gap < 0.0 {
-                        x -= hit.normal * gap;
-                    }
-                    let into = (v - hit.velocity).dot(hit.normal);
-                    if into < 0.0 {
-                        v -= hit.normal * into;
-                    }
-                }
-                g.x[row] = x.as_vec3a();
-                g.v[row] = v.as_vec3a();
-                if resting || rest <= 0.0 {
-                    break;
-                }
-                path = StepPath::new(at.as_vec3a(), g.x[row], g.v[row], rest as f32);
-                done = fraction;
+            let (x, v) = (&mut g.x[row], &mut g.v[row]);
+            let outcome = sweep.row(
+                row,
+                g.other[row],
+                x,
+                v,
+                p.radius[row],
+                p.inverse_mass[row],
+                &mut self.touches,
+            );
+            // The rest still step (as on the fused path's other lanes).
+            if let Err(overflow) = outcome {
+                first = first.or(Some(overflow));
             }
         }
-        None
+        first
     }
 }
 

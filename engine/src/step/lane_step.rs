@@ -1,10 +1,12 @@
 //! One lane of the fused step: integrate, collide and check its chunks of
 //! [`CHUNK`] particles while each sits in L1.
 
+use glam::Vec4;
 use tickwork_integrators::{StepError, Vec3x4};
 
+use super::in_step::Sweep;
 use super::reporting::{Reporting, resolve_rows};
-use crate::colliders::{BlockColumns, Collider};
+use crate::colliders::{BlockColumns, Collider, EventOverflow};
 use crate::forces::{BlockField, Force, ForceField};
 use crate::layout::{CHUNK, LANES, Vec3Column};
 use crate::world::Lane;
@@ -28,6 +30,8 @@ pub(super) struct LaneColumns<'a> {
 pub(super) struct LaneOutcome {
     pub(super) evaluations: u32,
     pub(super) first_bad: Option<usize>,
+    /// The first row (by row) that met more in-step contacts than allowed.
+    pub(super) overflow: Option<EventOverflow>,
 }
 
 pub(super) fn merge(
@@ -39,6 +43,10 @@ pub(super) fn merge(
         evaluations: a.evaluations.max(b.evaluations),
         first_bad: match (a.first_bad, b.first_bad) {
             (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        },
+        overflow: match (a.overflow, b.overflow) {
+            (Some(x), Some(y)) => Some(if x.row <= y.row { x } else { y }),
             (x, y) => x.or(y),
         },
     })
@@ -53,6 +61,7 @@ pub(super) fn step_lane(
     forces: &[Box<dyn Force>],
     colliders: &[Box<dyn Collider>],
     report: &[bool],
+    sweep: Option<Sweep<'_>>,
     t: f32,
     dt: f32,
     offset: usize,
@@ -75,8 +84,40 @@ pub(super) fn step_lane(
             movable: facts.movable,
             scratch: &mut lane.rows,
         };
-        let stats = lane.method.step_from(t, dt, &c.previous[blocks], x, v, &mut field)?;
+        let stats = lane
+            .method
+            .step_from(t, dt, &c.previous[blocks.clone()], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
+        if let Some(sweep) = sweep {
+            // Contacts inside the step first, block by block (a block's
+            // lanes far from every surface cost one vector test), then the
+            // end-of-step rule below catches what started inside.
+            for (k, b) in blocks.clone().enumerate() {
+                let first = b * LANES;
+                let real = (n - first).min(LANES);
+                let lanes = |column: &[f32]| {
+                    let mut out = [0.0; LANES];
+                    out[..real].copy_from_slice(&column[first..first + real]);
+                    Vec4::from_array(out)
+                };
+                let (radius, inverse_mass) = (lanes(c.radius), lanes(c.inverse_mass));
+                let result = sweep.block(
+                    offset + first,
+                    real,
+                    &c.previous[b],
+                    &mut x[k],
+                    &mut v[k],
+                    radius,
+                    inverse_mass,
+                    &mut lane.touches,
+                );
+                if let Err(overflow) = result
+                    && outcome.overflow.is_none()
+                {
+                    outcome.overflow = Some(overflow);
+                }
+            }
+        }
         for (k, collider) in colliders.iter().enumerate() {
             let (radius, inverse_mass) = (&c.radius[rows.clone()], &c.inverse_mass[rows.clone()]);
             if report[k] {

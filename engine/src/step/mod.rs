@@ -31,6 +31,7 @@ mod lane_step;
 mod reporting;
 
 pub use error::{NonFiniteCause, SimulationError};
+use in_step::Sweep;
 use lane_step::{LaneColumns, LaneOutcome, merge, step_lane};
 use reporting::resolve_world_reporting;
 
@@ -198,7 +199,7 @@ impl World {
         if let Some(row) = outcome.first_bad {
             return Err(self.non_finite(tick, row, NonFiniteCause::Step));
         }
-        if let Some(overflow) = self.event_overflow.take() {
+        if let Some(overflow) = outcome.overflow {
             let collider = &self.colliders.colliders[overflow.collider];
             return Err(SimulationError::ContactEventLimit {
                 tick,
@@ -268,11 +269,17 @@ impl World {
         };
         let (forces, colliders) = (&self.forces[..], &self.colliders.colliders[..]);
         let reports = &self.colliders.reports[..];
+        let sweep = Sweep::wanted(colliders).then_some(Sweep {
+            colliders,
+            reports,
+            dt,
+            rest_speed: f64::from(self.config.rest_speed),
+        });
         for lane in &mut self.lanes[lanes..] {
             lane.touches.clear();
         }
         if lanes == 1 {
-            return step_lane(&mut self.lanes[0], forces, colliders, reports, t, dt, 0, columns);
+            return step_lane(&mut self.lanes[0], forces, colliders, reports, sweep, t, dt, 0, columns);
         }
         columns
             .x
@@ -293,7 +300,7 @@ impl World {
                     inverse_mass,
                     facts,
                 };
-                step_lane(lane, forces, colliders, reports, t, dt, k * len, c)
+                step_lane(lane, forces, colliders, reports, sweep, t, dt, k * len, c)
             })
             .reduce(|| Ok(LaneOutcome::default()), merge)
     }
@@ -317,7 +324,7 @@ impl World {
             .integrator
             .step_from(t, dt, &g.other, &mut g.x, &mut g.v, &mut field)?;
         self.touches.clear();
-        self.event_overflow = self.resolve_in_step(dt);
+        let overflow = self.resolve_in_step(dt);
         let p = &mut self.particles;
         let g = &mut self.gathered;
         let set = &mut self.colliders;
@@ -348,6 +355,7 @@ impl World {
         Ok(LaneOutcome {
             evaluations: stats.evaluations,
             first_bad: Vec3Column::first_non_finite_in(p.position.blocks(), p.velocity.blocks(), n, parallel),
+            overflow,
         })
     }
 

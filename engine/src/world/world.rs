@@ -52,9 +52,6 @@ pub struct World {
     pub(crate) expired_rows: Vec<u32>,
     pub(crate) expired: Vec<Entity>,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
-    /// A particle that met more in-step contacts than the limit in the
-    /// last plain step (found while stepping, reported right after).
-    pub(crate) event_overflow: Option<crate::colliders::EventOverflow>,
     pub(crate) gathered: Rows,
     /// Contacts by row, before they are sorted and named.
     pub(crate) touches: Vec<RowTouch>,
@@ -86,7 +83,6 @@ impl Clone for World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
-            event_overflow: None,
             touches: Vec::new(),
         }
     }
@@ -180,7 +176,6 @@ impl World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
-            event_overflow: None,
             touches: Vec::new(),
         })
     }
