@@ -5,7 +5,9 @@
 //! instead), measured in the same run; 10k particles with the collision
 //! grid, of one size and with one big ball among them; and 100k particles
 //! resting on a floor for minutes, whose drag-decayed velocities are
-//! subnormal numbers, against the hand loop on the same state.
+//! subnormal numbers, against the hand loop on the same state; and the two
+//! contact rules (end of step, in step) on 100k particles falling, resting
+//! and bouncing (restitution 0.9), in the same run.
 //!
 //! Run: `cargo bench -p tickwork-engine --bench step`, then
 //! `scripts/bench-report engine` for the README table.
@@ -20,7 +22,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec3, Vec3A};
 use rayon::ThreadPool;
 use tickwork_engine::{
-    FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, World, WorldConfig,
+    ContactRule, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, World, WorldConfig,
 };
 
 /// Particles on a lattice above a floor, falling, under gravity and drag.
@@ -390,6 +392,73 @@ fn resting_minutes(c: &mut Criterion) {
     group.finish();
 }
 
+/// 100k particles under gravity and drag over a floor of restitution `e`
+/// whose contacts follow `rule`: `falling` from 100 m (no contact in the
+/// timed steps), `resting` on the floor, or `bouncing` from up to 5 m.
+fn floor_case(case: &str, rule: ContactRule) -> World {
+    let e = if case == "bouncing" { 0.9 } else { 0.5 };
+    let mut w = World::new(WorldConfig::default()).expect("registered");
+    w.add_force(Gravity::EARTH);
+    w.add_force(LinearDrag { rate: 0.1 });
+    w.add_collider(Plane {
+        contact: rule,
+        ..Plane::floor(
+            0.0,
+            Material {
+                restitution: e,
+                friction: 0.0,
+            },
+        )
+    });
+    for i in 0..100_000u32 {
+        let (a, b) = ((i % 316) as f32 * 0.05, (i / 316) as f32 * 0.05);
+        let h = (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32;
+        let (position, velocity) = match case {
+            "falling" => (Vec3::new(a, 100.0 + 10.0 * h, b), Vec3::new(1.0, 0.0, -1.0)),
+            "resting" => (Vec3::new(a, 0.02, b), Vec3::new(1e-3, 0.0, 0.0)),
+            _ => (Vec3::new(a, 0.1 + 5.0 * h, b), Vec3::new(1.0 - 2.0 * h, 0.0, 0.5)),
+        };
+        w.spawn(Particle {
+            position,
+            velocity,
+            radius: 0.02,
+            ..Particle::default()
+        })
+        .expect("valid");
+    }
+    w
+}
+
+/// The contact rules side by side: the cost of finding contacts inside
+/// the step where nothing touches (falling), where everything rests, and
+/// where everything bounces.
+fn contact_rules(c: &mut Criterion) {
+    let mut group = c.benchmark_group("engine_contact_rule_100000");
+    group.throughput(Throughput::Elements(100_000));
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(3));
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        for case in ["falling", "resting", "bouncing"] {
+            for (name, rule) in [
+                ("end_of_step", ContactRule::EndOfStep),
+                ("in_step", ContactRule::InStep),
+            ] {
+                let make = move || floor_case(case, rule);
+                let mut world = make();
+                group.bench_function(format!("{name}_{case}_{threads}t"), |b| {
+                    b.iter_custom(|iters| timed_steps(&pool, &mut world, &make, iters));
+                });
+            }
+        }
+    }
+    group.finish();
+}
+
 /// Where two lanes start to pay: the same step on a two-thread pool with
 /// one lane and with two, from 4k to 64k particles (`parallel_threshold`
 /// is the smallest count at which two win).
@@ -554,6 +623,7 @@ criterion_group!(
     benches,
     engine_step,
     resting_minutes,
+    contact_rules,
     lanes,
     crowd,
     history_on_a_floor,

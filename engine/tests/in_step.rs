@@ -524,3 +524,65 @@ fn in_step_contacts_are_the_same_bits_on_any_threads_and_either_path() {
     assert_eq!(fused, crowd(1, true), "fused and plain");
     assert_eq!(fused, crowd(3, true), "plain on 3 threads");
 }
+
+/// A bullet (radius 1 cm) fired at `speed` from x = -5 at a heavy ball of
+/// radius 0.1 at rest at the origin, with sphere collisions swept or not,
+/// at `hz`: the bullet's velocity at the end, and whether it was ever past
+/// the ball's centre.
+fn bullet_at_a_ball(speed: f32, hz: f64, swept: bool) -> (Vec3, bool, Vec<tickwork_engine::Contact>) {
+    let mut w = world("semi_implicit_euler");
+    let mut spheres = tickwork_engine::SphereCollisions::new(elastic());
+    spheres.swept = swept;
+    let id = w.add_collider(spheres);
+    w.report_contacts(id).expect("the spheres");
+    w.spawn(Particle {
+        position: Vec3::ZERO,
+        radius: 0.1,
+        mass: 1e6,
+        ..Particle::default()
+    })
+    .expect("valid");
+    let bullet = w
+        .spawn(Particle {
+            position: Vec3::new(-5.0, 0.0, 0.0),
+            velocity: Vec3::new(speed, 0.0, 0.0),
+            radius: 0.01,
+            ..Particle::default()
+        })
+        .expect("valid");
+    let dt = 1.0 / hz;
+    let mut past = false;
+    let mut contacts = Vec::new();
+    for _ in 0..((10.0 / f64::from(speed)) / dt).ceil() as usize + 2 {
+        step(&mut w, dt).expect("steps");
+        past |= w.position(bullet).expect("live").x > 0.0;
+        contacts.extend_from_slice(w.contacts());
+    }
+    (w.velocity(bullet).expect("live"), past, contacts)
+}
+
+#[test]
+fn a_bullet_passes_through_a_ball_between_two_instants_unless_spheres_are_swept() {
+    // Without swept tests, 1 000 m/s at 60 Hz is 16.7 m a step: the bullet
+    // is never seen touching the ball.
+    let (v, past, contacts) = bullet_at_a_ball(1_000.0, 60.0, false);
+    assert!(past && v.x == 1_000.0 && contacts.is_empty(), "{v} {past}");
+    for speed in [10.0, 100.0, 1_000.0, 10_000.0] {
+        for hz in [30.0, 60.0, 240.0] {
+            let (v, past, contacts) = bullet_at_a_ball(speed, hz, true);
+            assert!(!past, "{speed} m/s at {hz} Hz went through");
+            assert!(
+                (v.x + speed).abs() < 1e-3 * speed,
+                "{speed} m/s at {hz} Hz bounced back: {v}"
+            );
+            let hit = contacts.first().expect("the hit is reported");
+            assert!(
+                hit.fraction >= 0.0 && hit.fraction <= 1.0 && hit.impulse.abs() > 0.0,
+                "{hit:?}"
+            );
+        }
+    }
+    // Where the grid sees the contact anyway (a slow bullet), the same.
+    let (v, past, _) = bullet_at_a_ball(0.5, 60.0, true);
+    assert!(!past && v.x < 0.0, "{v}");
+}

@@ -29,7 +29,10 @@
 //! - `hecs`, `bevy_ecs Query`, `bevy_ecs par_iter` (two threads): components
 //!   `Position`, `Velocity`, `Previous` of `Vec3A`, the reflecting loop;
 //! - `tickwork`: a `World` with `Gravity`, `LinearDrag`, a floor `Plane`,
-//!   semi-implicit Euler, `World::step`, on one rayon thread and on two.
+//!   semi-implicit Euler, `World::step`, on one rayon thread and on two;
+//! - `tickwork in-step`: the same with the floor's contacts found inside
+//!   the step (`ContactRule::InStep`), whose states agree among themselves
+//!   (a contact model of its own: the bounce at its instant).
 //!
 //! Each case (N particles, fresh or resting) runs every variant for a batch
 //! of steps per round, round after round, in one process; the table gives the
@@ -57,7 +60,7 @@ use bevy_ecs::prelude::{Component, World as BevyWorld};
 use bevy_ecs::query::QueryState;
 use glam::Vec4;
 use glam::{Vec3, Vec3A};
-use tickwork_engine::{FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
+use tickwork_engine::{ContactRule, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
 use tickwork_integrators::{Integrator, SemiImplicitEuler, System, Vec3x4};
 
 const DT: f32 = (1.0f64 / 60.0) as f32;
@@ -582,12 +585,13 @@ struct Tickwork {
     saved: Option<tickwork_engine::world::Snapshot>,
     threads: usize,
     layout: usize,
+    rule: ContactRule,
     /// Allocations kept alive between the world's columns (the layout).
     _spacers: Vec<Vec<u8>>,
 }
 
 impl Tickwork {
-    fn new(start: &[(Vec3A, Vec3A)], threads: usize, layout: usize) -> Self {
+    fn new(start: &[(Vec3A, Vec3A)], threads: usize, layout: usize, rule: ContactRule) -> Self {
         let config = WorldConfig {
             integrator: "semi_implicit_euler".into(),
             parallel_threshold: if threads > 1 { 4_096 } else { usize::MAX },
@@ -598,13 +602,16 @@ impl Tickwork {
             acceleration: Vec3::from(G),
         });
         world.add_force(LinearDrag { rate: DRAG });
-        world.add_collider(Plane::floor(
-            0.0,
-            Material {
-                restitution: RESTITUTION,
-                friction: 0.0,
-            },
-        ));
+        world.add_collider(Plane {
+            contact: rule,
+            ..Plane::floor(
+                0.0,
+                Material {
+                    restitution: RESTITUTION,
+                    friction: 0.0,
+                },
+            )
+        });
         // Different allocation layouts: columns grow by doubling while the
         // particles are spawned; a spacer allocated between spawns of each
         // doubling moves where the next column buffers land.
@@ -626,6 +633,7 @@ impl Tickwork {
             saved: None,
             threads,
             layout,
+            rule,
             _spacers: spacers,
         }
     }
@@ -634,7 +642,8 @@ impl Tickwork {
 impl Variant for Tickwork {
     fn name(&self) -> String {
         format!(
-            "tickwork ({} thread{}, layout {})",
+            "tickwork{} ({} thread{}, layout {})",
+            if self.rule == ContactRule::InStep { " in-step" } else { "" },
             self.threads,
             if self.threads == 1 { "" } else { "s" },
             self.layout
@@ -706,8 +715,10 @@ fn variants(n: usize) -> Vec<Box<dyn Variant>> {
         all.push(Box::new(Hecs::new(&start, layout)));
         all.push(Box::new(Bevy::new(&start, false, layout)));
         all.push(Box::new(Bevy::new(&start, true, layout)));
-        all.push(Box::new(Tickwork::new(&start, 1, layout)));
-        all.push(Box::new(Tickwork::new(&start, 2, layout)));
+        for rule in [ContactRule::EndOfStep, ContactRule::InStep] {
+            all.push(Box::new(Tickwork::new(&start, 1, layout, rule)));
+            all.push(Box::new(Tickwork::new(&start, 2, layout, rule)));
+        }
     }
     all
 }
@@ -744,11 +755,23 @@ fn max_difference(a: &[(Vec3A, Vec3A)], b: &[(Vec3A, Vec3A)]) -> f32 {
 /// Tickwork and the hand loop that projects; prints the gap between the two
 /// contact models.
 fn check(variants: &mut [Box<dyn Variant>]) -> Result<(), String> {
-    let states: Vec<(String, bool, State)> = variants
+    let (in_step, states): (Vec<(String, bool, State)>, Vec<_>) = variants
         .iter_mut()
         .map(|v| (v.name(), v.projects(), v.state()))
         .filter(|s| !s.2.is_empty())
-        .collect();
+        .partition(|s| s.0.contains("in-step"));
+    // The in-step variants, a contact model of their own, agree among
+    // themselves (threads, layouts).
+    if let Some((first, _, reference)) = in_step.first() {
+        for (name, _, state) in &in_step {
+            if state != reference {
+                return Err(format!(
+                    "{name} differs from {first}: largest position difference {:e} m",
+                    max_difference(state, reference)
+                ));
+            }
+        }
+    }
     let Some(reference) = states.first().map(|s| s.1) else {
         return Ok(());
     };
@@ -856,9 +879,9 @@ type Row<'a> = (usize, &'a str, Vec<String>, Vec<f64>);
 fn print_table(rows: &[Row<'_>]) {
     println!();
     println!(
-        "| N | memcpy 48 B | hand | hecs | bevy_ecs Query | bevy_ecs par_iter | per-axis kernel | Tickwork 1 thread | Tickwork 2 threads | 1 thread / bevy Query | 1 thread / hand | 2 threads / bevy Query | 2 threads / bevy par_iter | kernel / bevy Query |"
+        "| N | memcpy 48 B | hand | hecs | bevy_ecs Query | bevy_ecs par_iter | per-axis kernel | Tickwork 1 thread | Tickwork 2 threads | 1 thread / bevy Query | 1 thread / hand | 2 threads / bevy Query | 2 threads / bevy par_iter | kernel / bevy Query | in-step 1 thread | in-step 2 threads | in-step / end-of-step, 1 thread | in-step / end-of-step, 2 threads |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (n, case, names, times) in rows {
         // A peer's fastest layout, Tickwork's slowest.
         let fold = |prefix: &str, start: f64, pick: fn(f64, f64) -> f64| {
@@ -873,16 +896,22 @@ fn print_table(rows: &[Row<'_>]) {
         let (memcpy, hand, hecs) = (fastest("memcpy"), fastest("hand (layout"), fastest("hecs"));
         let (query, par) = (fastest("bevy_ecs Query"), fastest("bevy_ecs par_iter"));
         let (one, two) = (slowest("tickwork (1 thread"), slowest("tickwork (2 threads"));
+        let (in_one, in_two) = (
+            slowest("tickwork in-step (1 thread"),
+            slowest("tickwork in-step (2 threads"),
+        );
         // The floor of the layout: its integration and contact kernels
         // alone, without the engine (the fastest of the three loop shapes).
         let kernel = fastest("per-axis");
         println!(
-            "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {kernel:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            "| {n} {case} | {memcpy:.2} | {hand:.2} | {hecs:.2} | {query:.2} | {par:.2} | {kernel:.2} | {one:.2} | {two:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {in_one:.2} | {in_two:.2} | {:.2} | {:.2} |",
             one / query,
             one / hand,
             two / query,
             two / par,
-            kernel / query
+            kernel / query,
+            in_one / one,
+            in_two / two
         );
     }
 }

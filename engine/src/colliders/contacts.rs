@@ -124,6 +124,8 @@ pub struct PairTouch {
     pub normal: Vec3A,
     /// The normal impulse `a` received (kg m/s); `b` received its opposite.
     pub impulse: f32,
+    /// When, as the fraction of the step (1: found at its end).
+    pub fraction: f32,
 }
 
 /// Appends a touch for every row whose position or velocity a collider

@@ -60,6 +60,21 @@ pub struct ContactColumns<'a> {
     /// [`Collider::refused_pairs`] (the step then fails with
     /// [`SimulationError::ContactPairLimit`](crate::SimulationError)).
     pub max_pairs: u64,
+    /// Where the particles started the step, and its length, where the
+    /// step has them for the collider (the whole-world step of a collider
+    /// of pairs; `None` for chunks): what swept tests need
+    /// ([`SphereCollisions::swept`]).
+    pub start: Option<StepStart<'a>>,
+}
+
+/// The positions the particles started the step from, and the step's
+/// length in seconds.
+#[derive(Clone, Copy, Debug)]
+pub struct StepStart<'a> {
+    /// Each particle's position at the start of the step.
+    pub position: &'a [Vec3A],
+    /// The step's length, seconds.
+    pub dt: f32,
 }
 
 impl ContactColumns<'_> {
@@ -79,6 +94,7 @@ impl ContactColumns<'_> {
                     inverse_mass,
                     parallel: false,
                     max_pairs: self.max_pairs,
+                    start: None,
                 });
             });
     }

@@ -142,6 +142,7 @@ impl Plane {
             inverse_mass: &c.inverse_mass[whole..],
             parallel: false,
             max_pairs: c.max_pairs,
+            start: None,
         };
         for (x, v, r, w) in tail.rows() {
             let gap = x[AXIS] * sign - self.offset - r;
@@ -404,6 +405,7 @@ mod tests {
                 inverse_mass: &inverse_mass,
                 parallel: false,
                 max_pairs: u64::MAX,
+                start: None,
             };
             assert_eq!(axis_of(normal).map(|a| a.0), Some(axis));
             plane.resolve_range(columns);
@@ -441,6 +443,7 @@ mod tests {
             inverse_mass: &inverse_mass,
             parallel: false,
             max_pairs: u64::MAX,
+            start: None,
         });
         for k in 0..8 {
             let (mut xt, mut vt) = ([x[k]], [v[k]]);
@@ -451,6 +454,7 @@ mod tests {
                 inverse_mass: &inverse_mass[k..=k],
                 parallel: false,
                 max_pairs: u64::MAX,
+                start: None,
             });
             let bits = |a: Vec3A| a.to_array().map(f32::to_bits);
             assert_eq!(bits(xb[k]), bits(xt[0]), "position {k}");

@@ -336,6 +336,7 @@ impl World {
                 inverse_mass: &p.inverse_mass,
                 parallel,
                 max_pairs: self.config.max_pairs,
+                start: Some(crate::colliders::StepStart { position: &g.other, dt }),
             };
             if set.reports[k] {
                 resolve_world_reporting(

@@ -40,6 +40,7 @@ pub(super) fn resolve_rows(
         parallel: false,
         // A chunk of pointwise contacts: no pairs to count.
         max_pairs: u64::MAX,
+        start: None,
     });
     if let Some(r) = reporting {
         let s = &*scratch;
@@ -85,7 +86,7 @@ pub(super) fn resolve_world_reporting(
                 point: pair.point,
                 normal,
                 impulse: pair.impulse,
-                fraction: 1.0,
+                fraction: pair.fraction,
             });
         };
         let reborrow = ContactColumns {
@@ -95,6 +96,7 @@ pub(super) fn resolve_world_reporting(
             inverse_mass,
             parallel: false,
             max_pairs: c.max_pairs,
+            start: c.start,
         };
         if collider.resolve_world_reporting(reborrow, &mut report) {
             return;

@@ -26,6 +26,7 @@ mod dense;
 mod hashed;
 mod levels;
 mod narrow;
+mod swept;
 
 use glam::{I64Vec3, Vec3A};
 
@@ -49,6 +50,12 @@ pub(super) const DENSE_CELLS: usize = 8;
 pub struct SphereCollisions {
     /// Bounce between particles (friction is not used between particles).
     pub material: Material,
+    /// Swept tests for fast spheres (default `false`): a sphere that moves
+    /// more than its radius in a step is tested along its path against the
+    /// spheres near it, so a bullet cannot pass through a ball it should
+    /// hit between two instants (see `spheres/swept.rs`). Costs a sort of
+    /// the paths along x in steps where some sphere is fast.
+    pub swept: bool,
     /// Scratch, reused every step: grid cell and key of each row, rows in
     /// key order, the start of each key's run, and the gathered columns.
     cell: Vec<I64Vec3>,
@@ -85,12 +92,20 @@ pub struct SphereCollisions {
     /// The candidate pairs the last step refused to test (past
     /// [`ContactColumns::max_pairs`]), if it did.
     refused: Option<u64>,
+    /// Swept tests' scratch: each path's extent along x with its row, the
+    /// contacts found along the paths, which rows met one, and the
+    /// contacts to report.
+    extents: Vec<(f32, f32, u32)>,
+    meetings: Vec<swept::SweptPair>,
+    taken: Vec<bool>,
+    swept_touches: Vec<PairTouch>,
 }
 
 impl Clone for SphereCollisions {
     fn clone(&self) -> Self {
         Self {
             material: self.material,
+            swept: self.swept,
             contacts: self.contacts,
             tested: self.tested,
             slabs: self.slabs,
@@ -101,6 +116,7 @@ impl Clone for SphereCollisions {
 
     fn clone_from(&mut self, source: &Self) {
         self.material = source.material;
+        self.swept = source.swept;
         self.contacts = source.contacts;
         self.tested = source.tested;
         self.slabs = source.slabs;
@@ -110,7 +126,7 @@ impl Clone for SphereCollisions {
 
 impl PartialEq for SphereCollisions {
     fn eq(&self, other: &Self) -> bool {
-        let state = |s: &Self| (s.material, s.contacts, s.tested, s.slabs, s.refused);
+        let state = |s: &Self| (s.material, s.swept, s.contacts, s.tested, s.slabs, s.refused);
         state(self) == state(other)
     }
 }
@@ -119,6 +135,7 @@ impl core::fmt::Debug for SphereCollisions {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("SphereCollisions")
             .field("material", &self.material)
+            .field("swept", &self.swept)
             .field("contacts", &self.contacts)
             .field("tested", &self.tested)
             .field("slabs", &self.slabs)
@@ -173,11 +190,19 @@ impl Collider for SphereCollisions {
         false
     }
 
-    fn resolve_world(&mut self, c: ContactColumns<'_>) {
+    fn resolve_world(&mut self, mut c: ContactColumns<'_>) {
         self.contacts = 0;
         self.tested = 0;
         self.slabs = 0;
         self.refused = None;
+        self.swept_touches.clear();
+        if self.swept
+            && let Some(start) = c.start
+            && c.position.len() == start.position.len()
+            && !self.resolve_swept(&mut c, start)
+        {
+            return;
+        }
         let n = c.position.len();
         // The largest radius and the smallest positive one (NaN is neither:
         // `max` and `min` pass it over). Min and max are exact in any
@@ -215,6 +240,9 @@ impl Collider for SphereCollisions {
         self.recording = true;
         self.resolve_world(ContactColumns { parallel: false, ..c });
         self.recording = false;
+        for touch in &self.swept_touches {
+            report(*touch);
+        }
         for pair in &self.pairs {
             report(PairTouch {
                 a: self.sorted[pair.i as usize] as usize,
@@ -222,6 +250,7 @@ impl Collider for SphereCollisions {
                 point: pair.point,
                 normal: pair.normal,
                 impulse: pair.impulse,
+                fraction: 1.0,
             });
         }
         true
