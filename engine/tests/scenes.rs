@@ -30,6 +30,7 @@ fn every_shipped_scene_loads_builds_and_steps() {
     assert_eq!(
         names,
         [
+            "bounce rules",
             "bouncing ball",
             "crowd",
             "fountain",
