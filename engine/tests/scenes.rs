@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use tickwork_engine::{FixedClock, Scene, SceneError, WorldConfig};
+use tickwork_engine::{BoxCollider, ContactRule, FixedClock, Plane, Scene, SceneError, World, WorldConfig};
 
 fn scenes_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/scenes")
@@ -30,6 +30,7 @@ fn every_shipped_scene_loads_builds_and_steps() {
     assert_eq!(
         names,
         [
+            "bounce rules",
             "bouncing ball",
             "crowd",
             "fountain",
@@ -258,5 +259,69 @@ fn resource_demands_past_a_limit_are_errors_naming_the_limit() {
         err.to_string(),
         "/dev/zero: cannot read the scene: it is larger than the limit of 16777216 bytes \
          (Scene::MAX_FILE_BYTES); a scene this large is better built by a program"
+    );
+}
+
+/// The rules of the world's planes and boxes, in the order they were
+/// added (other colliders have none).
+fn contact_rules(world: &World) -> Vec<ContactRule> {
+    world
+        .colliders()
+        .filter_map(|(id, _)| {
+            world
+                .collider::<Plane>(id)
+                .map(|plane| plane.contact)
+                .or_else(|_| world.collider::<BoxCollider>(id).map(|b| b.contact))
+                .ok()
+        })
+        .collect()
+}
+
+#[test]
+fn a_collider_s_contact_rule_is_carried_into_the_world_and_defaults_to_end_of_step() {
+    use ContactRule::{EndOfStep, InStep};
+    let text = "SceneFile(colliders: [\
+        Plane(normal: (0, 1, 0), contact: InStep),\
+        Box(min: (-1, -1, -1), max: (1, 1, 1), inside: false, contact: InStep),\
+        Plane(normal: (1, 0, 0), contact: EndOfStep),\
+        Box(min: (-1, -1, -1), max: (1, 1, 1), contact: EndOfStep),\
+        Plane(normal: (0, 0, 1)),\
+        Box(min: (-1, -1, -1), max: (1, 1, 1)),\
+        Spheres(),\
+    ])";
+    let scene = Scene::parse(text, "rules.ron").expect("a valid scene");
+    let (world, _) = scene.build().expect("builds");
+    let rules = contact_rules(&world);
+    assert_eq!(rules, [InStep, InStep, EndOfStep, EndOfStep, EndOfStep, EndOfStep]);
+    // The shipped scenes that do not name a rule read as before.
+    let mut planes_and_boxes = 0;
+    for entry in std::fs::read_dir(scenes_dir()).expect("assets/scenes") {
+        let path = entry.expect("entry").path();
+        let text = std::fs::read_to_string(&path).expect("readable");
+        if path.extension().is_none_or(|e| e != "ron") || text.contains("contact:") {
+            continue;
+        }
+        let scene = Scene::parse(&text, "shipped.ron").unwrap_or_else(|e| panic!("{e}"));
+        let rules = contact_rules(&scene.build().unwrap_or_else(|e| panic!("{e}")).0);
+        assert!(rules.iter().all(|&r| r == EndOfStep), "{}: {rules:?}", path.display());
+        planes_and_boxes += rules.len();
+    }
+    assert!(planes_and_boxes > 0, "a shipped scene has a plane or a box");
+}
+
+#[test]
+fn a_misspelt_contact_rule_names_the_field_the_accepted_rules_and_where() {
+    let err = parse_error("SceneFile(colliders: [Plane(normal: (0, 1, 0), contact: Instep)])");
+    assert_eq!(
+        err.to_string(),
+        "bad.ron:1:57: colliders[0].Plane.contact: Unexpected variant named `Instep` in enum `ContactSpec`, \
+         expected either `EndOfStep` or `InStep` instead"
+    );
+    let err = parse_error("SceneFile(colliders: [\n  Box(min: (0, 0, 0), max: (1, 1, 1), contact: end_of_step)])");
+    assert_eq!(err.field, "colliders[0].Box.contact");
+    assert_eq!(err.position, Some((2, 48)));
+    assert!(
+        err.to_string().contains("expected either `EndOfStep` or `InStep`"),
+        "{err}"
     );
 }

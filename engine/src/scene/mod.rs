@@ -284,6 +284,7 @@ impl Scene {
                     normal,
                     offset,
                     material,
+                    contact,
                 } => {
                     // Checked while read: finite, of non-zero, finite length.
                     let unit = Vec3::from(normal).normalize_or(Vec3::Y);
@@ -291,6 +292,7 @@ impl Scene {
                         normal: unit,
                         offset: offset.0,
                         material: material_of(material),
+                        contact: contact.into(),
                         ..Plane::default()
                     });
                 }
@@ -299,12 +301,14 @@ impl Scene {
                     max,
                     inside,
                     material,
+                    contact,
                 } => {
                     world.add_collider(BoxCollider {
                         min: min.into(),
                         max: max.into(),
                         inside,
                         material: material_of(material),
+                        contact: contact.into(),
                         ..BoxCollider::default()
                     });
                 }

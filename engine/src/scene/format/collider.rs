@@ -1,6 +1,6 @@
-//! The scene's colliders (planes, boxes, particle-particle collisions) and
-//! their material; a box's corners are checked against each other once
-//! the collider is read.
+//! The scene's colliders (planes, boxes, particle-particle collisions),
+//! their material and when planes and boxes find their contacts; a box's
+//! corners are checked against each other once the collider is read.
 
 use serde::{Deserialize, Serialize};
 
@@ -8,6 +8,7 @@ use super::check_item::CheckItem;
 use super::numbers::{Finite, NonNegative, Unit, zero};
 use super::vectors::{Direction, Vector};
 use crate::clock::Number;
+use crate::colliders::ContactRule;
 
 /// Bounce and friction (defaults: restitution 0.5, friction 0).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -34,6 +35,30 @@ fn half() -> Unit {
     Unit(0.5)
 }
 
+/// When a plane or a box finds its contacts (default: `EndOfStep`): the
+/// scene's [`ContactRule`]. Any other word is an error naming the two.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ContactSpec {
+    /// At the end of the step (default): a particle found inside is moved
+    /// back to the surface ([`ContactRule::EndOfStep`]). An elastic bounce
+    /// gains the depth it was found at; a fast particle can pass a thin wall.
+    #[default]
+    EndOfStep,
+    /// Inside the step, where the step's path meets the surface
+    /// ([`ContactRule::InStep`]): no tunnelling, and an elastic bounce
+    /// keeps its height.
+    InStep,
+}
+
+impl From<ContactSpec> for ContactRule {
+    fn from(spec: ContactSpec) -> Self {
+        match spec {
+            ContactSpec::EndOfStep => Self::EndOfStep,
+            ContactSpec::InStep => Self::InStep,
+        }
+    }
+}
+
 /// A collider. A misspelt field in any variant is an error.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,6 +73,9 @@ pub enum ColliderSpec {
         /// Material (default: restitution 0.5, no friction).
         #[serde(default)]
         material: MaterialSpec,
+        /// When contacts are found, `EndOfStep` or `InStep` (default: `EndOfStep`).
+        #[serde(default)]
+        contact: ContactSpec,
     },
     /// An axis-aligned box.
     Box {
@@ -61,6 +89,9 @@ pub enum ColliderSpec {
         /// Material.
         #[serde(default)]
         material: MaterialSpec,
+        /// When contacts are found, `EndOfStep` or `InStep` (default: `EndOfStep`).
+        #[serde(default)]
+        contact: ContactSpec,
     },
     /// Particle-particle collisions.
     Spheres {

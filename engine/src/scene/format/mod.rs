@@ -29,7 +29,7 @@ mod scene_file;
 mod vectors;
 
 pub use camera::{CameraHint, Projection};
-pub use collider::{ColliderSpec, MaterialSpec};
+pub use collider::{ColliderSpec, ContactSpec, MaterialSpec};
 pub use colour::ColourSpec;
 pub use emitter::EmitterSpec;
 pub use force::{EndSpec, ForceSpec};
