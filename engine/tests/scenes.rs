@@ -325,3 +325,22 @@ fn a_misspelt_contact_rule_names_the_field_the_accepted_rules_and_where() {
         "{err}"
     );
 }
+
+#[test]
+fn sphere_collisions_are_swept_when_the_scene_says_so() {
+    for (text, swept) in [
+        ("SceneFile(colliders: [Spheres(swept: true)])", true),
+        ("SceneFile(colliders: [Spheres(material: (restitution: 0.3))])", false),
+    ] {
+        let scene = Scene::parse(text, "spheres.ron").expect("a valid scene");
+        let (world, _) = scene.build().expect("builds");
+        let found: Vec<bool> = world
+            .colliders()
+            .filter_map(|(_, c)| c.as_any().downcast_ref::<tickwork_engine::SphereCollisions>())
+            .map(|s| s.swept)
+            .collect();
+        assert_eq!(found, [swept], "{text}");
+    }
+    let error = Scene::parse("SceneFile(colliders: [Spheres(swept: 1)])", "bad.ron").expect_err("not a bool");
+    assert!(error.to_string().starts_with("bad.ron:1:"), "{error}");
+}

@@ -312,8 +312,10 @@ impl Scene {
                         ..BoxCollider::default()
                     });
                 }
-                ColliderSpec::Spheres { material } => {
-                    world.add_collider(SphereCollisions::new(material_of(material)));
+                ColliderSpec::Spheres { material, swept } => {
+                    let mut spheres = SphereCollisions::new(material_of(material));
+                    spheres.swept = swept;
+                    world.add_collider(spheres);
                 }
             }
         }

@@ -98,6 +98,10 @@ pub enum ColliderSpec {
         /// Material.
         #[serde(default)]
         material: MaterialSpec,
+        /// Swept tests for fast spheres (default `false`; see
+        /// [`SphereCollisions::swept`](crate::SphereCollisions::swept)).
+        #[serde(default)]
+        swept: bool,
     },
 }
 
