@@ -1,7 +1,8 @@
 //! `tickwork lab all`: every file is written, the plots decode as non-blank
 //! PNGs, and the data match theory: fitted convergence slopes against the
 //! registry's orders, stability limits against theory, bounded energy for the
-//! symplectic methods.
+//! symplectic methods; an elastic ball keeps its height with contacts inside
+//! the step and gains it with contacts at the end.
 // Reference values and set-ups computed natively (never in a page): the
 // platform's own functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
@@ -108,6 +109,10 @@ fn lab_all_writes_every_file_and_the_data_match_theory() {
         "cost-kepler.png",
         "cost.csv",
         "cost.md",
+        "bounce.png",
+        "bounce-energy.png",
+        "bounce.csv",
+        "bounce.md",
         "report.md",
     ];
     for name in expected {
@@ -233,5 +238,80 @@ fn lab_refuses_to_overwrite_and_names_bad_problems() {
     let one = lab(&["cost", "--problem", "kepler", "--out", dir.to_str().expect("utf-8")]);
     assert!(one.status.success());
     assert!(dir.join("cost-kepler.png").is_file() && !dir.join("cost-harmonic.png").exists());
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn lab_bounce_keeps_the_height_in_step_and_needs_force_to_overwrite() {
+    let dir = out_dir("bounce");
+    let out = dir.to_str().expect("utf-8");
+    let output = lab(&["bounce", "--out", out]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let listed = String::from_utf8(output.stdout).expect("utf-8");
+    for name in ["bounce.png", "bounce-energy.png", "bounce.csv", "bounce.md"] {
+        let path = dir.join(name);
+        assert!(
+            listed.contains(&format!("wrote {}", path.display())),
+            "{name} not reported"
+        );
+        assert!(path.is_file(), "{name} not written");
+        if name.ends_with(".png") {
+            assert_non_blank_png(&path);
+        }
+    }
+    assert!(!dir.join("energy.png").exists(), "only the bounce study's files");
+
+    // The apexes of every method under each rule, bounce by bounce.
+    let mut apexes: BTreeMap<(String, String), Vec<f64>> = BTreeMap::new();
+    for row in csv(&dir.join("bounce.csv")) {
+        let bounce: usize = row[2].parse().expect("bounce");
+        let run = apexes.entry((row[0].clone(), row[1].clone())).or_default();
+        assert_eq!(bounce, run.len() + 1, "{row:?}: bounces in order");
+        run.push(row[4].parse().expect("apex"));
+    }
+    for info in METHODS {
+        for rule in ["end_of_step", "in_step"] {
+            let run = apexes.get(&(info.name.to_owned(), rule.to_owned()));
+            assert!(run.is_some(), "no rows for {} {rule}", info.name);
+        }
+    }
+    assert_eq!(apexes.len(), 2 * METHODS.len());
+    let run = |m: &str, rule: &str| &apexes[&(m.to_owned(), rule.to_owned())];
+    // Velocity Verlet is exact for constant gravity; bouncing at the instant
+    // of contact keeps it so over 100 bounces.
+    let verlet = run("velocity_verlet", "in_step");
+    assert_eq!(verlet.len(), 100);
+    assert!(
+        (verlet[99] - 10.0).abs() < 1e-4,
+        "apex after 100 bounces {}",
+        verlet[99]
+    );
+    // At the end of the step it gains height at every bounce.
+    let verlet_end = run("velocity_verlet", "end_of_step");
+    assert!(verlet_end[3] > 10.5, "after 4 bounces: {:?}", &verlet_end[..4]);
+    // Semi-implicit Euler: within |v| dt (0.23 m) of 10 m at every bounce.
+    let euler = run("semi_implicit_euler", "in_step");
+    assert_eq!(euler.len(), 100);
+    let worst = euler.iter().map(|a| (a - 10.0).abs()).fold(0.0, f64::max);
+    assert!(worst < 0.24, "worst apex {worst} m off 10 m");
+
+    let md = std::fs::read_to_string(dir.join("bounce.md")).expect("bounce.md");
+    assert!(md.contains("](bounce.png)") && md.contains("](bounce-energy.png)"));
+    for info in METHODS {
+        assert!(
+            md.contains(&format!("\n| {} |", info.name)),
+            "{} in the table",
+            info.name
+        );
+    }
+
+    let again = lab(&["bounce", "--out", out]);
+    assert!(!again.status.success());
+    let message = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        message.contains("bounce.png: exists; pass --force to overwrite"),
+        "{message}"
+    );
+    assert!(lab(&["bounce", "--out", out, "--force"]).status.success());
     std::fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -31,7 +31,7 @@ pub enum Command {
     Integrators(integrators::IntegratorsArgs),
     /// Run a scene headless (no window, no GPU): a CSV trace and a summary.
     Sim(sim::SimArgs),
-    /// Compare every method: convergence, energy, stability and cost plots and tables.
+    /// Compare every method: convergence, energy, stability, cost and bouncing plots and tables.
     Lab(crate::lab::LabArgs),
     /// Draw a scene off-screen through the fixed clock and interpolation:
     /// PNG frames and an optional GIF.

@@ -1,10 +1,11 @@
 //! The integrator lab: plots and tables that compare every method
-//! (`tickwork lab convergence | energy | stability | cost | all`).
+//! (`tickwork lab convergence | energy | stability | cost | bounce | all`).
 //!
 //! Each study writes PNG charts, the same data as CSV, and a Markdown table;
 //! `all` also writes `report.md`, which embeds the charts and tables. A
 //! study that cannot finish returns a [`LabError`].
 
+pub mod bounce;
 pub mod convergence;
 pub mod cost;
 pub mod energy;
@@ -35,6 +36,9 @@ pub enum Study {
     Stability,
     /// Error against force evaluations (work-precision).
     Cost,
+    /// An elastic ball's apex and energy over 100 bounces, with contacts at
+    /// the end of the step and inside it.
+    Bounce,
     /// Everything, plus report.md.
     All,
 }
@@ -128,6 +132,9 @@ pub fn run(args: &LabArgs) -> Result<Written, LabError> {
     }
     if all || args.study == Study::Cost {
         write_cost(&mut out, &runs)?;
+    }
+    if all || args.study == Study::Bounce {
+        bounce::write(&mut out)?;
     }
     if all {
         let mut report = String::from(
