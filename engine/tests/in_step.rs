@@ -503,7 +503,16 @@ fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
             }
             let mut contacts = Vec::new();
             for _ in 0..60 {
-                step(&mut w, 1.0 / 60.0).expect("steps");
+                let tick = w.tick();
+                let report = w
+                    .step(FixedStep {
+                        tick,
+                        time: tick as f64 / 60.0,
+                        dt: 1.0 / 60.0,
+                    })
+                    .expect("steps");
+                // In-step colliders are pointwise: the fused path takes them.
+                assert_eq!(report.fused, !plain, "the path taken");
                 contacts.extend_from_slice(w.contacts());
             }
             let hash = if plain {

@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clearance4};
+use super::sweep::{StepPath, SweptHit, clearance4, radius4};
 use super::{Collider, ContactColumns};
 
 /// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
@@ -157,26 +157,29 @@ impl Collider for BoxCollider {
         self.contact == ContactRule::InStep
     }
 
-    fn clear_blocks(&self, x0: &Vec3x4, x: &Vec3x4, v: &Vec3x4, radius: Vec4, dt: f32) -> u8 {
+    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
         // A solid box is missed by a path that stays on the free side of
         // any one face (the contact test asks for a point within the faces);
         // a container's inside by one that stays clear of all six.
-        let mut any = 0u8;
-        let mut all = 0b1111u8;
-        for axis in 0..3 {
-            for outward in [-1.0f32, 1.0] {
-                let mut n = Vec3A::ZERO;
-                n[axis] = if self.inside { -outward } else { outward };
-                let face = if outward < 0.0 { self.min[axis] } else { self.max[axis] };
-                let travel = n.dot(Vec3A::from(self.velocity)) * dt;
-                let clear = clearance4(n, n[axis] * face, travel, x0, x, v, radius, dt)
+        let faces: [(Vec3A, f32, f32); 6] = core::array::from_fn(|k| {
+            let (axis, outward) = (k / 2, if k % 2 == 0 { -1.0f32 } else { 1.0 });
+            let mut n = Vec3A::ZERO;
+            n[axis] = if self.inside { -outward } else { outward };
+            let face = if outward < 0.0 { self.min[axis] } else { self.max[axis] };
+            (n, n[axis] * face, n.dot(Vec3A::from(self.velocity)) * dt)
+        });
+        for (b, mask) in clear.iter_mut().enumerate() {
+            let r = radius4(radius, b);
+            let (mut any, mut all) = (0u8, 0b1111u8);
+            for &(n, offset, travel) in &faces {
+                let lanes = clearance4(n, offset, travel, &x0[b], &x[b], &v[b], r, dt)
                     .cmpgt(Vec4::ZERO)
                     .bitmask() as u8;
-                any |= clear;
-                all &= clear;
+                any |= lanes;
+                all &= lanes;
             }
+            *mask &= if self.inside { all } else { any };
         }
-        if self.inside { all } else { any }
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {

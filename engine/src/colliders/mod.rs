@@ -243,16 +243,19 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
         None
     }
 
-    /// For [`in_step`](Self::in_step) colliders: the lanes (bit `k` for
-    /// lane `k`) of a block of four particles whose paths certainly meet
-    /// none of this collider's surfaces this step, by a conservative test
-    /// on the whole block (see [`sweep::clearance4`]); the step skips them,
+    /// For [`in_step`](Self::in_step) colliders, on a chunk of blocks of
+    /// four particles (start positions `x0`, end positions `x`, end
+    /// velocities `v`, radii one per particle, the last block possibly
+    /// short): clears in `clear[b]` the bits of the lanes of block `b`
+    /// whose paths may meet this collider's surfaces this step, by a
+    /// conservative test (see [`sweep::clearance4`]), leaving set those
+    /// that certainly do not. The step skips a lane every collider left set,
     /// so a particle far from every surface costs one vector test, not
-    /// [`first_contact`](Self::first_contact). Default: 0 (every particle
-    /// is asked).
-    fn clear_blocks(&self, x0: &Vec3x4, x: &Vec3x4, v: &Vec3x4, radius: Vec4, dt: f32) -> u8 {
+    /// [`first_contact`](Self::first_contact). Default: clears every bit
+    /// (every particle is asked).
+    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
         let _ = (x0, x, v, radius, dt);
-        0
+        clear.fill(0);
     }
 
     /// Moves a kinematic collider by its own velocity over a step of `dt`

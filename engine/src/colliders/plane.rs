@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clearance4};
+use super::sweep::{StepPath, SweptHit, clear_plane};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -270,10 +270,9 @@ impl Collider for Plane {
         self.contact == ContactRule::InStep
     }
 
-    fn clear_blocks(&self, x0: &Vec3x4, x: &Vec3x4, v: &Vec3x4, radius: Vec4, dt: f32) -> u8 {
+    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
         let n = Vec3A::from(self.normal);
-        let clearance = clearance4(n, self.offset, self.speed * dt, x0, x, v, radius, dt);
-        clearance.cmpgt(Vec4::ZERO).bitmask() as u8
+        clear_plane(n, self.offset, self.speed * dt, x0, x, v, radius, dt, clear);
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {

@@ -138,6 +138,71 @@ pub fn clearance4(
     bound - scale * 1e-6 - Vec4::splat(f32::MIN_POSITIVE)
 }
 
+/// Radii of block `b` as lanes (0 past the end of `radius`).
+#[inline]
+#[must_use]
+pub fn radius4(radius: &[f32], b: usize) -> Vec4 {
+    let first = b * 4;
+    if first + 4 <= radius.len() {
+        return Vec4::from_slice(&radius[first..first + 4]);
+    }
+    let mut out = [0.0; 4];
+    let tail = radius.len().saturating_sub(first).min(4);
+    out[..tail].copy_from_slice(&radius[first..first + tail]);
+    Vec4::from_array(out)
+}
+
+/// [`clearance4`] over a chunk: `clear[b]` keeps only the lanes of block
+/// `b` that certainly stay clear of the plane `n . x = offset` (moving
+/// `travel` along `n` over the step).
+#[allow(clippy::too_many_arguments)]
+pub fn clear_plane(
+    n: Vec3A,
+    offset: f32,
+    travel: f32,
+    x0: &[Vec3x4],
+    x: &[Vec3x4],
+    v: &[Vec3x4],
+    radius: &[f32],
+    dt: f32,
+    clear: &mut [u8],
+) {
+    // A normal along an axis (floors, walls): the dot products are one
+    // component, the same value `clearance4` computes (`0 * x` terms add
+    // +0 or -0, which change no sum), so the same lanes clear.
+    let axis = [n.x, n.y, n.z].iter().position(|c| c.abs() == 1.0);
+    let along_axis = axis.is_some_and(|a| (0..3).all(|k| k == a || n[k] == 0.0));
+    match axis {
+        Some(a) if along_axis => {
+            let sign = n[a];
+            let pick = |p: &Vec3x4| match a {
+                0 => p.x,
+                1 => p.y,
+                _ => p.z,
+            } * sign;
+            let (start, end) = (Vec4::splat(offset - travel), Vec4::splat(offset));
+            let fixed = Vec4::splat(offset.abs() + travel.abs());
+            for (b, mask) in clear.iter_mut().enumerate() {
+                let r = radius4(radius, b);
+                let (d0, d1, dv) = (pick(&x0[b]), pick(&x[b]), pick(&v[b]) * dt);
+                let g0 = d0 - start - r;
+                let g1 = d1 - end - r;
+                let a = dv - (d1 - d0);
+                let bound = g0.min(g1) - a.max(Vec4::ZERO) * 0.25;
+                let scale = d0.abs() + d1.abs() + dv.abs() + r + fixed;
+                let gap = bound - scale * 1e-6 - Vec4::splat(f32::MIN_POSITIVE);
+                *mask &= gap.cmpgt(Vec4::ZERO).bitmask() as u8;
+            }
+        }
+        _ => {
+            for (b, mask) in clear.iter_mut().enumerate() {
+                let gap = clearance4(n, offset, travel, &x0[b], &x[b], &v[b], radius4(radius, b), dt);
+                *mask &= gap.cmpgt(Vec4::ZERO).bitmask() as u8;
+            }
+        }
+    }
+}
+
 /// The first `s` in `[0, 1]` where `c + b s + a s^2` falls to zero from
 /// `c >= 0`, or `None`.
 fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {

@@ -32,7 +32,7 @@
 //! bits on any number of threads; a particle that touches nothing costs
 //! one path test a collider.
 
-use glam::{Vec3A, Vec4};
+use glam::Vec3A;
 use tickwork_integrators::Vec3x4;
 
 use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
@@ -54,48 +54,57 @@ impl Sweep<'_> {
         colliders.iter().any(|c| c.in_step())
     }
 
-    /// The in-step contacts of four particles in a block (`real` of them
-    /// real, rows `first_row ..`): lanes every collider's conservative test
-    /// clears (most, most steps) cost that test alone; the others go
-    /// through [`row`](Self::row), whose result they would have had.
+    /// The in-step contacts of a chunk of blocks of four particles (rows
+    /// `first_row ..`, `radius.len()` of them): lanes every collider's
+    /// conservative test leaves clear (most, most steps) cost that test
+    /// alone; the others go through [`row`](Self::row), whose result they
+    /// would have had. Every row is stepped; the first that met too many
+    /// contacts is returned.
     #[allow(clippy::too_many_arguments)]
-    pub fn block(
+    pub fn chunk(
         &self,
         first_row: usize,
-        real: usize,
-        x0: &Vec3x4,
-        x: &mut Vec3x4,
-        v: &mut Vec3x4,
-        radius: Vec4,
-        inverse_mass: Vec4,
+        x0: &[Vec3x4],
+        x: &mut [Vec3x4],
+        v: &mut [Vec3x4],
+        radius: &[f32],
+        inverse_mass: &[f32],
+        clear: &mut Vec<u8>,
         touches: &mut Vec<RowTouch>,
-    ) -> Result<(), EventOverflow> {
-        let mut clear = 0u8;
-        let mut first = true;
+    ) -> Option<EventOverflow> {
+        clear.clear();
+        clear.resize(x.len(), 0b1111);
         for collider in self.colliders.iter().filter(|c| c.in_step()) {
-            let this = collider.clear_blocks(x0, x, v, radius, self.dt);
-            clear = if first { this } else { clear & this };
-            first = false;
+            collider.clear_blocks(x0, x, v, radius, self.dt, clear);
         }
-        let movable = inverse_mass.cmpgt(Vec4::ZERO).bitmask() as u8;
-        for k in 0..real {
-            if clear & (1 << k) != 0 || movable & (1 << k) == 0 {
+        let mut first = None;
+        for (b, &lanes) in clear.iter().enumerate() {
+            if lanes == 0b1111 {
                 continue;
             }
-            let (mut xk, mut vk) = (x.lane(k), v.lane(k));
-            self.row(
-                first_row + k,
-                x0.lane(k),
-                &mut xk,
-                &mut vk,
-                radius[k],
-                inverse_mass[k],
-                touches,
-            )?;
-            x.set_lane(k, xk);
-            v.set_lane(k, vk);
+            for k in 0..(radius.len() - b * 4).min(4) {
+                if lanes & (1 << k) != 0 {
+                    continue;
+                }
+                let row = b * 4 + k;
+                let (mut xk, mut vk) = (x[b].lane(k), v[b].lane(k));
+                let outcome = self.row(
+                    first_row + row,
+                    x0[b].lane(k),
+                    &mut xk,
+                    &mut vk,
+                    radius[row],
+                    inverse_mass[row],
+                    touches,
+                );
+                x[b].set_lane(k, xk);
+                v[b].set_lane(k, vk);
+                if let Err(overflow) = outcome {
+                    first = first.or(Some(overflow));
+                }
+            }
         }
-        Ok(())
+        first
     }
 
     /// The in-step contacts of one particle (row `row`, of `radius` and

@@ -1,7 +1,6 @@
 //! One lane of the fused step: integrate, collide and check its chunks of
 //! [`CHUNK`] particles while each sits in L1.
 
-use glam::Vec4;
 use tickwork_integrators::{StepError, Vec3x4};
 
 use super::in_step::Sweep;
@@ -89,34 +88,20 @@ pub(super) fn step_lane(
             .step_from(t, dt, &c.previous[blocks.clone()], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
         if let Some(sweep) = sweep {
-            // Contacts inside the step first, block by block (a block's
-            // lanes far from every surface cost one vector test), then the
+            // Contacts inside the step first (a block far from every
+            // surface costs one vector test a collider), then the
             // end-of-step rule below catches what started inside.
-            for (k, b) in blocks.clone().enumerate() {
-                let first = b * LANES;
-                let real = (n - first).min(LANES);
-                let lanes = |column: &[f32]| {
-                    let mut out = [0.0; LANES];
-                    out[..real].copy_from_slice(&column[first..first + real]);
-                    Vec4::from_array(out)
-                };
-                let (radius, inverse_mass) = (lanes(c.radius), lanes(c.inverse_mass));
-                let result = sweep.block(
-                    offset + first,
-                    real,
-                    &c.previous[b],
-                    &mut x[k],
-                    &mut v[k],
-                    radius,
-                    inverse_mass,
-                    &mut lane.touches,
-                );
-                if let Err(overflow) = result
-                    && outcome.overflow.is_none()
-                {
-                    outcome.overflow = Some(overflow);
-                }
-            }
+            let overflow = sweep.chunk(
+                offset + start,
+                &c.previous[blocks.clone()],
+                x,
+                v,
+                &c.radius[rows.clone()],
+                &c.inverse_mass[rows.clone()],
+                &mut lane.clear,
+                &mut lane.touches,
+            );
+            outcome.overflow = outcome.overflow.or(overflow);
         }
         for (k, collider) in colliders.iter().enumerate() {
             let (radius, inverse_mass) = (&c.radius[rows.clone()], &c.inverse_mass[rows.clone()]);

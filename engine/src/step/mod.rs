@@ -167,11 +167,7 @@ impl World {
     fn integrate(&mut self, t: f32, dt: f32, tick: u64, report: &mut StepReport) -> Result<(), SimulationError> {
         let fused = self.integrator.splits_pointwise()
             && self.forces.iter().all(|f| f.is_pointwise())
-            && self
-                .colliders
-                .colliders
-                .iter()
-                .all(|c| c.is_pointwise() && !c.in_step());
+            && self.colliders.colliders.iter().all(|c| c.is_pointwise());
         // Double buffering: the positions at the start of the step become
         // the previous positions (for interpolation) by a swap, and the step
         // writes the new positions into the other buffer; nothing is copied.
@@ -257,6 +253,7 @@ impl World {
                 method,
                 rows: Rows::default(),
                 touches: Vec::new(),
+                clear: Vec::new(),
             });
         }
         let columns = LaneColumns {

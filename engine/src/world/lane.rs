@@ -15,6 +15,9 @@ pub(crate) struct Lane {
     pub rows: Rows,
     /// The lane's contacts, for colliders that report them.
     pub touches: Vec<RowTouch>,
+    /// Per block of a chunk, the lanes no in-step collider can touch this
+    /// step (bit `k` for lane `k`).
+    pub clear: Vec<u8>,
 }
 
 impl Clone for Lane {
@@ -23,6 +26,7 @@ impl Clone for Lane {
             method: self.method.clone_boxed(),
             rows: Rows::default(),
             touches: Vec::new(),
+            clear: Vec::new(),
         }
     }
 }
