@@ -99,13 +99,17 @@ pub(crate) struct RowTouch {
     pub impulse: f32,
     /// The fraction of the step it happened at (1: the end).
     pub fraction: f32,
+    /// Its place among the row's contacts in the step: the in-step
+    /// contacts count 1, 2, ...; one found at the end of the step is
+    /// `u32::MAX`. With the instant it makes every key unique.
+    pub event: u32,
 }
 
 impl RowTouch {
     /// The canonical order: collider, row, other row, instant (a fraction
-    /// in `[0, 1]`, whose bits sort as it does).
-    pub fn key(&self) -> (u32, u32, u32, u32) {
-        (self.collider, self.row, self.other, self.fraction.to_bits())
+    /// in `[0, 1]`, whose bits sort as it does), event.
+    pub fn key(&self) -> (u32, u32, u32, u32, u32) {
+        (self.collider, self.row, self.other, self.fraction.to_bits(), self.event)
     }
 }
 
@@ -160,6 +164,7 @@ pub(crate) fn diff_touches(
             normal,
             impulse,
             fraction: 1.0,
+            event: u32::MAX,
         });
     }
 }

@@ -75,6 +75,20 @@ impl StepPath {
         }
     }
 
+    /// [`new`](Self::new) in `f64`: the path from `x0` to `x1` arriving with
+    /// velocity `v1` after `dt` seconds.
+    #[must_use]
+    pub fn through(x0: DVec3, x1: DVec3, v1: DVec3, dt: f64) -> Self {
+        let delta = x1 - x0;
+        let vdt = v1 * dt;
+        Self {
+            start: x0,
+            b: 2.0 * delta - vdt,
+            a: vdt - delta,
+            dt,
+        }
+    }
+
     /// The position at fraction `s` of the step.
     #[must_use]
     pub fn at(&self, s: f64) -> DVec3 {
@@ -128,13 +142,15 @@ pub fn clearance4(
     dt: f32,
 ) -> Vec4 {
     let dot = |p: &Vec3x4| p.x * n.x + p.y * n.y + p.z * n.z;
+    // The rounding of a dot product is that of its terms' magnitudes.
+    let size = |p: &Vec3x4| p.x.abs() * n.x.abs() + p.y.abs() * n.y.abs() + p.z.abs() * n.z.abs();
     let (d0, d1, dv) = (dot(x0), dot(x1), dot(v1) * dt);
     let g0 = d0 - Vec4::splat(offset - travel) - radius;
     let g1 = d1 - Vec4::splat(offset) - radius;
     let a = dv - (d1 - d0);
     let bound = g0.min(g1) - a.max(Vec4::ZERO) * 0.25;
     // Each term is rounded once or twice at its own magnitude.
-    let scale = d0.abs() + d1.abs() + dv.abs() + radius + Vec4::splat(offset.abs() + travel.abs());
+    let scale = size(x0) + size(x1) + size(v1) * dt + radius + Vec4::splat(offset.abs() + travel.abs());
     bound - scale * 1e-6 - Vec4::splat(f32::MIN_POSITIVE)
 }
 
@@ -206,7 +222,8 @@ pub fn clear_plane(
 /// The first `s` in `[0, 1]` where `c + b s + a s^2` falls to zero from
 /// `c >= 0`, or `None`.
 fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {
-    if c.is_nan() || c < 0.0 {
+    // A non-finite path meets nothing (the step reports it non-finite).
+    if !(a.is_finite() && b.is_finite() && c.is_finite()) || c < 0.0 {
         return None;
     }
     let end = c + b + a;
@@ -232,7 +249,7 @@ fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {
         let (lo, hi) = if r1 <= r2 { (r1, r2) } else { (r2, r1) };
         if lo >= 0.0 { lo } else { hi }
     };
-    Some(root.clamp(0.0, 1.0))
+    (!root.is_nan()).then(|| root.clamp(0.0, 1.0))
 }
 
 /// A particle that met more contacts in one step than
@@ -329,6 +346,12 @@ mod tests {
         // A NaN start.
         let path = StepPath::new(Vec3A::splat(f32::NAN), Vec3A::ZERO, Vec3A::ZERO, 1.0);
         assert_eq!(path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1), None);
+        // A NaN or infinite end off the normal's axis (0 * NaN is NaN): no
+        // crossing, as the fused path's one-component test finds.
+        for bad in [f32::NAN, f32::INFINITY] {
+            let path = StepPath::new(Vec3A::Y, Vec3A::new(bad, -1.0, 0.0), Vec3A::new(bad, -1.0, 0.0), 1.0);
+            assert_eq!(path.first_crossing(DVec3::Y, 0.0, 0.0, 0.1), None);
+        }
     }
 
     #[test]

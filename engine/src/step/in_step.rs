@@ -129,7 +129,11 @@ impl Sweep<'_> {
         // The fraction of the step before the path's start.
         let mut done = 0.0f64;
         let mut events = 0;
-        while let Some((k, hit)) = first_hit(self.colliders, &path, radius) {
+        // The collider the particle came to rest on this step, if any: it
+        // is on its surface for the rest of the step (the end-of-step rule
+        // keeps it there); the others are still looked for.
+        let mut resting_on = None;
+        while let Some((k, hit)) = first_hit(self.colliders, &path, radius, resting_on) {
             events += 1;
             if events > MAX_CONTACT_EVENTS {
                 return Err(EventOverflow { row, collider: k });
@@ -155,6 +159,7 @@ impl Sweep<'_> {
                     normal: hit.normal.as_vec3a(),
                     impulse: ((after - arriving).dot(hit.normal) / f64::from(w)) as f32,
                     fraction: fraction as f32,
+                    event: events,
                 });
             }
             // The rest of the step, from the contact, on the path's own
@@ -179,10 +184,15 @@ impl Sweep<'_> {
             }
             *x = end.as_vec3a();
             *v = velocity.as_vec3a();
-            if resting || rest <= 0.0 {
+            if rest <= 0.0 {
                 break;
             }
-            path = StepPath::new(at.as_vec3a(), *x, *v, rest as f32);
+            if resting {
+                resting_on = Some(k);
+            }
+            // The rest of the step's path, in f64 (no rounding of its ends
+            // to f32 magnified by a short rest).
+            path = StepPath::through(at, end, velocity, rest);
             done = fraction;
         }
         Ok(())
@@ -201,7 +211,8 @@ impl World {
             colliders: &self.colliders.colliders,
             reports: &self.colliders.reports,
             dt,
-            rest_speed: f64::from(self.config.rest_speed),
+            // NaN or negative: none rests.
+            rest_speed: f64::from(self.config.rest_speed).max(0.0),
         };
         let (p, g) = (&self.particles, &mut self.gathered);
         let mut first = None;
@@ -227,10 +238,15 @@ impl World {
 
 /// The first contact along `path` among the in-step colliders, and its
 /// collider's index (the lower index on a tie).
-fn first_hit(colliders: &[Box<dyn Collider>], path: &StepPath, radius: f32) -> Option<(usize, SweptHit)> {
+fn first_hit(
+    colliders: &[Box<dyn Collider>],
+    path: &StepPath,
+    radius: f32,
+    skip: Option<usize>,
+) -> Option<(usize, SweptHit)> {
     let mut best: Option<(usize, SweptHit)> = None;
     for (k, collider) in colliders.iter().enumerate() {
-        if !collider.in_step() {
+        if !collider.in_step() || skip == Some(k) {
             continue;
         }
         if let Some(hit) = collider.first_contact(path, radius)

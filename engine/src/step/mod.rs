@@ -270,7 +270,8 @@ impl World {
             colliders,
             reports,
             dt,
-            rest_speed: f64::from(self.config.rest_speed),
+            // NaN or negative: none rests.
+            rest_speed: f64::from(self.config.rest_speed).max(0.0),
         });
         for lane in &mut self.lanes[lanes..] {
             lane.touches.clear();

@@ -87,6 +87,7 @@ pub(super) fn resolve_world_reporting(
                 normal,
                 impulse: pair.impulse,
                 fraction: pair.fraction,
+                event: u32::MAX,
             });
         };
         let reborrow = ContactColumns {

@@ -47,8 +47,9 @@ pub struct WorldConfig {
     /// bounce: the particle comes to rest on the surface (default `0.5`,
     /// about what gravity gives in two steps at 60 Hz, as Box2D's
     /// restitution threshold of 1 m/s). Without it a ball with restitution
-    /// below 1 would bounce ever lower, infinitely often (Zeno); 0 keeps
-    /// every bounce.
+    /// below 1 would bounce ever lower, infinitely often (Zeno); 0 (or
+    /// NaN, or a negative speed) keeps every bounce, so a particle settling
+    /// on a surface may meet `MAX_CONTACT_EVENTS` in a step.
     pub rest_speed: f32,
 }
 

@@ -45,7 +45,9 @@ impl SphereCollisions {
                 }
             }
         }
-        (self.tested, self.contacts) = (w.tested, w.contacts);
+        // Added to the swept tests' counts, if any.
+        self.tested += w.tested;
+        self.contacts += w.contacts;
         true
     }
 }

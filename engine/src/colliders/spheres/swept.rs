@@ -40,7 +40,8 @@ impl SphereCollisions {
         // widest extent of a sphere that is not fast (its path is shorter
         // than its radius), which bounds how far before a fast sphere's low
         // end an overlapping extent may start.
-        let fast = |k: usize| (c.position[k] - x0[k]).length() > c.radius[k];
+        // A sphere of radius 0 touches nothing (as in the grid).
+        let fast = |k: usize| c.radius[k] > 0.0 && (c.position[k] - x0[k]).length() > c.radius[k];
         self.extents.clear();
         let mut slow_width = 0.0f32;
         let mut any_fast = false;
@@ -80,11 +81,12 @@ impl SphereCollisions {
                 if other_lo > hi {
                     break;
                 }
+                // Every extent looked at counts towards the limit.
+                candidates += 1;
                 let j = j as usize;
-                if j == i || other_hi < lo || (fast(j) && g <= f) {
+                if j == i || other_hi < lo || (fast(j) && g <= f) || c.radius[j] <= 0.0 {
                     continue;
                 }
-                candidates += 1;
                 if let Some(s) = first_meeting(x0, c, i, j) {
                     let (i, j) = (i.min(j) as u32, i.max(j) as u32);
                     self.meetings.push(SweptPair { s, i, j });
@@ -112,7 +114,6 @@ impl SphereCollisions {
             if w <= 0.0 {
                 continue;
             }
-            (self.taken[i], self.taken[j]) = (true, true);
             let s = pair.s;
             let at = |k: usize| {
                 let (a, b) = (x0[k].as_dvec3(), c.position[k].as_dvec3());
@@ -122,6 +123,7 @@ impl SphereCollisions {
             let Some(normal) = (pj - pi).try_normalize() else {
                 continue;
             };
+            (self.taken[i], self.taken[j]) = (true, true);
             let (mut vi, mut vj) = (c.velocity[i].as_dvec3(), c.velocity[j].as_dvec3());
             let vn = (vj - vi).dot(normal);
             if vn < 0.0 {
