@@ -64,15 +64,7 @@ impl StepPath {
     /// seconds (the renderer's curve).
     #[must_use]
     pub fn new(x0: Vec3A, x1: Vec3A, v1: Vec3A, dt: f32) -> Self {
-        let (x0, x1, v1, dt) = (x0.as_dvec3(), x1.as_dvec3(), v1.as_dvec3(), f64::from(dt));
-        let delta = x1 - x0;
-        let vdt = v1 * dt;
-        Self {
-            start: x0,
-            b: 2.0 * delta - vdt,
-            a: vdt - delta,
-            dt,
-        }
+        Self::through(x0.as_dvec3(), x1.as_dvec3(), v1.as_dvec3(), f64::from(dt))
     }
 
     /// [`new`](Self::new) in `f64`: the path from `x0` to `x1` arriving with
