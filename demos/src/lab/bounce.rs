@@ -1,7 +1,7 @@
 //! Bouncing: an elastic ball dropped onto a floor, with every method, with
 //! contacts found at the end of the step and inside it.
 //!
-//! A point ball (radius 0) falls from rest at [`HEIGHT`] onto a floor at
+//! A ball of radius 0.05 m falls from rest (its centre) at [`HEIGHT`] onto a floor at
 //! `y = 0` of restitution 1 and friction 0, under `g = 9.81` m/s^2, in the
 //! engine's [`World`] at [`HZ`]. Each flight's apex is read where the ball
 //! turns at the top (rising, then not), as its height plus `v_y^2 / 2g`;
@@ -153,6 +153,7 @@ pub fn run(method: &'static str, symplectic: bool, rule: ContactRule) -> Result<
     };
     let ball = match w.spawn(Particle {
         position: Vec3::new(0.0, HEIGHT as f32, 0.0),
+        radius: 0.05,
         ..Particle::default()
     }) {
         Ok(ball) => ball,
@@ -369,7 +370,7 @@ pub(super) fn write(out: &mut Out<'_>) -> Result<(), LabError> {
     let mut md = format!(
         "## Bouncing: the instant of contact\n\n![apex over {n} bounces](bounce.png)\n\n\
          ![energy error over {n} bounces](bounce-energy.png)\n\n\
-         A point ball dropped from rest at {h} m onto an elastic floor (restitution 1, friction 0) under \
+         A ball of radius 0.05 m dropped from rest (its centre) at {h} m onto an elastic floor (restitution 1, friction 0) under \
          g = {g} m/s^2 at {hz} Hz, for {n} bounces, with each contact rule of the engine. \
          `ContactRule::EndOfStep` looks for contacts after the step: the ball, found below the floor, is \
          moved back onto it and its velocity reflected there. `ContactRule::InStep` finds the instant the \
