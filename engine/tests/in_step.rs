@@ -625,10 +625,10 @@ fn fused_and_plain(collider: Plane, x0: Vec3, v: Vec3, radius: f32) -> [(Result<
 
 #[test]
 fn a_slanted_plane_far_from_the_origin_is_met_the_same_on_both_paths() {
-    // Found by a second reading: the skip test's rounding margin followed
-    // the dot product's value, not its terms' sizes, so far from the
-    // origin a particle that grazes a 45 degree plane was skipped on the
-    // fused path and bounced on the plain one.
+    // Found by a second reading: the clearance test's rounding margin
+    // followed the dot product's value, not its terms' sizes, so far from
+    // the origin a particle that grazes a 45 degree plane was passed over
+    // on the fused path and bounced on the plain one.
     let plane = Plane {
         normal: Vec3::new(1.0, 1.0, 0.0).normalize(),
         contact: ContactRule::InStep,
