@@ -534,6 +534,83 @@ fn in_step_contacts_are_the_same_bits_on_any_threads_and_either_path() {
     assert_eq!(fused, crowd(3, true), "plain on 3 threads");
 }
 
+/// 4 001 particles (a short last block) dropped from up to 30 cm onto a
+/// lone in-step floor with friction that does not report (the floor
+/// settles and resolves whole blocks in one pass), on `threads` threads,
+/// fused or plain: the state's hash after 2 s, and how many rest on the
+/// floor (exactly on it, no normal velocity).
+fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool")
+        .install(|| {
+            let mut w = world("semi_implicit_euler");
+            w.add_force(Gravity {
+                acceleration: Vec3::new(0.0, -G as f32, 0.0),
+            });
+            w.add_collider(Plane {
+                contact: ContactRule::InStep,
+                ..Plane::floor(
+                    0.0,
+                    Material {
+                        restitution: 0.5,
+                        friction: 0.3,
+                    },
+                )
+            });
+            if plain {
+                w.add_collider(support::ForcePlainPath);
+            }
+            let n = 4_001;
+            let rows: Vec<_> = (0..n)
+                .map(|k| {
+                    let f = k as f32;
+                    w.spawn(Particle {
+                        position: Vec3::new(
+                            (f * 0.37).sin() * 3.0,
+                            0.02 + (f * 0.11).fract() * 0.3,
+                            (f * 0.53).cos() * 3.0,
+                        ),
+                        velocity: Vec3::new((f * 0.7).sin(), (f * 0.3).cos() * 0.5, 0.0),
+                        radius: 0.02,
+                        ..Particle::default()
+                    })
+                    .expect("valid")
+                })
+                .collect();
+            for _ in 0..120 {
+                let tick = w.tick();
+                let report = w
+                    .step(FixedStep {
+                        tick,
+                        time: tick as f64 / 60.0,
+                        dt: 1.0 / 60.0,
+                    })
+                    .expect("steps");
+                assert_eq!(report.fused, !plain, "the path taken");
+            }
+            let resting = rows
+                .iter()
+                .filter(|&&e| w.position(e).expect("live").y == 0.02 && w.velocity(e).expect("live").y == 0.0)
+                .count();
+            let hash = if plain {
+                support::hash_without_plain_path(&mut w)
+            } else {
+                w.state_hash()
+            };
+            (hash, resting)
+        })
+}
+
+#[test]
+fn particles_resting_on_a_lone_floor_are_the_same_bits_on_any_threads_and_either_path() {
+    let fused = resting_crowd(1, false);
+    assert!(fused.1 > 3_900, "at rest on the floor after 2 s: {} of 4 001", fused.1);
+    assert_eq!(fused, resting_crowd(2, false), "fused, 1 and 2 threads");
+    assert_eq!(fused, resting_crowd(1, true), "fused and plain");
+}
+
 /// A bullet (radius 1 cm) fired at `speed` from x = -5 at a heavy ball of
 /// radius 0.1 at rest at the origin, with sphere collisions swept or not,
 /// at `hz`: the bullet's velocity at the end, and whether it was ever past

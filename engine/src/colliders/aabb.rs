@@ -6,7 +6,7 @@ use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
 use super::sweep::{StepPath, SweptHit, clearance4, radius4};
-use super::{Collider, ContactColumns};
+use super::{BlockColumns, Collider, ContactColumns};
 
 /// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
 /// by its `velocity` each step (a paddle, a lift), never by forces or
@@ -89,15 +89,15 @@ impl BoxCollider {
         )
     }
 
-    fn resolve_one(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
+    fn resolve_one(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool, rest: f32) {
         if self.inside {
-            self.contain(x, v, r, movable);
+            self.contain(x, v, r, movable, rest);
         } else {
-            self.exclude(x, v, r, movable);
+            self.exclude(x, v, r, movable, rest);
         }
     }
 
-    fn contain(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
+    fn contain(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool, rest: f32) {
         // Clear of all six walls (most particles, most steps): no wall's
         // gap below is negative, so none would act. The gaps are computed
         // as the walls compute them, so the skip changes no result; a NaN
@@ -105,21 +105,21 @@ impl BoxCollider {
         let (min, max, radius) = (Vec3A::from(self.min), Vec3A::from(self.max), Vec3A::splat(r));
         let clear = ((*x - min) - radius).cmpge(Vec3A::ZERO) & ((max - *x) - radius).cmpge(Vec3A::ZERO);
         if !clear.all() {
-            self.walls(x, v, r, movable);
+            self.walls(x, v, r, movable, rest);
         }
     }
 
     /// Six walls, each a plane facing inwards.
-    fn walls(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
+    fn walls(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool, rest: f32) {
         for axis in 0..3 {
             let mut n = Vec3A::ZERO;
             n[axis] = 1.0;
-            resolve(x, v, n, x[axis] - self.min[axis] - r, movable, self.material);
-            resolve(x, v, -n, self.max[axis] - x[axis] - r, movable, self.material);
+            resolve(x, v, n, x[axis] - self.min[axis] - r, movable, self.material, rest);
+            resolve(x, v, -n, self.max[axis] - x[axis] - r, movable, self.material, rest);
         }
     }
 
-    fn exclude(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool) {
+    fn exclude(&self, x: &mut Vec3A, v: &mut Vec3A, r: f32, movable: bool, rest: f32) {
         // Penetration depth through each face; the shallowest face wins.
         let lo = Vec3A::from(self.min) - Vec3A::splat(r);
         let hi = Vec3A::from(self.max) + Vec3A::splat(r);
@@ -144,7 +144,7 @@ impl BoxCollider {
             return; // no contact
         }
         // Inside: the gap is minus the depth through the shallowest face.
-        resolve(x, v, n, -best, movable, self.material);
+        resolve(x, v, n, -best, movable, self.material, rest);
     }
 }
 
@@ -157,7 +157,11 @@ impl Collider for BoxCollider {
         self.contact == ContactRule::InStep
     }
 
-    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
+    fn settle_blocks(&self, x0: &[Vec3x4], c: BlockColumns<'_>, dt: f32, resolve: bool, settled: &mut [u8]) -> bool {
+        // Boxes rest no contact here (their faces and edges are followed):
+        // only the lanes clear of the box are settled, and none is resolved.
+        let _ = resolve;
+        let (x, v, radius) = (&*c.position, &*c.velocity, c.radius);
         // A solid box is missed by a path that stays on the free side of
         // any one face (the contact test asks for a point within the faces);
         // a container's inside by one that stays clear of all six.
@@ -168,7 +172,7 @@ impl Collider for BoxCollider {
             let face = if outward < 0.0 { self.min[axis] } else { self.max[axis] };
             (n, n[axis] * face, n.dot(Vec3A::from(self.velocity)) * dt)
         });
-        for (b, mask) in clear.iter_mut().enumerate() {
+        for (b, mask) in settled.iter_mut().enumerate() {
             let r = radius4(radius, b);
             let (mut any, mut all) = (0u8, 0b1111u8);
             for &(n, offset, travel) in &faces {
@@ -180,6 +184,7 @@ impl Collider for BoxCollider {
             }
             *mask &= if self.inside { all } else { any };
         }
+        false
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
@@ -229,9 +234,10 @@ impl Collider for BoxCollider {
     }
 
     fn resolve_range(&self, mut c: ContactColumns<'_>) {
+        let rest = c.rest_speed;
         if self.velocity == Vec3::ZERO {
             for (x, v, r, w) in c.rows() {
-                self.resolve_one(x, v, r, w > 0.0);
+                self.resolve_one(x, v, r, w > 0.0, rest);
             }
             return;
         }
@@ -240,7 +246,7 @@ impl Collider for BoxCollider {
         for (x, v, r, w) in c.rows() {
             let mut relative = *v - u;
             let before = relative;
-            self.resolve_one(x, &mut relative, r, w > 0.0);
+            self.resolve_one(x, &mut relative, r, w > 0.0, rest);
             if relative != before {
                 *v = relative + u;
             }
@@ -283,8 +289,8 @@ mod tests {
                     for r in [0.0, 0.05, 0.1] {
                         let (mut x1, mut v1) = (x0, v0);
                         let (mut x2, mut v2) = (x0, v0);
-                        b.contain(&mut x1, &mut v1, r, true);
-                        b.walls(&mut x2, &mut v2, r, true);
+                        b.contain(&mut x1, &mut v1, r, true, 0.0);
+                        b.walls(&mut x2, &mut v2, r, true, 0.0);
                         assert_eq!(
                             (x1.to_array().map(f32::to_bits), v1.to_array().map(f32::to_bits)),
                             (x2.to_array().map(f32::to_bits), v2.to_array().map(f32::to_bits)),

@@ -75,13 +75,15 @@ pub(crate) fn bounce(v: glam::DVec3, n: glam::DVec3, restitution: f64, friction:
 /// the signed separation `gap` is negative: the particle is moved back onto
 /// the surface and, if approaching, its normal velocity `vn` becomes
 /// `-e vn` while its tangential velocity `vt` shrinks by `mu (1 + e) |vn|`
-/// (not past zero). Both outcomes are computed and one is selected, so there
-/// is no branch to mispredict.
+/// (not past zero). An approach no faster than `rest` (m/s; 0 for the
+/// end-of-step rule) rests: `e = 0`. Both outcomes are computed and one is
+/// selected, so there is no branch to mispredict.
 #[inline(always)]
-pub(crate) fn resolve(x: &mut Vec3A, v: &mut Vec3A, n: Vec3A, gap: f32, movable: bool, material: Material) {
+pub(crate) fn resolve(x: &mut Vec3A, v: &mut Vec3A, n: Vec3A, gap: f32, movable: bool, material: Material, rest: f32) {
     let vn = v.dot(n);
     let vt = *v - n * vn;
-    let dvn = -(1.0 + material.restitution) * vn.min(0.0);
+    let e = if vn >= -rest { 0.0 } else { material.restitution };
+    let dvn = -(1.0 + e) * vn.min(0.0);
     let speed2 = vt.length_squared();
     let brake = material.friction * dvn;
     // Friction stops the sliding outright when mu dvn >= |v_t|.

@@ -65,6 +65,11 @@ pub struct ContactColumns<'a> {
     /// of pairs; `None` for chunks): what swept tests need
     /// ([`SphereCollisions::swept`]).
     pub start: Option<StepStart<'a>>,
+    /// Contacts approaching no faster than this (m/s) rest, restitution 0:
+    /// [`WorldConfig::rest_speed`](crate::WorldConfig) for a collider that
+    /// finds contacts inside the step, 0 (every approach bounces) for the
+    /// others.
+    pub rest_speed: f32,
 }
 
 /// The positions the particles started the step from, and the step's
@@ -95,6 +100,7 @@ impl ContactColumns<'_> {
                     parallel: false,
                     max_pairs: self.max_pairs,
                     start: None,
+                    rest_speed: self.rest_speed,
                 });
             });
     }
@@ -136,6 +142,11 @@ pub struct BlockColumns<'a> {
     /// Every real row's radius is `+0.0`: a kernel may skip reading `radius`
     /// (and its subtraction, which changes no bits).
     pub point: bool,
+    /// Contacts approaching no faster than this (m/s) rest, restitution 0:
+    /// [`WorldConfig::rest_speed`](crate::WorldConfig) for a collider that
+    /// finds contacts inside the step, 0 (every approach bounces) for the
+    /// others.
+    pub rest_speed: f32,
 }
 
 impl BlockColumns<'_> {
@@ -243,19 +254,34 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
         None
     }
 
-    /// For [`in_step`](Self::in_step) colliders, on a chunk of blocks of
-    /// four particles (start positions `x0`, end positions `x`, end
-    /// velocities `v`, radii one per particle, the last block possibly
-    /// short): clears in `clear[b]` the bits of the lanes of block `b`
-    /// whose paths may meet this collider's surfaces this step, by a
-    /// conservative test (see [`sweep::clearance4`]), leaving set those
-    /// that certainly do not. The step skips a lane every collider left set,
-    /// so a particle far from every surface costs one vector test, not
-    /// [`first_contact`](Self::first_contact). Default: clears every bit
-    /// (every particle is asked).
-    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
-        let _ = (x0, x, v, radius, dt);
-        clear.fill(0);
+    /// For [`in_step`](Self::in_step) colliders, on a chunk in blocks of
+    /// four particles (`start`: their start positions; `columns`: the
+    /// method's end state): clears in `settled[b]` the bits of the lanes of
+    /// block `b` whose paths may meet this collider's surfaces this step
+    /// faster than [`BlockColumns::rest_speed`]; the step follows those
+    /// exactly ([`first_contact`](Self::first_contact)). The lanes left set
+    /// certainly stay clear of the surfaces (a conservative test, see
+    /// [`sweep::clearance4`]) or rest on them, and the end-of-step rule
+    /// resolves them: a particle far from every surface, or resting on one,
+    /// costs one vector test, not `first_contact`.
+    ///
+    /// With `resolve`, the collider may also resolve, by its end-of-step
+    /// rule, each block whose lanes it left all set, and return true: the
+    /// step then resolves only the other blocks, after following their
+    /// lanes' paths (the same result, one pass fewer over the chunk).
+    /// Default: clears every bit (every particle is followed) and returns
+    /// false.
+    fn settle_blocks(
+        &self,
+        start: &[Vec3x4],
+        columns: BlockColumns<'_>,
+        dt: f32,
+        resolve: bool,
+        settled: &mut [u8],
+    ) -> bool {
+        let _ = (start, columns, dt, resolve);
+        settled.fill(0);
+        false
     }
 
     /// Moves a kinematic collider by its own velocity over a step of `dt`

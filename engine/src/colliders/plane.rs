@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clear_plane};
+use super::sweep::{StepPath, SweptHit, settle_plane, settled_axis4};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -77,6 +77,7 @@ impl Plane {
     /// particle sees exactly the same arithmetic whatever the chunking
     /// (which keeps steps bit-identical across thread counts).
     fn resolve_axis<const AXIS: usize>(&self, c: ContactColumns<'_>, sign: f32) {
+        let rest = c.rest_speed;
         let n = c.position.len();
         let whole = n - n % 4;
         for i in (0..whole).step_by(4) {
@@ -92,6 +93,7 @@ impl Plane {
                 Vec4::from_slice(&c.radius[i..]),
                 Vec4::from_slice(&c.inverse_mass[i..]),
                 sign,
+                rest,
             );
         }
         if whole < n {
@@ -101,7 +103,7 @@ impl Plane {
             v[..tail].copy_from_slice(&c.velocity[whole..]);
             r[..tail].copy_from_slice(&c.radius[whole..]);
             w[..tail].copy_from_slice(&c.inverse_mass[whole..]);
-            self.contact4::<AXIS>(&mut x, &mut v, Vec4::from_array(r), Vec4::from_array(w), sign);
+            self.contact4::<AXIS>(&mut x, &mut v, Vec4::from_array(r), Vec4::from_array(w), sign, rest);
             c.position[whole..].copy_from_slice(&x[..tail]);
             c.velocity[whole..].copy_from_slice(&v[..tail]);
         }
@@ -117,7 +119,7 @@ impl Plane {
         let n = c.position.len();
         let whole = n - n % 4;
         let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
-        let bounce = Vec4::splat(-(1.0 + self.material.restitution));
+        let (e, rest) = (self.material.restitution, c.rest_speed);
         for i in (0..whole).step_by(4) {
             let (x, v) = (&mut c.position[i..i + 4], &mut c.velocity[i..i + 4]);
             let xa = Vec4::new(x[0][AXIS], x[1][AXIS], x[2][AXIS], x[3][AXIS]);
@@ -125,7 +127,7 @@ impl Plane {
             let gap = xa * s - offset - Vec4::from_slice(&c.radius[i..i + 4]);
             let vn = va * s;
             // min(vn, 0) as `vn < 0 ? vn : 0`, the same in the scalar tail.
-            let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
+            let dvn = bounce4(vn, e, rest) * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
             let hit = gap.cmplt(Vec4::ZERO) & Vec4::from_slice(&c.inverse_mass[i..i + 4]).cmpgt(Vec4::ZERO);
             let new_v = Vec4::select(hit, (vn + dvn) * s, va).to_array();
             let new_x = Vec4::select(hit, xa - gap * s, xa).to_array();
@@ -134,7 +136,6 @@ impl Plane {
                 v[k][AXIS] = new_v[k];
             }
         }
-        let bounce = bounce.x;
         let mut tail = ContactColumns {
             position: &mut c.position[whole..],
             velocity: &mut c.velocity[whole..],
@@ -143,10 +144,12 @@ impl Plane {
             parallel: false,
             max_pairs: c.max_pairs,
             start: None,
+            rest_speed: rest,
         };
         for (x, v, r, w) in tail.rows() {
             let gap = x[AXIS] * sign - self.offset - r;
             let vn = v[AXIS] * sign;
+            let bounce = -(1.0 + if vn >= -rest { 0.0 } else { e });
             let dvn = bounce * select(vn < 0.0, vn, 0.0);
             let hit = gap < 0.0 && w > 0.0;
             v[AXIS] = select(hit, (vn + dvn) * sign, v[AXIS]);
@@ -155,13 +158,21 @@ impl Plane {
     }
 
     #[inline(always)]
-    fn contact4<const AXIS: usize>(&self, x: &mut [Vec3A; 4], v: &mut [Vec3A; 4], r: Vec4, w: Vec4, sign: f32) {
+    fn contact4<const AXIS: usize>(
+        &self,
+        x: &mut [Vec3A; 4],
+        v: &mut [Vec3A; 4],
+        r: Vec4,
+        w: Vec4,
+        sign: f32,
+        rest: f32,
+    ) {
         let lanes = |p: &[Vec3A; 4]| {
             let t = Mat4::from_cols(p[0].extend(0.0), p[1].extend(0.0), p[2].extend(0.0), p[3].extend(0.0)).transpose();
             [t.x_axis, t.y_axis, t.z_axis]
         };
         let (mut xc, mut vc) = (lanes(x), lanes(v));
-        self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+        self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign, rest);
         let back = |c: [Vec4; 3], p: &mut [Vec3A; 4]| {
             let t = Mat4::from_cols(c[0], c[1], c[2], Vec4::ZERO).transpose();
             *p = [t.x_axis, t.y_axis, t.z_axis, t.w_axis].map(Vec3A::from_vec4);
@@ -171,13 +182,22 @@ impl Plane {
     }
 
     /// [`resolve`] for four particles held per axis (`xc[AXIS]` = their
-    /// normal coordinates), the normal `sign * e_AXIS`.
+    /// normal coordinates), the normal `sign * e_AXIS`; approaches no
+    /// faster than `rest` rest.
     #[inline(always)]
-    fn contact_lanes<const AXIS: usize>(&self, xc: &mut [Vec4; 3], vc: &mut [Vec4; 3], r: Vec4, w: Vec4, sign: f32) {
+    fn contact_lanes<const AXIS: usize>(
+        &self,
+        xc: &mut [Vec4; 3],
+        vc: &mut [Vec4; 3],
+        r: Vec4,
+        w: Vec4,
+        sign: f32,
+        rest: f32,
+    ) {
         let s = Vec4::splat(sign);
         let gap = xc[AXIS] * s - Vec4::splat(self.offset) - r;
         let vn = vc[AXIS] * s;
-        let dvn = Vec4::splat(-(1.0 + self.material.restitution)) * vn.min(Vec4::ZERO);
+        let dvn = bounce4(vn, self.material.restitution, rest) * vn.min(Vec4::ZERO);
         let (t1, t2) = ((AXIS + 1) % 3, (AXIS + 2) % 3);
         let speed2 = vc[t1] * vc[t1] + vc[t2] * vc[t2];
         let brake = Vec4::splat(self.material.friction) * dvn;
@@ -211,42 +231,120 @@ impl Plane {
     /// same bits come out.
     fn resolve_axis_blocks<const AXIS: usize, const NEGATIVE: bool>(&self, c: BlockColumns<'_>) {
         let whole = c.rows / 4;
+        let rest = c.rest_speed;
         let (x, v) = (&mut c.position[..whole], &mut c.velocity[..whole]);
         if c.movable && c.point {
             for (x, v) in x.iter_mut().zip(v.iter_mut()) {
-                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::ZERO, Vec4::ONE);
+                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::ZERO, Vec4::ONE, rest);
             }
         } else {
             let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
             for ((x, v), (r, w)) in x.iter_mut().zip(v.iter_mut()).zip(scalars) {
-                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::from_slice(r), Vec4::from_slice(w));
+                self.contact_block::<AXIS, NEGATIVE>(x, v, Vec4::from_slice(r), Vec4::from_slice(w), rest);
             }
         }
         if whole * 4 < c.rows {
             let (r, w) = c.block_scalars(whole);
-            self.contact_block::<AXIS, NEGATIVE>(&mut c.position[whole], &mut c.velocity[whole], r, w);
+            self.contact_block::<AXIS, NEGATIVE>(&mut c.position[whole], &mut c.velocity[whole], r, w, rest);
         }
     }
 
     /// One block's contact (see [`resolve_axis_blocks`](Self::resolve_axis_blocks)).
     #[inline(always)]
-    fn contact_block<const AXIS: usize, const NEGATIVE: bool>(&self, x: &mut Vec3x4, v: &mut Vec3x4, r: Vec4, w: Vec4) {
+    fn contact_block<const AXIS: usize, const NEGATIVE: bool>(
+        &self,
+        x: &mut Vec3x4,
+        v: &mut Vec3x4,
+        r: Vec4,
+        w: Vec4,
+        rest: f32,
+    ) {
         let sign = if NEGATIVE { -1.0 } else { 1.0 };
         if self.material.friction == 0.0 {
             let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
-            let bounce = Vec4::splat(-(1.0 + self.material.restitution));
             let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
             let gap = *xa * s - offset - r;
             let vn = *va * s;
-            let dvn = bounce * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
+            let dvn = bounce4(vn, self.material.restitution, rest) * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
             let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
             *va = Vec4::select(hit, (vn + dvn) * s, *va);
             *xa = Vec4::select(hit, *xa - gap * s, *xa);
         } else {
             let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
-            self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign);
+            self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign, rest);
             [x.x, x.y, x.z] = xc;
             [v.x, v.y, v.z] = vc;
+        }
+    }
+}
+
+impl Plane {
+    /// [`settle_plane`] on a chunk: which lanes are clear of the plane or
+    /// rest on it.
+    fn settle(&self, start: &[Vec3x4], c: &BlockColumns<'_>, dt: f32, rest_dt: f32, settled: &mut [u8]) {
+        let n = Vec3A::from(self.normal);
+        let (x, v) = (&*c.position, &*c.velocity);
+        settle_plane(
+            n,
+            self.offset,
+            self.speed * dt,
+            start,
+            x,
+            v,
+            c.radius,
+            dt,
+            rest_dt,
+            settled,
+        );
+    }
+
+    /// [`settle`](Self::settle) and [`resolve_axis_blocks`](Self::resolve_axis_blocks)
+    /// in one pass, for a plane at rest whose normal is `±e_AXIS`: each
+    /// block whose lanes all settle is resolved as soon as it is tested,
+    /// while it is in registers; the others are left for the step to follow
+    /// and then resolve.
+    fn settle_axis_blocks<const AXIS: usize, const NEGATIVE: bool>(
+        &self,
+        start: &[Vec3x4],
+        c: BlockColumns<'_>,
+        dt: f32,
+        rest_dt: f32,
+        settled: &mut [u8],
+    ) {
+        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
+        let pick = |p: &Vec3x4| match AXIS {
+            0 => p.x,
+            1 => p.y,
+            _ => p.z,
+        } * s;
+        let whole = c.rows / 4;
+        for b in 0..c.rows.div_ceil(4) {
+            let (r, w) = if b < whole {
+                if c.movable && c.point {
+                    (Vec4::ZERO, Vec4::ONE)
+                } else {
+                    let first = b * 4;
+                    (
+                        Vec4::from_slice(&c.radius[first..first + 4]),
+                        Vec4::from_slice(&c.inverse_mass[first..first + 4]),
+                    )
+                }
+            } else {
+                c.block_scalars(b)
+            };
+            let (x, v) = (&mut c.position[b], &mut c.velocity[b]);
+            let (d0, d1, dv) = (pick(&start[b]), pick(x), pick(v) * dt);
+            let mask = settled[b] & settled_axis4(d0, d1, dv, r, self.offset, 0.0, rest_dt);
+            settled[b] = mask;
+            // The padding lanes of a short last block count as settled.
+            let padding = if b < whole {
+                0
+            } else {
+                0b1111 << (c.rows - b * 4) & 0b1111
+            };
+            if mask | padding == 0b1111 {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
+            }
         }
     }
 }
@@ -270,9 +368,25 @@ impl Collider for Plane {
         self.contact == ContactRule::InStep
     }
 
-    fn clear_blocks(&self, x0: &[Vec3x4], x: &[Vec3x4], v: &[Vec3x4], radius: &[f32], dt: f32, clear: &mut [u8]) {
-        let n = Vec3A::from(self.normal);
-        clear_plane(n, self.offset, self.speed * dt, x0, x, v, radius, dt, clear);
+    fn settle_blocks(&self, start: &[Vec3x4], c: BlockColumns<'_>, dt: f32, resolve: bool, settled: &mut [u8]) -> bool {
+        let rest_dt = c.rest_speed * dt;
+        if resolve && self.speed == 0.0 {
+            match axis_of(self.normal) {
+                Some((0, sign)) if sign < 0.0 => self.settle_axis_blocks::<0, true>(start, c, dt, rest_dt, settled),
+                Some((0, _)) => self.settle_axis_blocks::<0, false>(start, c, dt, rest_dt, settled),
+                Some((1, sign)) if sign < 0.0 => self.settle_axis_blocks::<1, true>(start, c, dt, rest_dt, settled),
+                Some((1, _)) => self.settle_axis_blocks::<1, false>(start, c, dt, rest_dt, settled),
+                Some((_, sign)) if sign < 0.0 => self.settle_axis_blocks::<2, true>(start, c, dt, rest_dt, settled),
+                Some((_, _)) => self.settle_axis_blocks::<2, false>(start, c, dt, rest_dt, settled),
+                None => {
+                    self.settle(start, &c, dt, rest_dt, settled);
+                    return false;
+                }
+            }
+            return true;
+        }
+        self.settle(start, &c, dt, rest_dt, settled);
+        false
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
@@ -307,6 +421,7 @@ impl Collider for Plane {
 
     fn resolve_range(&self, mut c: ContactColumns<'_>) {
         let n = Vec3A::from(self.normal);
+        let rest = c.rest_speed;
         if self.speed != 0.0 {
             // Moving: the contact in the plane's frame, where it is at rest.
             let u = n * self.speed;
@@ -314,7 +429,7 @@ impl Collider for Plane {
                 let gap = n.dot(*x) - self.offset - r;
                 let mut relative = *v - u;
                 let before = relative;
-                resolve(x, &mut relative, n, gap, w > 0.0, self.material);
+                resolve(x, &mut relative, n, gap, w > 0.0, self.material, rest);
                 if relative != before {
                     *v = relative + u;
                 }
@@ -334,7 +449,7 @@ impl Collider for Plane {
             None => {
                 for (x, v, r, w) in c.rows() {
                     let gap = n.dot(*x) - self.offset - r;
-                    resolve(x, v, n, gap, w > 0.0, self.material);
+                    resolve(x, v, n, gap, w > 0.0, self.material, rest);
                 }
             }
         }
@@ -345,6 +460,14 @@ impl Collider for Plane {
             self.offset += self.speed * dt;
         }
     }
+}
+
+/// The factor `-(1 + e)` of each lane's normal velocity: `-1` (no bounce)
+/// where the approach `vn` is no faster than `rest` (a resting contact;
+/// `rest` 0 changes nothing, `min(vn, 0)` being 0 there).
+#[inline(always)]
+fn bounce4(vn: Vec4, e: f32, rest: f32) -> Vec4 {
+    Vec4::select(vn.cmpge(Vec4::splat(-rest)), Vec4::NEG_ONE, Vec4::splat(-(1.0 + e)))
 }
 
 /// `if condition { a } else { b }` by bit masks, which the compiler cannot
@@ -365,11 +488,14 @@ mod tests {
     #[test]
     fn axis_fast_paths_equal_the_general_contact() {
         for friction in [0.3, 0.0] {
-            axis_fast_path_equals_the_general_contact(friction);
+            // Every approach bounces, and (a rest speed) the slow ones rest.
+            for rest in [0.0, 0.8] {
+                axis_fast_path_equals_the_general_contact(friction, rest);
+            }
         }
     }
 
-    fn axis_fast_path_equals_the_general_contact(friction: f32) {
+    fn axis_fast_path_equals_the_general_contact(friction: f32, rest: f32) {
         let material = Material {
             restitution: 0.7,
             friction,
@@ -395,7 +521,7 @@ mod tests {
             let nn = Vec3A::from(normal);
             for k in 0..n {
                 let gap = nn.dot(x2[k]) - plane.offset - radius[k];
-                resolve(&mut x2[k], &mut v2[k], nn, gap, inverse_mass[k] > 0.0, material);
+                resolve(&mut x2[k], &mut v2[k], nn, gap, inverse_mass[k] > 0.0, material, rest);
             }
             let columns = ContactColumns {
                 position: &mut x,
@@ -405,6 +531,7 @@ mod tests {
                 parallel: false,
                 max_pairs: u64::MAX,
                 start: None,
+                rest_speed: rest,
             };
             assert_eq!(axis_of(normal).map(|a| a.0), Some(axis));
             plane.resolve_range(columns);
@@ -414,6 +541,9 @@ mod tests {
                 x.iter().zip(&radius).any(|(x, r)| (nn.dot(*x) - 0.1 - r).abs() < 1e-6),
                 "some contacts"
             );
+            // A slow approach rests: on the surface, no normal velocity.
+            let rested = (0..n).any(|k| (nn.dot(x[k]) - 0.1 - radius[k]).abs() < 1e-6 && nn.dot(v[k]) == 0.0);
+            assert_eq!(rested, rest > 0.0, "rest speed {rest}, normal {normal}");
         }
         assert_eq!(axis_of(Vec3::new(0.6, 0.8, 0.0)), None);
     }
@@ -443,6 +573,7 @@ mod tests {
             parallel: false,
             max_pairs: u64::MAX,
             start: None,
+            rest_speed: 0.0,
         });
         for k in 0..8 {
             let (mut xt, mut vt) = ([x[k]], [v[k]]);
@@ -454,6 +585,7 @@ mod tests {
                 parallel: false,
                 max_pairs: u64::MAX,
                 start: None,
+                rest_speed: 0.0,
             });
             let bits = |a: Vec3A| a.to_array().map(f32::to_bits);
             assert_eq!(bits(xb[k]), bits(xt[0]), "position {k}");

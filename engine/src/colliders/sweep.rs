@@ -19,7 +19,7 @@
 //! found in closed form, in `f64` (correctly rounded on every platform, so
 //! the same bits natively and in a page).
 
-use glam::{DVec3, Vec3A, Vec4};
+use glam::{BVec4A, DVec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::Material;
@@ -160,11 +160,51 @@ pub fn radius4(radius: &[f32], b: usize) -> Vec4 {
     Vec4::from_array(out)
 }
 
-/// [`clearance4`] over a chunk: `clear[b]` keeps only the lanes of block
-/// `b` that certainly stay clear of the plane `n . x = offset` (moving
-/// `travel` along `n` over the step).
+/// The lanes of a block whose path's speed into a surface is at most
+/// `rest_dt / dt` at both ends of the step, so all along it (the path's
+/// velocity is linear in `s`): `d0`, `d1` are the start and end positions
+/// along the normal, `dv` the end velocity along it times `dt`, `travel`
+/// the surface's own travel along it over the step. Into the surface at
+/// `s = 0`: `travel - (2 (d1 - d0) - dv)`; at `s = 1`: `travel - dv`.
+/// Such a path touches the surface no faster than the world's rest speed:
+/// the contact rests (restitution 0) and the end-of-step rule resolves it
+/// (on the surface at the step's end; between, the path dips at most
+/// `rest_dt` into it).
+#[inline(always)]
+#[must_use]
+pub fn resting4(d0: Vec4, d1: Vec4, dv: Vec4, travel: f32, rest_dt: f32) -> BVec4A {
+    let travel = Vec4::splat(travel);
+    let start = travel - ((d1 - d0) * 2.0 - dv);
+    let end = travel - dv;
+    // Both at most the limit (a NaN fails: `max` would drop it).
+    start.cmple(Vec4::splat(rest_dt)) & end.cmple(Vec4::splat(rest_dt))
+}
+
+/// The lanes of a block settled against a plane whose normal is an axis
+/// (`d0`, `d1`, `dv`: start and end positions and `dt` times the end
+/// velocity along the normal; the plane at `offset - travel` at the start
+/// and `offset` at the end): certainly clear of it ([`clearance4`]'s bound
+/// on one component: `0 * x` terms add +0 or -0, which change no sum, so
+/// the same lanes clear), or resting on it ([`resting4`]). As a bit mask.
+#[inline(always)]
+#[must_use]
+pub fn settled_axis4(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, travel: f32, rest_dt: f32) -> u8 {
+    let g0 = d0 - Vec4::splat(offset - travel) - r;
+    let g1 = d1 - Vec4::splat(offset) - r;
+    let a = dv - (d1 - d0);
+    let bound = g0.min(g1) - a.max(Vec4::ZERO) * 0.25;
+    // Each term is rounded once or twice at its own magnitude.
+    let fixed = (offset.abs() + travel.abs()) * 1e-6 + f32::MIN_POSITIVE;
+    let margin = (d0.abs() + d1.abs() + dv.abs() + r) * 1e-6 + Vec4::splat(fixed);
+    (bound.cmpgt(margin) | resting4(d0, d1, dv, travel, rest_dt)).bitmask() as u8
+}
+
+/// Over a chunk, `settled[b]` keeps only the lanes of block `b` that
+/// certainly stay clear of the plane `n . x = offset` (moving `travel`
+/// along `n` over the step), or that rest on it ([`resting4`], `rest_dt`
+/// the rest speed times `dt`).
 #[allow(clippy::too_many_arguments)]
-pub fn clear_plane(
+pub fn settle_plane(
     n: Vec3A,
     offset: f32,
     travel: f32,
@@ -173,11 +213,9 @@ pub fn clear_plane(
     v: &[Vec3x4],
     radius: &[f32],
     dt: f32,
-    clear: &mut [u8],
+    rest_dt: f32,
+    settled: &mut [u8],
 ) {
-    // A normal along an axis (floors, walls): the dot products are one
-    // component, the same value `clearance4` computes (`0 * x` terms add
-    // +0 or -0, which change no sum), so the same lanes clear.
     let axis = [n.x, n.y, n.z].iter().position(|c| c.abs() == 1.0);
     let along_axis = axis.is_some_and(|a| (0..3).all(|k| k == a || n[k] == 0.0));
     match axis {
@@ -188,24 +226,17 @@ pub fn clear_plane(
                 1 => p.y,
                 _ => p.z,
             } * sign;
-            let (start, end) = (Vec4::splat(offset - travel), Vec4::splat(offset));
-            let fixed = Vec4::splat(offset.abs() + travel.abs());
-            for (b, mask) in clear.iter_mut().enumerate() {
-                let r = radius4(radius, b);
+            for (b, mask) in settled.iter_mut().enumerate() {
                 let (d0, d1, dv) = (pick(&x0[b]), pick(&x[b]), pick(&v[b]) * dt);
-                let g0 = d0 - start - r;
-                let g1 = d1 - end - r;
-                let a = dv - (d1 - d0);
-                let bound = g0.min(g1) - a.max(Vec4::ZERO) * 0.25;
-                let scale = d0.abs() + d1.abs() + dv.abs() + r + fixed;
-                let gap = bound - scale * 1e-6 - Vec4::splat(f32::MIN_POSITIVE);
-                *mask &= gap.cmpgt(Vec4::ZERO).bitmask() as u8;
+                *mask &= settled_axis4(d0, d1, dv, radius4(radius, b), offset, travel, rest_dt);
             }
         }
         _ => {
-            for (b, mask) in clear.iter_mut().enumerate() {
+            let dot = |p: &Vec3x4| p.x * n.x + p.y * n.y + p.z * n.z;
+            for (b, mask) in settled.iter_mut().enumerate() {
                 let gap = clearance4(n, offset, travel, &x0[b], &x[b], &v[b], radius4(radius, b), dt);
-                *mask &= gap.cmpgt(Vec4::ZERO).bitmask() as u8;
+                let rests = resting4(dot(&x0[b]), dot(&x[b]), dot(&v[b]) * dt, travel, rest_dt);
+                *mask &= (gap.cmpgt(Vec4::ZERO) | rests).bitmask() as u8;
             }
         }
     }

@@ -28,14 +28,26 @@
 //! the step on the surface with no normal velocity into it, and meets no
 //! further contact that step.
 //!
-//! The pass runs over the rows in order, serially, so it gives the same
-//! bits on any number of threads; a particle that touches nothing costs
-//! one path test a collider.
+//! Most particles need none of this: before any path is followed, each
+//! in-step collider settles the lanes of each block of four it can by one
+//! vector test ([`Collider::settle_blocks`]): clear of its surfaces, or
+//! resting on a plane (the path's speed into it below the world's rest
+//! speed at both ends of the step, so all along it). Only the others are
+//! followed; then the collider's end-of-step rule resolves what rests
+//! (restitution 0) and what started inside. Each particle's result depends
+//! on its own lanes only, so any chunking and any number of threads give
+//! the same bits.
+
+use core::ops::Range;
 
 use glam::Vec3A;
 use tickwork_integrators::Vec3x4;
 
-use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
+use super::reporting::{Reporting, resolve_rows};
+use crate::colliders::{
+    BlockColumns, Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce,
+};
+use crate::layout::{CHUNK, Rows};
 use crate::world::World;
 
 /// The in-step contacts of one step: the colliders, which of them report,
@@ -45,7 +57,44 @@ pub(super) struct Sweep<'a> {
     pub colliders: &'a [Box<dyn Collider>],
     pub reports: &'a [bool],
     pub dt: f32,
-    pub rest_speed: f64,
+    /// The world's rest speed, m/s (0 where it is NaN or negative: none
+    /// rests).
+    pub rest_speed: f32,
+}
+
+/// A chunk of particles in blocks of four, as the in-step pass changes it:
+/// the method's end state, one radius and inverse mass per particle (the
+/// last block may be short), and the chunk's facts (see [`BlockColumns`]).
+pub(super) struct Chunk<'a> {
+    pub x: &'a mut [Vec3x4],
+    pub v: &'a mut [Vec3x4],
+    pub radius: &'a [f32],
+    pub inverse_mass: &'a [f32],
+    pub movable: bool,
+    pub point: bool,
+}
+
+impl Chunk<'_> {
+    /// Blocks `blocks` of the chunk as a collider takes them.
+    fn blocks(&mut self, blocks: Range<usize>, rest_speed: f32) -> BlockColumns<'_> {
+        let rows = blocks.start * 4..(blocks.end * 4).min(self.radius.len());
+        BlockColumns {
+            position: &mut self.x[blocks.clone()],
+            velocity: &mut self.v[blocks],
+            radius: &self.radius[rows.clone()],
+            inverse_mass: &self.inverse_mass[rows.clone()],
+            rows: rows.len(),
+            movable: self.movable,
+            point: self.point,
+            rest_speed,
+        }
+    }
+}
+
+/// The lanes of block `b` past the chunk's `rows` particles, as bits.
+fn padding(rows: usize, b: usize) -> u8 {
+    let real = rows.saturating_sub(b * 4).min(4);
+    (0b1111u8 << real) & 0b1111
 }
 
 impl Sweep<'_> {
@@ -54,57 +103,124 @@ impl Sweep<'_> {
         colliders.iter().any(|c| c.in_step())
     }
 
-    /// The in-step contacts of a chunk of blocks of four particles (rows
-    /// `first_row ..`, `radius.len()` of them): lanes every collider's
-    /// conservative test leaves clear (most, most steps) cost that test
-    /// alone; the others go through [`row`](Self::row), whose result they
-    /// would have had. Every row is stepped; the first that met too many
-    /// contacts is returned.
-    #[allow(clippy::too_many_arguments)]
-    pub fn chunk(
+    /// The in-step colliders' contacts on a chunk (rows `first_row ..`,
+    /// `start`: the blocks' start positions): every collider settles the
+    /// lanes it can (clear of it, or resting on it: one vector test a
+    /// block); the other lanes are followed along their paths
+    /// ([`row`](Self::row)); then each in-step collider's end-of-step rule
+    /// resolves the chunk (what started inside, what rests), contacts
+    /// slower than the rest speed resting. A lone in-step collider that
+    /// does not report resolves the blocks it settled whole in the same
+    /// pass ([`Collider::settle_blocks`]). The first row that met too many
+    /// contacts is returned; every row is stepped.
+    pub fn resolve_chunk(
         &self,
         first_row: usize,
-        x0: &[Vec3x4],
-        x: &mut [Vec3x4],
-        v: &mut [Vec3x4],
-        radius: &[f32],
-        inverse_mass: &[f32],
-        clear: &mut Vec<u8>,
+        start: &[Vec3x4],
+        mut c: Chunk<'_>,
+        scratch: &mut Rows,
+        settled: &mut Vec<u8>,
         touches: &mut Vec<RowTouch>,
     ) -> Option<EventOverflow> {
-        clear.clear();
-        clear.resize(x.len(), 0b1111);
-        for collider in self.colliders.iter().filter(|c| c.in_step()) {
-            collider.clear_blocks(x0, x, v, radius, self.dt, clear);
+        let (blocks, rows) = (c.x.len(), c.radius.len());
+        settled.clear();
+        settled.resize(blocks, 0b1111);
+        let in_step = || self.colliders.iter().enumerate().filter(|(_, c)| c.in_step());
+        let lone = in_step().count() == 1;
+        let mut folded = None;
+        for (k, collider) in in_step() {
+            let fold = lone && !self.reports[k];
+            if collider.settle_blocks(start, c.blocks(0..blocks, self.rest_speed), self.dt, fold, settled) {
+                folded = Some(k);
+            }
         }
+        // The padding lanes of a short last block count as settled.
+        if let Some(last) = settled.last_mut() {
+            *last |= padding(rows, blocks - 1);
+        }
+        // Most chunks, most steps: every lane settled (an AND over the
+        // bytes, which vectorises), and nothing to follow.
+        let all = settled.iter().fold(0b1111u8, |all, &lanes| all & lanes) == 0b1111;
         let mut first = None;
-        for (b, &lanes) in clear.iter().enumerate() {
+        for (b, &lanes) in settled.iter().enumerate() {
+            if all {
+                break;
+            }
             if lanes == 0b1111 {
                 continue;
             }
-            for k in 0..(radius.len() - b * 4).min(4) {
+            for k in 0..(rows - b * 4).min(4) {
                 if lanes & (1 << k) != 0 {
                     continue;
                 }
                 let row = b * 4 + k;
-                let (mut xk, mut vk) = (x[b].lane(k), v[b].lane(k));
+                let (mut xk, mut vk) = (c.x[b].lane(k), c.v[b].lane(k));
                 let outcome = self.row(
                     first_row + row,
-                    x0[b].lane(k),
+                    start[b].lane(k),
                     &mut xk,
                     &mut vk,
-                    radius[row],
-                    inverse_mass[row],
+                    c.radius[row],
+                    c.inverse_mass[row],
                     touches,
                 );
-                x[b].set_lane(k, xk);
-                v[b].set_lane(k, vk);
+                c.x[b].set_lane(k, xk);
+                c.v[b].set_lane(k, vk);
                 if let Err(overflow) = outcome {
                     first = first.or(Some(overflow));
                 }
             }
         }
+        for (k, collider) in in_step() {
+            if folded == Some(k) {
+                // Only the blocks it left for the paths to be followed.
+                for b in 0..blocks {
+                    if all {
+                        break;
+                    }
+                    if settled[b] != 0b1111 {
+                        self.end_of_step(k, collider.as_ref(), first_row, &mut c, b..b + 1, scratch, touches);
+                    }
+                }
+            } else {
+                self.end_of_step(k, collider.as_ref(), first_row, &mut c, 0..blocks, scratch, touches);
+            }
+        }
         first
+    }
+
+    /// In-step collider `k`'s end-of-step rule on `blocks` of the chunk
+    /// (whose first row is `first_row`), reporting its contacts if asked.
+    #[allow(clippy::too_many_arguments)]
+    fn end_of_step(
+        &self,
+        k: usize,
+        collider: &dyn Collider,
+        first_row: usize,
+        c: &mut Chunk<'_>,
+        blocks: Range<usize>,
+        scratch: &mut Rows,
+        touches: &mut Vec<RowTouch>,
+    ) {
+        let rows = blocks.start * 4..(blocks.end * 4).min(c.radius.len());
+        if !self.reports[k] && collider.resolve_blocks(c.blocks(blocks.clone(), self.rest_speed)) {
+            return;
+        }
+        let reporting = self.reports[k].then(|| Reporting {
+            collider: k as u32,
+            first_row: first_row + rows.start,
+            out: touches,
+        });
+        resolve_rows(
+            collider,
+            &mut c.x[blocks.clone()],
+            &mut c.v[blocks],
+            &c.radius[rows.clone()],
+            &c.inverse_mass[rows],
+            self.rest_speed,
+            scratch,
+            reporting,
+        );
     }
 
     /// The in-step contacts of one particle (row `row`, of `radius` and
@@ -142,7 +258,7 @@ impl Sweep<'_> {
             let at = path.at(s);
             let arriving = path.velocity(s);
             let relative = arriving - hit.velocity;
-            let resting = -relative.dot(hit.normal) <= self.rest_speed;
+            let resting = -relative.dot(hit.normal) <= f64::from(self.rest_speed);
             let restitution = if resting {
                 0.0
             } else {
@@ -200,10 +316,10 @@ impl Sweep<'_> {
 }
 
 impl World {
-    /// The in-step contacts of every movable particle, on the gathered
-    /// rows of the plain step (`other`: start positions; `x`, `v`: the
-    /// method's end state, changed in place).
-    pub(super) fn resolve_in_step(&mut self, dt: f32) -> Option<EventOverflow> {
+    /// The in-step contacts of the plain step: its rows (`gathered`: the
+    /// method's end state) go into the blocks, where the fused step's pass
+    /// runs on them chunk by chunk (the same bits), and back.
+    pub(super) fn resolve_in_step(&mut self, dt: f32, parallel: bool) -> Option<EventOverflow> {
         if !Sweep::wanted(&self.colliders.colliders) {
             return None;
         }
@@ -212,26 +328,39 @@ impl World {
             reports: &self.colliders.reports,
             dt,
             // NaN or negative: none rests.
-            rest_speed: f64::from(self.config.rest_speed).max(0.0),
+            rest_speed: self.config.rest_speed.max(0.0),
         };
-        let (p, g) = (&self.particles, &mut self.gathered);
+        let (p, g) = (&mut self.particles, &mut self.gathered);
+        p.position.scatter_from(&g.x, parallel);
+        p.velocity.scatter_from(&g.v, parallel);
+        let n = p.len();
+        let (x, v) = (p.position.blocks_mut(), p.velocity.blocks_mut());
+        let start = p.previous_position.blocks();
         let mut first = None;
-        for row in 0..g.x.len() {
-            let (x, v) = (&mut g.x[row], &mut g.v[row]);
-            let outcome = sweep.row(
-                row,
-                g.other[row],
-                x,
-                v,
-                p.radius[row],
-                p.inverse_mass[row],
+        for begin in (0..n).step_by(CHUNK) {
+            let end = (begin + CHUNK).min(n);
+            let blocks = begin / 4..end.div_ceil(4);
+            let chunk = Chunk {
+                x: &mut x[blocks.clone()],
+                v: &mut v[blocks.clone()],
+                radius: &p.radius[begin..end],
+                inverse_mass: &p.inverse_mass[begin..end],
+                movable: false,
+                point: false,
+            };
+            let scratch = &mut self.sweep;
+            let overflow = sweep.resolve_chunk(
+                begin,
+                &start[blocks],
+                chunk,
+                &mut scratch.rows,
+                &mut scratch.settled,
                 &mut self.touches,
             );
-            // The rest still step (as on the fused path's other lanes).
-            if let Err(overflow) = outcome {
-                first = first.or(Some(overflow));
-            }
+            first = first.or(overflow);
         }
+        p.position.gather_into(&mut g.x, parallel);
+        p.velocity.gather_into(&mut g.v, parallel);
         first
     }
 }

@@ -3,7 +3,7 @@
 
 use tickwork_integrators::{StepError, Vec3x4};
 
-use super::in_step::Sweep;
+use super::in_step::{Chunk, Sweep};
 use super::reporting::{Reporting, resolve_rows};
 use crate::colliders::{BlockColumns, Collider, EventOverflow};
 use crate::forces::{BlockField, Force, ForceField};
@@ -88,22 +88,29 @@ pub(super) fn step_lane(
             .step_from(t, dt, &c.previous[blocks.clone()], x, v, &mut field)?;
         outcome.evaluations = outcome.evaluations.max(stats.evaluations);
         if let Some(sweep) = sweep {
-            // Contacts inside the step first (a block far from every
-            // surface costs one vector test a collider), then the
-            // end-of-step rule below catches what started inside.
-            let overflow = sweep.chunk(
+            // Contacts inside the step first: their colliders settle what
+            // is clear or resting (one vector test a block), follow the
+            // other particles' paths and resolve what is left at the end.
+            let chunk = Chunk {
+                x: &mut *x,
+                v: &mut *v,
+                radius: &c.radius[rows.clone()],
+                inverse_mass: &c.inverse_mass[rows.clone()],
+                movable: facts.movable,
+                point: facts.point,
+            };
+            let overflow = sweep.resolve_chunk(
                 offset + start,
                 &c.previous[blocks.clone()],
-                x,
-                v,
-                &c.radius[rows.clone()],
-                &c.inverse_mass[rows.clone()],
-                &mut lane.clear,
+                chunk,
+                &mut lane.rows,
+                &mut lane.settled,
                 &mut lane.touches,
             );
             outcome.overflow = outcome.overflow.or(overflow);
         }
-        for (k, collider) in colliders.iter().enumerate() {
+        // Then the end-of-step rule of the others, in order.
+        for (k, collider) in colliders.iter().enumerate().filter(|(_, c)| !c.in_step()) {
             let (radius, inverse_mass) = (&c.radius[rows.clone()], &c.inverse_mass[rows.clone()]);
             if report[k] {
                 let touches = Reporting {
@@ -117,6 +124,7 @@ pub(super) fn step_lane(
                     v,
                     radius,
                     inverse_mass,
+                    0.0,
                     &mut lane.rows,
                     Some(touches),
                 );
@@ -130,9 +138,10 @@ pub(super) fn step_lane(
                 rows: end - start,
                 movable: facts.movable,
                 point: facts.point,
+                rest_speed: 0.0,
             };
             if !collider.resolve_blocks(blocks) {
-                resolve_rows(collider.as_ref(), x, v, radius, inverse_mass, &mut lane.rows, None);
+                resolve_rows(collider.as_ref(), x, v, radius, inverse_mass, 0.0, &mut lane.rows, None);
             }
         }
         if outcome.first_bad.is_none() {

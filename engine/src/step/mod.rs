@@ -253,7 +253,7 @@ impl World {
                 method,
                 rows: Rows::default(),
                 touches: Vec::new(),
-                clear: Vec::new(),
+                settled: Vec::new(),
             });
         }
         let columns = LaneColumns {
@@ -271,7 +271,7 @@ impl World {
             reports,
             dt,
             // NaN or negative: none rests.
-            rest_speed: f64::from(self.config.rest_speed).max(0.0),
+            rest_speed: self.config.rest_speed.max(0.0),
         });
         for lane in &mut self.lanes[lanes..] {
             lane.touches.clear();
@@ -322,11 +322,15 @@ impl World {
             .integrator
             .step_from(t, dt, &g.other, &mut g.x, &mut g.v, &mut field)?;
         self.touches.clear();
-        let overflow = self.resolve_in_step(dt);
+        let overflow = self.resolve_in_step(dt, parallel);
         let p = &mut self.particles;
         let g = &mut self.gathered;
         let set = &mut self.colliders;
+        // The in-step colliders acted above; the others, in order.
         for (k, collider) in set.colliders.iter_mut().enumerate() {
+            if collider.in_step() {
+                continue;
+            }
             let columns = ContactColumns {
                 position: &mut g.x,
                 velocity: &mut g.v,
@@ -335,6 +339,7 @@ impl World {
                 parallel,
                 max_pairs: self.config.max_pairs,
                 start: Some(crate::colliders::StepStart { position: &g.other, dt }),
+                rest_speed: 0.0,
             };
             if set.reports[k] {
                 resolve_world_reporting(

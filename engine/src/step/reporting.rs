@@ -16,13 +16,16 @@ pub(super) struct Reporting<'a> {
 }
 
 /// A collider without a block kernel (or one that reports contacts), on a
-/// chunk's rows: gathered into scratch, resolved, written back.
+/// chunk's rows: gathered into scratch, resolved (contacts slower than
+/// `rest_speed` resting), written back.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn resolve_rows(
     collider: &dyn Collider,
     x: &mut [Vec3x4],
     v: &mut [Vec3x4],
     radius: &[f32],
     inverse_mass: &[f32],
+    rest_speed: f32,
     scratch: &mut Rows,
     reporting: Option<Reporting<'_>>,
 ) {
@@ -41,6 +44,7 @@ pub(super) fn resolve_rows(
         // A chunk of pointwise contacts: no pairs to count.
         max_pairs: u64::MAX,
         start: None,
+        rest_speed,
     });
     if let Some(r) = reporting {
         let s = &*scratch;
@@ -98,6 +102,7 @@ pub(super) fn resolve_world_reporting(
             parallel: false,
             max_pairs: c.max_pairs,
             start: c.start,
+            rest_speed: c.rest_speed,
         };
         if collider.resolve_world_reporting(reborrow, &mut report) {
             return;

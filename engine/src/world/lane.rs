@@ -15,9 +15,9 @@ pub(crate) struct Lane {
     pub rows: Rows,
     /// The lane's contacts, for colliders that report them.
     pub touches: Vec<RowTouch>,
-    /// Per block of a chunk, the lanes no in-step collider can touch this
-    /// step (bit `k` for lane `k`).
-    pub clear: Vec<u8>,
+    /// Per block of a chunk, the lanes every in-step collider settled this
+    /// step (bit `k` for lane `k`): clear of it, or resting on it.
+    pub settled: Vec<u8>,
 }
 
 impl Clone for Lane {
@@ -26,7 +26,16 @@ impl Clone for Lane {
             method: self.method.clone_boxed(),
             rows: Rows::default(),
             touches: Vec::new(),
-            clear: Vec::new(),
+            settled: Vec::new(),
         }
     }
+}
+
+/// The plain step's scratch for contacts inside the step (the fused step's
+/// lanes hold their own): rows for reporting colliders, and the settled
+/// lanes of a chunk's blocks.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct SweepScratch {
+    pub rows: Rows,
+    pub settled: Vec<u8>,
 }

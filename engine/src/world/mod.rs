@@ -36,4 +36,4 @@ pub use world::World;
 
 pub use crate::layout::{Colour, Entities, Entity, EntityError, Particle, RowsMut, SpawnError, Vec3Column};
 pub(crate) use command::Command;
-pub(crate) use lane::Lane;
+pub(crate) use lane::{Lane, SweepScratch};

@@ -13,7 +13,7 @@ use tickwork_integrators::{Integrator, UnknownMethod, build};
 
 use super::columns::Columns;
 use super::command::Command;
-use super::{Entities, Entity, Lane, Particles, RigidBodies, WorldConfig};
+use super::{Entities, Entity, Lane, Particles, RigidBodies, SweepScratch, WorldConfig};
 use crate::colliders::set::ColliderSet;
 use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
@@ -53,6 +53,8 @@ pub struct World {
     pub(crate) expired: Vec<Entity>,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
     pub(crate) gathered: Rows,
+    /// The plain step's scratch for contacts inside the step.
+    pub(crate) sweep: SweepScratch,
     /// Contacts by row, before they are sorted and named.
     pub(crate) touches: Vec<RowTouch>,
 }
@@ -83,6 +85,7 @@ impl Clone for World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
+            sweep: SweepScratch::default(),
             touches: Vec::new(),
         }
     }
@@ -176,6 +179,7 @@ impl World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             gathered: Rows::default(),
+            sweep: SweepScratch::default(),
             touches: Vec::new(),
         })
     }
