@@ -38,6 +38,6 @@ pub mod prelude {
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, LinearDrag,
         Material, Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs,
-        StableHasher, Touched, Wind, World, WorldConfig,
+        Removal, RemovalCause, StableHasher, Touched, Wind, World, WorldConfig,
     };
 }

@@ -3,8 +3,8 @@
 use glam::{Vec3, Vec3A};
 use tickwork_engine::clock::FixedStep;
 use tickwork_engine::{
-    Entity, EntityError, Gravity, LinearDrag, Particle, Plane, RigidBody, SimulationError, SpawnError, Springs, World,
-    WorldConfig, WorldError,
+    Entity, EntityError, Gravity, LinearDrag, Particle, Plane, Removal, RemovalCause, RigidBody, SimulationError,
+    SpawnError, Springs, World, WorldConfig, WorldError,
 };
 
 fn step_at(tick: u64, dt: f64) -> FixedStep {
@@ -222,6 +222,55 @@ fn lifetimes_expire_particles() {
     // The 5th step (tick 4) reaches 5/64 s, the 25th reaches 25/64 s.
     assert_eq!(expired_at, vec![4, 24]);
     assert!(!w.contains(short) && !w.contains(long));
+}
+
+#[test]
+fn the_step_lists_the_entities_it_removed_and_why() {
+    let mut w = World::default();
+    let keep = w.spawn(Particle::default()).expect("spawn");
+    let (short, long) = (
+        w.spawn(Particle {
+            lifetime: Some(2.0 / 64.0),
+            ..Particle::default()
+        })
+        .expect("spawn"),
+        w.spawn(Particle {
+            lifetime: Some(2.0 / 64.0),
+            ..Particle::default()
+        })
+        .expect("spawn"),
+    );
+    let victim = w.spawn(Particle::default()).expect("spawn");
+    w.step(step_at(0, 1.0 / 64.0)).expect("step");
+    assert!(w.removed().is_empty(), "nothing removed yet");
+    // Tick 1: both lifetimes run out, and a system despawns a third.
+    w.step_with(step_at(1, 1.0 / 64.0), |world, _| {
+        world.queue_despawn(victim).expect("alive");
+    })
+    .expect("step");
+    let expired = |entity| Removal {
+        entity,
+        cause: RemovalCause::Expired,
+    };
+    let expected = [
+        expired(short),
+        expired(long),
+        Removal {
+            entity: victim,
+            cause: RemovalCause::Despawned,
+        },
+    ];
+    assert_eq!(w.removed(), expected);
+    // A snapshot keeps the list, as it keeps the contacts.
+    let copy = w.clone();
+    assert_eq!(copy.removed(), expected);
+    for r in w.removed() {
+        assert!(matches!(w.position(r.entity), Err(EntityError::Despawned { .. })));
+    }
+    // The next step replaces it.
+    w.step(step_at(2, 1.0 / 64.0)).expect("step");
+    assert!(w.removed().is_empty(), "{:?}", w.removed());
+    assert!(w.contains(keep));
 }
 
 #[test]

@@ -44,7 +44,7 @@ use crate::clock::FixedStep;
 use crate::colliders::{ContactColumns, RowTouch};
 use crate::forces::ForceField;
 use crate::layout::{CHUNK, LANES, Rows, Vec3Column};
-use crate::world::{Lane, World};
+use crate::world::{Lane, Removal, RemovalCause, World};
 
 /// What a step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -138,6 +138,7 @@ impl World {
         {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
+        self.removed.clear();
         for collider in &mut self.colliders.colliders {
             collider.advance(dt);
         }
@@ -487,6 +488,10 @@ impl World {
             let entity = self.expired[k];
             if self.despawn(entity).is_ok() {
                 report.expired += 1;
+                self.removed.push(Removal {
+                    entity,
+                    cause: RemovalCause::Expired,
+                });
             }
         }
     }

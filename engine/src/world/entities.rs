@@ -2,7 +2,7 @@
 //! the end of a step, and asking which live and in which row.
 
 use super::command::Command;
-use super::{Entities, Entity, EntityError, Particle, RigidBody, SpawnError, World};
+use super::{Entities, Entity, EntityError, Particle, Removal, RemovalCause, RigidBody, SpawnError, World};
 
 impl World {
     /// Spawns a particle now.
@@ -146,6 +146,10 @@ impl World {
                 Command::Despawn(entity) => {
                     if self.despawn(entity).is_ok() {
                         despawned += 1;
+                        self.removed.push(Removal {
+                            entity,
+                            cause: RemovalCause::Despawned,
+                        });
                     }
                 }
             }
@@ -155,6 +159,19 @@ impl World {
             self.queue = queue;
         }
         (spawned, despawned)
+    }
+
+    /// The entities the last step removed, in the order it removed them:
+    /// those whose lifetime ran out, then the queued despawns it applied
+    /// (a despawn queued between steps and applied by
+    /// [`apply_queued`](Self::apply_queued) is added too). A game drops
+    /// the handles it kept for them here, in its next `fixed_update` or
+    /// after [`step`](Self::step); the next step replaces the list. A
+    /// direct [`despawn`](Self::despawn) is the caller's own and is not
+    /// listed.
+    #[must_use]
+    pub fn removed(&self) -> &[Removal] {
+        &self.removed
     }
 
     /// The entity allocator (handles and rows).

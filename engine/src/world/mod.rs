@@ -20,6 +20,7 @@ pub(crate) mod facts;
 mod lane;
 mod particle_data;
 mod particles;
+mod removal;
 mod rigid;
 mod snapshot;
 #[allow(clippy::module_inception)] // named after the type it defines, which a newcomer looks for
@@ -30,6 +31,7 @@ pub use columns::Component;
 pub use components::QueryMut;
 pub use config::{WorldConfig, WorldError};
 pub use particles::Particles;
+pub use removal::{Removal, RemovalCause};
 pub use rigid::{RigidBodies, RigidBody};
 pub use snapshot::Snapshot;
 pub use world::World;

@@ -13,7 +13,7 @@ use tickwork_integrators::{Integrator, UnknownMethod, build};
 
 use super::columns::Columns;
 use super::command::Command;
-use super::{Entities, Entity, Lane, Particles, RigidBodies, SweepScratch, WorldConfig};
+use super::{Entities, Entity, Lane, Particles, Removal, RigidBodies, SweepScratch, WorldConfig};
 use crate::colliders::set::ColliderSet;
 use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
@@ -51,6 +51,8 @@ pub struct World {
     pub(crate) lanes: Vec<Lane>,
     pub(crate) expired_rows: Vec<u32>,
     pub(crate) expired: Vec<Entity>,
+    /// The entities the last step removed, in the order it removed them.
+    pub(crate) removed: Vec<Removal>,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
     pub(crate) gathered: Rows,
     /// The plain step's scratch for contacts inside the step.
@@ -84,6 +86,7 @@ impl Clone for World {
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
+            removed: self.removed.clone(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
@@ -101,6 +104,7 @@ impl Clone for World {
         self.forces.clone_from(&source.forces);
         self.colliders.clone_from(&source.colliders);
         self.contacts.clone_from(&source.contacts);
+        self.removed.clone_from(&source.removed);
         self.emitters.clone_from(&source.emitters);
         if !self.integrator.copy_state_from(source.integrator.as_ref()) {
             self.integrator = source.integrator.clone_boxed();
@@ -178,6 +182,7 @@ impl World {
             lanes: Vec::new(),
             expired_rows: Vec::new(),
             expired: Vec::new(),
+            removed: Vec::new(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
