@@ -5,9 +5,11 @@
 //! - [`engine`]: the clock, world, forces, scenes and renderer.
 #![warn(missing_docs)]
 
+#[doc(inline)]
 pub use tickwork_engine as engine;
 /// The math crate games use for vectors and rotations.
 pub use tickwork_engine::glam;
+#[doc(inline)]
 pub use tickwork_integrators as integrators;
 /// `sin`, `cos`, `exp`, ... with the same bits natively and in the browser:
 /// call these in `fixed_update` for checksums that match across platforms.
