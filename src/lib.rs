@@ -39,7 +39,8 @@ pub mod prelude {
     pub use tickwork_engine::render::{Anchor, Camera, Line};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, LinearDrag,
-        Material, Particle, Plane, QuadraticDrag, Rate, RigidBody, SphereCollisions, Spring, SpringEnd, Springs,
-        Removal, RemovalCause, StableHasher, Touched, Wind, World, WorldConfig,
+        Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause, RigidBody,
+        Sensor, SensorId, SphereCollisions, Spring, SpringEnd, Springs, StableHasher, Touched, Wind, World,
+        WorldConfig,
     };
 }

@@ -59,6 +59,7 @@ pub mod platform;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod scene;
+pub mod sensor;
 mod step;
 mod text_file;
 pub mod threads;
@@ -79,6 +80,7 @@ pub use headless::{HeadlessError, HeadlessSummary, TraceWriter, run_headless};
 pub use input::{InputEvent, InputQueue, Key, KeySet, Recording, TickInput};
 pub use layout::CHUNK;
 pub use scene::{Scene, SceneError};
+pub use sensor::{Overlap, OverlapPhase, Sensor, SensorError, SensorId, SensorShape};
 pub use step::{NonFiniteCause, SUBNORMAL_FLUSH_EVERY, SimulationError, StepReport};
 pub use tickwork_integrators as integrators;
 /// Transcendental functions with the same bits on every platform (libm):

@@ -142,3 +142,114 @@ fn polygons_thick_lines_the_viewport_and_the_hud_size_reach_the_frame() {
     assert_eq!(at(&big_image, -7.5, -3.5), RED);
     assert_eq!(at(&big_image, 5.0, -2.0), GREEN);
 }
+
+const BLUE: Colour = [40, 60, 220, 255];
+const YELLOW: Colour = [230, 210, 30, 255];
+const GREY: Colour = [90, 90, 90, 255];
+
+/// Shapes that overlap, drawn out of layer order, and a world whose one
+/// particle (radius 1 m, green, at the origin) sits on layer 0.
+struct Layers;
+
+impl Game for Layers {
+    fn title(&self) -> &str {
+        "layers"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: 10.0,
+        };
+        stage.background = BLACK;
+        let mut world = tickwork_engine::World::default();
+        world.spawn(tickwork_engine::Particle {
+            radius: 1.0,
+            colour: GREEN,
+            ..tickwork_engine::Particle::default()
+        })?;
+        stage.add_world("ball", world);
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        // Added first, on layer 1: over the particle and everything on 0.
+        draw.layer(1);
+        draw.rect(Vec2::new(0.5, -0.5), Vec2::new(3.0, 0.5), YELLOW);
+        // Layer 0, in call order: a blue field, a white line across it, a
+        // red block over part of the line.
+        draw.layer(0);
+        draw.rect(Vec2::new(-9.0, -4.5), Vec2::new(9.0, 4.5), BLUE);
+        draw.line(
+            glam::Vec3::new(-8.0, 3.05, 0.0),
+            glam::Vec3::new(8.0, 3.05, 0.0),
+            [255, 255, 255, 255],
+        );
+        draw.rect(Vec2::new(-6.0, 2.0), Vec2::new(-4.0, 4.0), RED);
+        // Added last, on layer -1: under the blue field, so never seen.
+        draw.layer(-1);
+        draw.rect(Vec2::new(5.0, -4.0), Vec2::new(7.0, -2.0), GREY);
+        Ok(())
+    }
+}
+
+#[test]
+fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let mut session = GameSession::new(Layers, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    if let Ok(path) = std::env::var("TICKWORK_SAVE_LAYERS") {
+        image.save(path).expect("saved");
+    }
+    // The line is drawn after the blue field (visible on it) and before
+    // the red block (hidden under it).
+    let white = |p: [u8; 4]| p[..3].iter().all(|&c| c > 200);
+    let rows: Vec<u32> = (0..HEIGHT).filter(|&y| white(image.get_pixel(100, y).0)).collect();
+    assert!(
+        rows == [19],
+        "the line over the field, through the centre of row 19 (y = 3.05 m): rows {rows:?}"
+    );
+    for &y in &rows {
+        assert!(white(image.get_pixel(170, y).0), "along its length");
+        assert!(
+            (45..55).all(|x| image.get_pixel(x, y).0 == RED),
+            "the red block covers the line on row {y}"
+        );
+    }
+    assert_eq!(at(&image, -5.0, 3.5), RED);
+    assert_eq!(at(&image, -7.0, -1.0), BLUE, "the field");
+    // The grey block on layer -1 is under the field.
+    assert_eq!(at(&image, 6.0, -3.0), BLUE, "layer -1 is under layer 0");
+    // The particle is over the field (its layer's shapes come first), and
+    // the yellow panel on layer 1 over the particle, though added first.
+    let ball = at(&image, -0.5, 0.0);
+    assert!(
+        ball[1] > 150 && ball[0] < 100 && ball[2] < 100,
+        "the particle over the field: {ball:?}"
+    );
+    assert_eq!(at(&image, 0.7, 0.0), YELLOW, "layer 1 over the particle");
+    assert_eq!(at(&image, 2.5, 0.0), YELLOW, "and over the field");
+    // Moving the particles up a layer puts them over the panel.
+    struct Over;
+    impl Game for Over {
+        fn title(&self) -> &str {
+            "over"
+        }
+        fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+            Layers.setup(stage, settings)
+        }
+        fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+            Layers.draw(stage, alpha, draw)?;
+            draw.particle_layer(1);
+            Ok(())
+        }
+    }
+    let mut session = GameSession::new(Over, SessionOptions::default()).expect("a session");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    let ball = at(&image, 0.7, 0.0);
+    assert!(
+        ball[1] > 150 && ball[2] < 100 && ball != YELLOW,
+        "the particle over the panel: {ball:?}"
+    );
+}

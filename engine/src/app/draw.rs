@@ -1,10 +1,11 @@
-//! What a game draws over its worlds each frame: filled rectangles and
+//! What a game draws with its worlds each frame: filled rectangles and
 //! polygons, lines thin and thick, text placed in the world, and the HUD,
-//! told the frame's size and scale so it can place them.
+//! told the frame's size and scale so it can place them. Shapes are drawn
+//! in the order the game draws them, by layer above that.
 
 use glam::{Vec2, Vec3};
 
-use crate::render::{Line, Text, Triangle};
+use crate::render::{Batch, Line, Shapes, Text, Triangle, extend_batches};
 use crate::world::Colour;
 
 /// The frame a game draws into: its size and how many pixels a metre is.
@@ -28,14 +29,25 @@ impl Default for Viewport {
     }
 }
 
-/// What a game draws on top of its worlds this frame, in world coordinates
+/// What a game draws with its worlds this frame, in world coordinates
 /// (metres), cleared before each [`Game::draw`](super::Game::draw).
+///
+/// Shapes are drawn in the order they are added, on the current
+/// [`layer`](Self::layer) (lower layers first; default 0); the worlds'
+/// particles come after the shapes of [`particle_layer`](Self::particle_layer)
+/// (default 0), so a background drawn on layer 0 is behind them and a panel
+/// on layer 1 over them. Text is drawn last, over everything.
 #[derive(Debug, Default)]
 pub struct Draw {
     /// Line segments, one pixel wide.
     pub lines: Vec<Line>,
-    /// Filled triangles, drawn behind everything else.
+    /// Filled triangles.
     pub triangles: Vec<Triangle>,
+    /// The order of `triangles` and `lines`: runs of each on a layer, in
+    /// the order they were added (what the methods below keep). Items
+    /// pushed onto the vectors directly are drawn after those batches, on
+    /// layer 0.
+    pub batches: Vec<Batch>,
     /// Text placed in the world.
     pub texts: Vec<Text>,
     /// HUD text, top-left (`write!` into it).
@@ -43,6 +55,8 @@ pub struct Draw {
     /// Colour changes in `hud`: (byte offset, colour); see [`Draw::colour`].
     pub hud_colours: Vec<(usize, Colour)>,
     viewport: Viewport,
+    layer: i32,
+    particle_layer: i32,
 }
 
 impl Draw {
@@ -52,8 +66,34 @@ impl Draw {
         self.viewport
     }
 
+    /// Shapes added from now on go on `layer` (lower layers are drawn
+    /// first; within a layer, shapes are drawn in the order added). Each
+    /// frame starts on layer 0.
+    pub fn layer(&mut self, layer: i32) {
+        self.layer = layer;
+    }
+
+    /// The layer shapes are being added on.
+    #[must_use]
+    pub fn current_layer(&self) -> i32 {
+        self.layer
+    }
+
+    /// Draws the worlds (outlines, trails, particles) after the shapes of
+    /// `layer` and before those of higher layers (default 0, each frame).
+    pub fn particle_layer(&mut self, layer: i32) {
+        self.particle_layer = layer;
+    }
+
+    /// The layer the worlds are drawn on.
+    #[must_use]
+    pub fn particles_on(&self) -> i32 {
+        self.particle_layer
+    }
+
     /// Adds a segment from `a` to `b`, one pixel wide.
     pub fn line(&mut self, a: Vec3, b: Vec3, colour: Colour) {
+        extend_batches(&mut self.batches, Shapes::Lines, self.layer, self.lines.len());
         self.lines.push(Line { a, b, colour });
     }
 
@@ -88,6 +128,7 @@ impl Draw {
             return;
         };
         for pair in rest.windows(2) {
+            extend_batches(&mut self.batches, Shapes::Fills, self.layer, self.triangles.len());
             self.triangles.push(Triangle {
                 corners: [first.extend(0.0), pair[0].extend(0.0), pair[1].extend(0.0)],
                 colour,
@@ -113,6 +154,9 @@ impl Draw {
     pub(crate) fn clear(&mut self, viewport: Viewport) {
         self.lines.clear();
         self.triangles.clear();
+        self.batches.clear();
+        self.layer = 0;
+        self.particle_layer = 0;
         self.texts.clear();
         self.hud.clear();
         self.hud_colours.clear();

@@ -613,6 +613,8 @@ impl<G: Game> FrameSource for GameSession<G> {
             others: &others,
             lines: &self.draw.lines,
             triangles: &self.draw.triangles,
+            batches: &self.draw.batches,
+            particle_layer: self.draw.particles_on(),
             texts: &self.draw.texts,
             hud: &self.draw.hud,
             hud_colours: &self.draw.hud_colours,

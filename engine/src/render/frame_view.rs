@@ -2,7 +2,7 @@
 //! frame shows, borrowed for the time of the draw (the renderer only reads).
 
 use super::camera::Camera;
-use super::overlay::{Line, Text, Triangle};
+use super::overlay::{Batch, Line, Text, Triangle};
 use super::trails::Trails;
 use crate::world::World;
 
@@ -23,8 +23,14 @@ pub struct FrameView<'a> {
     pub others: &'a [WorldView<'a>],
     /// Extra lines (a game's own drawing).
     pub lines: &'a [Line],
-    /// Filled triangles (a game's rectangles and polygons), drawn first.
+    /// Filled triangles (a game's rectangles and polygons).
     pub triangles: &'a [Triangle],
+    /// The order of `triangles` and `lines` (see [`Batch`]); items no batch
+    /// covers are drawn after the batches, on layer 0 (all of them, fills
+    /// first, when there are no batches).
+    pub batches: &'a [Batch],
+    /// The worlds are drawn after the shapes of this layer (default 0).
+    pub particle_layer: i32,
     /// Text placed in the world, drawn last.
     pub texts: &'a [Text],
     /// HUD text, drawn top-left; empty for none.
@@ -47,6 +53,8 @@ impl<'a> FrameView<'a> {
             others: &[],
             lines: &[],
             triangles: &[],
+            batches: &[],
+            particle_layer: 0,
             texts: &[],
             hud: "",
             hud_colours: &[],

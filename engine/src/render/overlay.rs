@@ -1,7 +1,10 @@
-//! What a game draws over its worlds: line segments, filled triangles
+//! What a game draws with its worlds: line segments, filled triangles
 //! (rectangles, polygons, thick lines) and text placed in the world, all in
-//! world coordinates and drawn in this order: triangles, lines, particles,
-//! text. They are few and built on the CPU each frame.
+//! world coordinates. Shapes are drawn by layer (lowest first) and, within
+//! a layer, in the order they were drawn ([`Batch`]); the worlds (their
+//! outlines, trails and particles) come after the shapes of their layer,
+//! and text last, over everything. They are few and built on the CPU each
+//! frame.
 
 use glam::Vec3;
 
@@ -16,13 +19,57 @@ pub struct Line {
     pub colour: [u8; 4],
 }
 
-/// A filled triangle in world space (behind the particles and lines).
+/// A filled triangle in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     /// Its corners, in any winding.
     pub corners: [Vec3; 3],
     /// Colour, sRGB RGBA (alpha below 255 blends over what is behind).
     pub colour: [u8; 4],
+}
+
+/// The kind of shape a [`Batch`] draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shapes {
+    /// Filled triangles.
+    Fills,
+    /// Line segments.
+    Lines,
+}
+
+/// A run of shapes of one kind drawn one after the other on one layer:
+/// items `start..end` of the frame's triangles or lines. A frame's batches,
+/// in the order they were drawn, are what makes a fill drawn after a line
+/// cover it (and the other way round), whatever their kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Batch {
+    /// Triangles or lines.
+    pub shapes: Shapes,
+    /// The layer: lower layers are drawn first (default 0).
+    pub layer: i32,
+    /// The first item (an index into the frame's triangles or lines).
+    pub start: usize,
+    /// One past the last item.
+    pub end: usize,
+}
+
+/// Adds item `index` of kind `shapes` on `layer` to `batches`: to the last
+/// batch where it continues it, else as a new batch.
+pub(crate) fn extend_batches(batches: &mut Vec<Batch>, shapes: Shapes, layer: i32, index: usize) {
+    if let Some(last) = batches.last_mut()
+        && last.shapes == shapes
+        && last.layer == layer
+        && last.end == index
+    {
+        last.end = index + 1;
+        return;
+    }
+    batches.push(Batch {
+        shapes,
+        layer,
+        start: index,
+        end: index + 1,
+    });
 }
 
 /// Which point of a text's box sits at its position.

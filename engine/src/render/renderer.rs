@@ -13,6 +13,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
+use std::ops::Range;
 
 use super::camera::{Camera, CameraMatrices};
 use super::config::RendererConfig;
@@ -20,6 +21,7 @@ use super::frame_view::FrameView;
 use super::hermite::HermiteParticles;
 use super::hud::{Hud, PlacedText};
 use super::line_vertices::{LineVertex, upload_vertices, vertex_buffer};
+use super::overlay::Shapes;
 use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
 use super::records::{Instance, instance_block, instance_buffer_layout, record_buffer, write_records};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
@@ -81,6 +83,13 @@ pub struct Renderer {
     triangle_buffer: wgpu::Buffer,
     triangle_count: u32,
     triangle_scratch: Vec<LineVertex>,
+    /// The worlds' lines (outlines, trails, springs): the first vertices of
+    /// `line_buffer`, drawn with the particles.
+    world_line_vertices: u32,
+    /// The game's shapes in drawing order (by layer, then as drawn).
+    shape_calls: Vec<ShapeCall>,
+    /// The worlds are drawn after the shapes of this layer.
+    particle_layer: i32,
     /// The frame's texts in pixels, for the HUD.
     placed_texts: Vec<PlacedText>,
     instance_scratch: Vec<Instance>,
@@ -241,6 +250,9 @@ impl Renderer {
             triangle_buffer,
             triangle_count: 0,
             triangle_scratch: Vec::new(),
+            world_line_vertices: 0,
+            shape_calls: Vec::new(),
+            particle_layer: 0,
             placed_texts: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
@@ -355,6 +367,7 @@ impl Renderer {
         self.upload_lines(gpu);
         self.build_triangles(view)?;
         self.upload_triangles(gpu);
+        self.order_shapes(view)?;
         self.place_texts(view, view_proj, buffers.width, buffers.height)?;
         self.hud
             .prepare(
@@ -383,6 +396,8 @@ impl Renderer {
                     wgpu::TextureFormat::Rgba8UnormSrgb | wgpu::TextureFormat::Bgra8UnormSrgb
                 )
                 && (texture.width(), texture.height()) == (buffers.width, buffers.height)
+                // Nothing to draw under the particles.
+                && !self.shape_calls.iter().any(|c| c.layer <= self.particle_layer)
         };
         if self.splat_active
             && let Some(splat) = &self.splat
@@ -411,25 +426,16 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if self.triangle_count > 0 {
-            pass.set_pipeline(if single {
-                &self.triangle_pipeline_single
-            } else {
-                &self.triangle_pipeline
-            });
-            pass.set_bind_group(0, &self.line_bind_group, &[]);
-            pass.set_vertex_buffer(0, self.triangle_buffer.slice(..));
-            pass.draw(0..self.triangle_count, 0..1);
+        for call in self.shape_calls.iter().filter(|c| c.layer <= self.particle_layer) {
+            self.draw_shapes(&mut pass, call, single);
         }
-        if self.line_count > 0 {
-            pass.set_pipeline(if single {
-                &self.line_pipeline_single
-            } else {
-                &self.line_pipeline
-            });
-            pass.set_bind_group(0, &self.line_bind_group, &[]);
-            pass.set_vertex_buffer(0, self.line_buffer.slice(..));
-            pass.draw(0..self.line_count, 0..1);
+        if self.world_line_vertices > 0 {
+            let world_lines = ShapeCall {
+                shapes: Shapes::Lines,
+                layer: self.particle_layer,
+                vertices: 0..self.world_line_vertices,
+            };
+            self.draw_shapes(&mut pass, &world_lines, single);
         }
         if self.splat_active {
             if !resolved && let Some(splat) = &self.splat {
@@ -450,7 +456,82 @@ impl Renderer {
             pass.set_vertex_buffer(0, self.instances.slice(..));
             pass.draw(0..4, 0..self.instance_count);
         }
+        for call in self.shape_calls.iter().filter(|c| c.layer > self.particle_layer) {
+            self.draw_shapes(&mut pass, call, single);
+        }
         self.hud.render(&mut pass);
+    }
+
+    /// One run of the frame's fills or lines.
+    fn draw_shapes(&self, pass: &mut wgpu::RenderPass<'_>, call: &ShapeCall, single: bool) {
+        let (pipeline, buffer) = match (call.shapes, single) {
+            (Shapes::Fills, true) => (&self.triangle_pipeline_single, &self.triangle_buffer),
+            (Shapes::Fills, false) => (&self.triangle_pipeline, &self.triangle_buffer),
+            (Shapes::Lines, true) => (&self.line_pipeline_single, &self.line_buffer),
+            (Shapes::Lines, false) => (&self.line_pipeline, &self.line_buffer),
+        };
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.line_bind_group, &[]);
+        pass.set_vertex_buffer(0, buffer.slice(..));
+        pass.draw(call.vertices.clone(), 0..1);
+    }
+
+    /// The frame's shapes as draw calls, by layer and then in the order
+    /// drawn (the batches'); what no batch covers comes after them on
+    /// layer 0, fills first.
+    fn order_shapes(&mut self, view: &FrameView<'_>) -> Result<(), RenderError> {
+        self.shape_calls.clear();
+        self.particle_layer = view.particle_layer;
+        let (fills, lines) = (view.triangles.len(), view.lines.len());
+        let (mut fills_drawn, mut lines_drawn) = (0, 0);
+        let world = self.world_line_vertices as usize;
+        let vertices = |range: Range<usize>| {
+            u32::try_from(range.start).unwrap_or(u32::MAX)..u32::try_from(range.end).unwrap_or(u32::MAX)
+        };
+        for (k, batch) in view.batches.iter().enumerate() {
+            let (len, kind) = match batch.shapes {
+                Shapes::Fills => (fills, "triangles"),
+                Shapes::Lines => (lines, "lines"),
+            };
+            if batch.start > batch.end || batch.end > len {
+                return Err(RenderError::Config(format!(
+                    "batch {k} of the frame covers {kind} {}..{}, but the frame has {len} {kind}",
+                    batch.start, batch.end
+                )));
+            }
+            let range = match batch.shapes {
+                Shapes::Fills => {
+                    fills_drawn = fills_drawn.max(batch.end);
+                    batch.start * 3..batch.end * 3
+                }
+                Shapes::Lines => {
+                    lines_drawn = lines_drawn.max(batch.end);
+                    world + batch.start * 2..world + batch.end * 2
+                }
+            };
+            self.shape_calls.push(ShapeCall {
+                shapes: batch.shapes,
+                layer: batch.layer,
+                vertices: vertices(range),
+            });
+        }
+        if fills_drawn < fills {
+            self.shape_calls.push(ShapeCall {
+                shapes: Shapes::Fills,
+                layer: 0,
+                vertices: vertices(fills_drawn * 3..fills * 3),
+            });
+        }
+        if lines_drawn < lines {
+            self.shape_calls.push(ShapeCall {
+                shapes: Shapes::Lines,
+                layer: 0,
+                vertices: vertices(world + lines_drawn * 2..world + lines * 2),
+            });
+        }
+        // A stable sort: the order drawn is kept within a layer.
+        self.shape_calls.sort_by_key(|c| c.layer);
+        Ok(())
     }
 
     /// Whether the target stores blue first.
@@ -535,6 +616,8 @@ impl Renderer {
         for line in view.lines {
             push(line.a, line.b, line.colour);
         }
+        let game = view.lines.len() * 2;
+        self.world_line_vertices = u32::try_from(self.line_scratch.len() - game).unwrap_or(u32::MAX);
     }
 
     /// The frame's triangles as vertices.
@@ -616,4 +699,13 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
         ))),
         _ => Ok(()),
     }
+}
+
+/// One draw of a run of the frame's shapes: which kind, on which layer,
+/// which vertices of its buffer.
+#[derive(Clone, Debug)]
+struct ShapeCall {
+    shapes: Shapes,
+    layer: i32,
+    vertices: Range<u32>,
 }

@@ -80,6 +80,22 @@ pub enum SimulationError {
         /// The limit in force.
         limit: u64,
     },
+    /// The sensors would test more sensor-particle pairs in one step than
+    /// [`WorldConfig::max_pairs`](crate::world::WorldConfig) allows (each
+    /// sensor tests every particle); checked before the step changes
+    /// anything.
+    SensorPairLimit {
+        /// The tick of the step.
+        tick: u64,
+        /// The world's sensors.
+        sensors: usize,
+        /// The particles each tests.
+        particles: usize,
+        /// Sensors times particles.
+        pairs: u64,
+        /// The limit in force.
+        limit: u64,
+    },
     /// A collider of pairs (sphere collisions) would test more candidate
     /// pairs in one step than [`WorldConfig::max_pairs`](crate::world::WorldConfig)
     /// allows: spheres crowded into the same grid cells (overlapping each
@@ -192,6 +208,17 @@ impl fmt::Display for SimulationError {
                 f,
                 "step {tick}: force {force} would visit {pairs} pairs among {particles} particles in one evaluation, \
                  past the limit of {limit} (WorldConfig::max_pairs); use fewer particles or raise the limit"
+            ),
+            Self::SensorPairLimit {
+                tick,
+                sensors,
+                particles,
+                pairs,
+                limit,
+            } => write!(
+                f,
+                "step {tick}: {sensors} sensors would test {pairs} pairs with {particles} particles in one step, past \
+                 the limit of {limit} (WorldConfig::max_pairs); use fewer sensors or raise the limit"
             ),
             Self::ContactPairLimit {
                 tick,

@@ -162,6 +162,7 @@ impl World {
         let (spawned_by_game, despawned_by_game) = self.apply_queued();
         report.spawned = spawned + spawned_by_game;
         report.despawned = despawned + despawned_by_game;
+        self.find_overlaps();
         Ok(report)
     }
 
@@ -536,6 +537,16 @@ impl World {
                     limit,
                 });
             }
+        }
+        let pairs = self.sensor_pairs();
+        if pairs > limit {
+            return Err(SimulationError::SensorPairLimit {
+                tick,
+                sensors: self.sensors.list.len(),
+                particles,
+                pairs,
+                limit,
+            });
         }
         Ok(())
     }

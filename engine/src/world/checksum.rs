@@ -4,10 +4,11 @@
 //! What it covers: the tick and time; the entities; every particle column
 //! (positions, velocities, previous positions, masses, radii, lifetimes,
 //! birth times, colours, teleport marks) and the lived time; rigid bodies;
-//! the last step's contacts; every force and collider as its `Debug` form
-//! (their parameters and state: a kinematic paddle's place, a game's
-//! thrust; Rust prints each float as the shortest text that reads back to
-//! the same bits, so the text is as exact as the bits); the emitters
+//! the last step's contacts; every force, collider and sensor as its
+//! `Debug` form (their parameters and state: a kinematic paddle's place, a
+//! game's thrust; Rust prints each float as the shortest text that reads
+//! back to the same bits, so the text is as exact as the bits) and the
+//! sensors' last overlaps; the emitters
 //! (their owed fraction too); the random generator; the integrator's name
 //! and everything it remembers between steps (history, cached
 //! accelerations: `Integrator::visit_state`). Not covered: the angular
@@ -189,6 +190,19 @@ impl World {
         h.u64(self.emitters.len() as u64);
         for emitter in &self.emitters {
             h.debug(emitter);
+        }
+        // Only where there are sensors (or their last overlaps), so worlds
+        // without them keep the hashes they had.
+        if !(self.sensors.list.is_empty() && self.sensors.overlaps.is_empty()) {
+            h.u64(self.sensors.list.len() as u64);
+            for (id, sensor) in &self.sensors.list {
+                h.u64(id.0);
+                h.debug(sensor);
+            }
+            h.u64(self.sensors.overlaps.len() as u64);
+            for o in &self.sensors.overlaps {
+                h.debug(o);
+            }
         }
         h.bytes(self.integrator.info().name.as_bytes());
         // What the method remembers (two passes: the closures cannot both

@@ -13,7 +13,7 @@ use tickwork_integrators::{Integrator, UnknownMethod, build};
 
 use super::columns::Columns;
 use super::command::Command;
-use super::{Entities, Entity, Lane, Particles, Removal, RigidBodies, SweepScratch, WorldConfig};
+use super::{Entities, Entity, Lane, Particles, Removal, RigidBodies, Sensors, SweepScratch, WorldConfig};
 use crate::colliders::set::ColliderSet;
 use crate::colliders::{Contact, RowTouch};
 use crate::emitter::Emitter;
@@ -53,6 +53,8 @@ pub struct World {
     pub(crate) expired: Vec<Entity>,
     /// The entities the last step removed, in the order it removed them.
     pub(crate) removed: Vec<Removal>,
+    /// Sensors and their overlaps.
+    pub(crate) sensors: Sensors,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
     pub(crate) gathered: Rows,
     /// The plain step's scratch for contacts inside the step.
@@ -87,6 +89,7 @@ impl Clone for World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             removed: self.removed.clone(),
+            sensors: self.sensors.clone(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
@@ -105,6 +108,7 @@ impl Clone for World {
         self.colliders.clone_from(&source.colliders);
         self.contacts.clone_from(&source.contacts);
         self.removed.clone_from(&source.removed);
+        self.sensors.clone_from(&source.sensors);
         self.emitters.clone_from(&source.emitters);
         if !self.integrator.copy_state_from(source.integrator.as_ref()) {
             self.integrator = source.integrator.clone_boxed();
@@ -183,6 +187,7 @@ impl World {
             expired_rows: Vec::new(),
             expired: Vec::new(),
             removed: Vec::new(),
+            sensors: Sensors::default(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
