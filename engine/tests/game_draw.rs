@@ -253,3 +253,58 @@ fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
         "the particle over the panel: {ball:?}"
     );
 }
+
+/// A 16 x 9 m field, letterboxed, and a red block far larger than it.
+struct Boxed;
+
+impl Game for Boxed {
+    fn title(&self) -> &str {
+        "boxed"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::Field {
+            center: Vec2::ZERO,
+            size: Vec2::new(16.0, 9.0),
+            fit: tickwork_engine::render::Fit::Letterbox,
+        };
+        stage.background = BLACK;
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        draw.rect(Vec2::splat(-100.0), Vec2::splat(100.0), RED);
+        draw.hud.push_str("HUD");
+        Ok(())
+    }
+}
+
+#[test]
+fn a_letterboxed_field_draws_nothing_in_its_bars_and_the_stage_knows_the_frame() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let mut session = GameSession::new(Boxed, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    // 2:1 frame, 16:9 field: pillars at the sides, the field 178 px wide
+    // from x = 11 (100 px high).
+    let red: Vec<u32> = (0..WIDTH).filter(|&x| image.get_pixel(x, 80).0 == RED).collect();
+    assert_eq!(
+        red,
+        (11..189).collect::<Vec<_>>(),
+        "the block stops at the field's edges"
+    );
+    assert_eq!(image.get_pixel(5, 80).0, BLACK, "the left pillar is the background");
+    assert_eq!(image.get_pixel(195, 80).0, BLACK, "the right pillar");
+    // The HUD is drawn over the whole frame.
+    let (top, _) = hud_rows(&image);
+    assert!(top < 20, "HUD text at the top: row {top}");
+    // The stage knows the frame it was drawn in, for `update`.
+    let stage = session.stage();
+    assert_eq!((stage.viewport().width, stage.viewport().height), (WIDTH, HEIGHT));
+    let (min, max) = stage.visible().expect("2D");
+    assert!(min.abs_diff_eq(Vec2::new(-8.0, -4.5), 0.05) && max.abs_diff_eq(Vec2::new(8.0, 4.5), 0.05));
+    let centre = stage.screen_to_world(Vec2::new(100.0, 50.0)).expect("on the plane");
+    assert!(centre.abs_diff_eq(Vec2::ZERO, 1e-3), "{centre}");
+    let corner = stage.world_to_screen(glam::Vec3::new(-8.0, 4.5, 0.0)).expect("2D");
+    assert!(corner.abs_diff_eq(Vec2::new(11.0, 0.0), 0.2), "{corner}");
+}

@@ -585,11 +585,13 @@ impl<G: Game> FrameSource for GameSession<G> {
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
     ) -> Result<(), RunError> {
         let alpha = self.last.alpha as f32;
-        self.draw.clear(Viewport {
+        let viewport = Viewport {
             width,
             height,
             pixels_per_metre: self.stage.camera.matrices(width, height).pixels_per_unit,
-        });
+        };
+        self.stage.viewport = viewport;
+        self.draw.clear(viewport);
         self.game
             .draw(&self.stage, alpha, &mut self.draw)
             .map_err(RunError::Game)?;

@@ -6,6 +6,9 @@
 
 use core::fmt;
 
+use glam::{Vec2, Vec3};
+
+use super::draw::Viewport;
 use crate::clock::{FixedStep, Rate};
 use crate::render::{Camera, Trails};
 use crate::step::SimulationError;
@@ -248,6 +251,8 @@ pub struct Stage {
     pub hermite: bool,
     /// What the run was started with (see [`Stage::settings`]).
     pub(crate) settings: Settings,
+    /// The last frame drawn's size and scale (see [`Stage::viewport`]).
+    pub(crate) viewport: Viewport,
 }
 
 impl Default for Stage {
@@ -265,6 +270,7 @@ impl Default for Stage {
             switch_integrators: false,
             hermite: false,
             settings: Settings::default(),
+            viewport: Viewport::default(),
         }
     }
 }
@@ -288,6 +294,41 @@ impl Stage {
     #[must_use]
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    /// The size and scale of the last frame drawn (before the first, 640 x
+    /// 360): where a game's [`update`](super::Game::update) places things
+    /// by the window's shape. Not for `fixed_update`, whose results must
+    /// not depend on the window (a replay has none).
+    #[must_use]
+    pub fn viewport(&self) -> Viewport {
+        self.viewport
+    }
+
+    /// The world point (on the `z = 0` plane) under pixel `pixel` of the
+    /// last frame (from its top left): the pointer in world units. `None`
+    /// where the camera's view does not meet that plane.
+    #[must_use]
+    pub fn screen_to_world(&self, pixel: Vec2) -> Option<Vec2> {
+        let v = self.viewport;
+        self.camera.point_on_plane(pixel.x, pixel.y, v.width, v.height)
+    }
+
+    /// The pixel of the last frame (from its top left) at which the world
+    /// point `at` is drawn; `None` behind an orbit camera.
+    #[must_use]
+    pub fn world_to_screen(&self, at: Vec3) -> Option<Vec2> {
+        let v = self.viewport;
+        self.camera.pixel_of(at, v.width, v.height)
+    }
+
+    /// The world rectangle (min, max) a 2D camera shows in the last frame
+    /// (the field, for a letterboxed one): where a game wraps its ships
+    /// around, or pins a score to a corner. `None` for an orbit camera.
+    #[must_use]
+    pub fn visible(&self) -> Option<(Vec2, Vec2)> {
+        let v = self.viewport;
+        self.camera.visible(v.width, v.height)
     }
 
     /// Adds a world labelled `label`; the builder it returns sets what the

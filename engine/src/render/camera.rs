@@ -1,5 +1,6 @@
-//! Cameras: a 2D orthographic view and a 3D perspective orbit, both giving
-//! a view-projection matrix with wgpu's depth range 0..1.
+//! Cameras: 2D orthographic views (of a height, or of a field fitted to
+//! the frame's shape) and a 3D perspective orbit, all giving a
+//! view-projection matrix with wgpu's depth range 0..1.
 
 use glam::{Mat4, Vec2, Vec3};
 
@@ -17,6 +18,17 @@ pub enum Camera {
         /// Visible height in world units; the width follows the aspect ratio.
         height: f32,
     },
+    /// Orthographic, looking down -z at a field of `size` metres around
+    /// `center`, fitted to frames of any shape as `fit` says (a game
+    /// designed at 16:9 shown in a 4:3 window).
+    Field {
+        /// World point at the centre of the field.
+        center: Vec2,
+        /// The field's width and height in world units.
+        size: Vec2,
+        /// How the field fills a frame of another shape.
+        fit: Fit,
+    },
     /// Perspective, orbiting `target` at `distance`.
     Orbit {
         /// The point looked at.
@@ -30,6 +42,54 @@ pub enum Camera {
         /// Vertical field of view, degrees (default 45).
         fov_y: f32,
     },
+}
+
+/// How a [`Camera::Field`] fills a frame whose shape is not the field's,
+/// as Bevy's `ScalingMode` does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Fit {
+    /// The field's height exactly; the width follows the frame (more or
+    /// less of the world at the sides): [`Camera::TwoD`]'s rule.
+    Height,
+    /// The field's width exactly; the height follows the frame.
+    Width,
+    /// The whole field is seen, and more of the world on the two sides
+    /// where the frame is relatively longer.
+    Contain,
+    /// The whole field and nothing else: bars of the background colour
+    /// fill the rest of the frame (letterbox above and below, pillarbox at
+    /// the sides), and nothing is drawn in them.
+    #[default]
+    Letterbox,
+    /// The field fills the whole frame: its excess on two sides is cut off.
+    Cover,
+}
+
+/// The part of a frame a camera draws into, in pixels from the top left:
+/// the whole frame, but for [`Fit::Letterbox`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameRect {
+    /// Left edge.
+    pub x: f32,
+    /// Top edge.
+    pub y: f32,
+    /// Width.
+    pub width: f32,
+    /// Height.
+    pub height: f32,
+}
+
+impl FrameRect {
+    /// The whole of a `width` x `height` frame.
+    #[must_use]
+    pub fn whole(width: u32, height: u32) -> Self {
+        Self {
+            x: 0.0,
+            y: 0.0,
+            width: width.max(1) as f32,
+            height: height.max(1) as f32,
+        }
+    }
 }
 
 impl Default for Camera {
@@ -72,15 +132,96 @@ impl Camera {
         }
     }
 
-    /// Matrices for an image of `width` x `height` pixels.
+    /// Whether the camera is orthographic, looking at the x-y plane.
+    #[must_use]
+    pub fn is_2d(&self) -> bool {
+        !matches!(self, Self::Orbit { .. })
+    }
+
+    /// The part of a `width` x `height` frame this camera draws into: the
+    /// whole frame, but for a letterboxed [`Camera::Field`], the centred
+    /// rectangle of the field's shape.
+    #[must_use]
+    pub fn frame_rect(&self, width: u32, height: u32) -> FrameRect {
+        let whole = FrameRect::whole(width, height);
+        let Self::Field {
+            size,
+            fit: Fit::Letterbox,
+            ..
+        } = *self
+        else {
+            return whole;
+        };
+        let field = size.x / size.y;
+        if !(field.is_finite() && field > 0.0) {
+            return whole;
+        }
+        let (w, h) = if whole.width / whole.height > field {
+            (whole.height * field, whole.height)
+        } else {
+            (whole.width, whole.width / field)
+        };
+        FrameRect {
+            x: ((whole.width - w) * 0.5).floor(),
+            y: ((whole.height - h) * 0.5).floor(),
+            width: w.round().max(1.0),
+            height: h.round().max(1.0),
+        }
+    }
+
+    /// Half the width and height of the world a 2D camera shows in a frame
+    /// rectangle of `aspect` (width / height); `None` for an orbit camera.
+    #[must_use]
+    pub fn half_extents(&self, aspect: f32) -> Option<Vec2> {
+        match *self {
+            Self::TwoD { height, .. } => Some(Vec2::new(0.5 * height * aspect, 0.5 * height)),
+            Self::Field { size, fit, .. } => {
+                let half = 0.5 * size;
+                let by_height = Vec2::new(half.y * aspect, half.y);
+                let by_width = Vec2::new(half.x, half.x / aspect);
+                let wider = aspect > size.x / size.y;
+                Some(match fit {
+                    Fit::Height => by_height,
+                    Fit::Width => by_width,
+                    Fit::Contain if wider => by_height,
+                    Fit::Contain => by_width,
+                    Fit::Cover if wider => by_width,
+                    Fit::Cover => by_height,
+                    // The frame rectangle has the field's shape, to a
+                    // pixel: fitted whole, a rounding's sliver of world
+                    // shows rather than a stretch.
+                    Fit::Letterbox if wider => by_height,
+                    Fit::Letterbox => by_width,
+                })
+            }
+            Self::Orbit { .. } => None,
+        }
+    }
+
+    /// The world rectangle `(min, max)` a 2D camera shows in a `width` x
+    /// `height` frame (in its [`frame_rect`](Self::frame_rect)); `None` for
+    /// an orbit camera.
+    #[must_use]
+    pub fn visible(&self, width: u32, height: u32) -> Option<(Vec2, Vec2)> {
+        let rect = self.frame_rect(width, height);
+        let half = self.half_extents(rect.width / rect.height)?;
+        let (Self::TwoD { center, .. } | Self::Field { center, .. }) = *self else {
+            return None;
+        };
+        Some((center - half, center + half))
+    }
+
+    /// Matrices for an image of `width` x `height` pixels (mapping to the
+    /// camera's [`frame_rect`](Self::frame_rect), where it draws).
     #[must_use]
     pub fn matrices(&self, width: u32, height: u32) -> CameraMatrices {
-        let aspect = width.max(1) as f32 / height.max(1) as f32;
-        let half_height_px = 0.5 * height.max(1) as f32;
+        let rect = self.frame_rect(width, height);
+        let aspect = rect.width / rect.height;
+        let half_height_px = 0.5 * rect.height;
         match *self {
-            Self::TwoD { center, height } => {
-                let h = 0.5 * height;
-                let w = h * aspect;
+            Self::TwoD { center, .. } | Self::Field { center, .. } => {
+                let half = self.half_extents(aspect).unwrap_or(Vec2::ONE);
+                let (w, h) = (half.x, half.y);
                 // z in [-1000, 1000] maps into 0..1, so 2D scenes with depth
                 // still draw nearest-first by z.
                 let proj = glam::camera::rh::proj::directx::orthographic(
@@ -128,6 +269,7 @@ impl Camera {
     pub fn orbit(&mut self, d_yaw: f32, d_pitch: f32) {
         match self {
             Self::TwoD { center, height } => *center += Vec2::new(-d_yaw, d_pitch) * (*height / 360.0),
+            Self::Field { center, size, .. } => *center += Vec2::new(-d_yaw, d_pitch) * (size.y / 360.0),
             Self::Orbit { yaw, pitch, .. } => {
                 *yaw += d_yaw;
                 *pitch = (*pitch + d_pitch).clamp(-89.0, 89.0);
@@ -145,14 +287,34 @@ impl Camera {
     /// `s = -near.z / (far.z - near.z)`, which must lie in `[0, 1]`.
     #[must_use]
     pub fn point_on_plane(&self, x: f32, y: f32, width: u32, height: u32) -> Option<Vec2> {
-        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
-        let ndc = Vec2::new(2.0 * x / w - 1.0, 1.0 - 2.0 * y / h);
+        let rect = self.frame_rect(width, height);
+        let ndc = Vec2::new(
+            2.0 * (x - rect.x) / rect.width - 1.0,
+            1.0 - 2.0 * (y - rect.y) / rect.height,
+        );
         let inverse = self.matrices(width, height).view_proj.inverse();
         let near = inverse.project_point3(ndc.extend(0.0));
         let far = inverse.project_point3(ndc.extend(1.0));
         let s = -near.z / (far.z - near.z);
         let point = (near + s * (far - near)).truncate();
         ((0.0..=1.0).contains(&s) && point.is_finite()).then_some(point)
+    }
+
+    /// The pixel (from the top left of a `width` x `height` frame) at which
+    /// the world point `at` is drawn: where a game places a screen-space
+    /// marker over a world object. `None` behind an orbit camera.
+    #[must_use]
+    pub fn pixel_of(&self, at: Vec3, width: u32, height: u32) -> Option<Vec2> {
+        let rect = self.frame_rect(width, height);
+        let clip = self.matrices(width, height).view_proj * at.extend(1.0);
+        if clip.w <= 0.0 {
+            return None;
+        }
+        let ndc = clip.truncate() / clip.w;
+        Some(Vec2::new(
+            rect.x + (ndc.x + 1.0) * 0.5 * rect.width,
+            rect.y + (1.0 - ndc.y) * 0.5 * rect.height,
+        ))
     }
 
     /// Zooms by `factor` (> 1 moves closer / shows less).
@@ -162,6 +324,7 @@ impl Camera {
         }
         match self {
             Self::TwoD { height, .. } => *height /= factor,
+            Self::Field { size, .. } => *size /= factor,
             Self::Orbit { distance, .. } => *distance /= factor,
         }
     }
@@ -221,6 +384,76 @@ mod tests {
             fov_y: 45.0,
         };
         assert_eq!(along.point_on_plane(50.0, 50.0, 100, 100), None);
+    }
+
+    /// A 16 x 9 m field in a 4:3 frame (400 x 300 px) and a 21:9 one
+    /// (420 x 180 px), each way of fitting it.
+    #[test]
+    fn a_field_fits_frames_of_other_shapes_as_asked() {
+        let field = |fit| Camera::Field {
+            center: Vec2::new(1.0, 2.0),
+            size: Vec2::new(16.0, 9.0),
+            fit,
+        };
+        let shown = |fit, w, h| {
+            let (min, max) = field(fit).visible(w, h).expect("2D");
+            max - min
+        };
+        let close = |a: Vec2, b: Vec2| a.abs_diff_eq(b, 1e-3);
+        // 4:3, narrower than the field.
+        assert!(
+            close(shown(Fit::Height, 400, 300), Vec2::new(12.0, 9.0)),
+            "the sides cut"
+        );
+        assert!(close(shown(Fit::Width, 400, 300), Vec2::new(16.0, 12.0)));
+        assert!(
+            close(shown(Fit::Contain, 400, 300), Vec2::new(16.0, 12.0)),
+            "more above and below"
+        );
+        assert!(
+            close(shown(Fit::Cover, 400, 300), Vec2::new(12.0, 9.0)),
+            "the sides cut"
+        );
+        assert!(
+            close(shown(Fit::Letterbox, 400, 300), Vec2::new(16.0, 9.0)),
+            "exactly the field"
+        );
+        // 21:9, wider than the field.
+        assert!(close(shown(Fit::Height, 420, 180), Vec2::new(21.0, 9.0)));
+        assert!(
+            close(shown(Fit::Contain, 420, 180), Vec2::new(21.0, 9.0)),
+            "more at the sides"
+        );
+        assert!(close(
+            shown(Fit::Cover, 420, 180),
+            Vec2::new(16.0, 16.0 * 180.0 / 420.0)
+        ));
+        assert!(close(shown(Fit::Letterbox, 420, 180), Vec2::new(16.0, 9.0)));
+        // Letterbox: bars above and below at 4:3 (400 x 225 in the middle),
+        // at the sides at 21:9 (320 x 180).
+        let bars = field(Fit::Letterbox).frame_rect(400, 300);
+        assert_eq!((bars.x, bars.y, bars.width, bars.height), (0.0, 37.0, 400.0, 225.0));
+        let pillars = field(Fit::Letterbox).frame_rect(420, 180);
+        assert_eq!(
+            (pillars.x, pillars.y, pillars.width, pillars.height),
+            (50.0, 0.0, 320.0, 180.0)
+        );
+        assert_eq!(field(Fit::Contain).frame_rect(400, 300), FrameRect::whole(400, 300));
+        // The pointer and the drawing agree, bars included: the field's
+        // top-left corner is the rectangle's.
+        let camera = field(Fit::Letterbox);
+        let corner = camera.pixel_of(Vec3::new(-7.0, 6.5, 0.0), 400, 300).expect("2D");
+        assert!(corner.abs_diff_eq(Vec2::new(0.0, 37.0), 1e-3), "{corner}");
+        let back = camera
+            .point_on_plane(corner.x, corner.y, 400, 300)
+            .expect("on the plane");
+        assert!(back.abs_diff_eq(Vec2::new(-7.0, 6.5), 1e-3), "{back}");
+        let middle = camera
+            .point_on_plane(200.0, 37.0 + 112.5, 400, 300)
+            .expect("on the plane");
+        assert!(middle.abs_diff_eq(Vec2::new(1.0, 2.0), 1e-3), "{middle}");
+        // 25 px a metre in the 225 px rectangle.
+        assert!((camera.matrices(400, 300).pixels_per_unit - 25.0).abs() < 1e-4);
     }
 
     #[test]

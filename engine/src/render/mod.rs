@@ -54,7 +54,7 @@ mod trails;
 mod world_lines;
 
 pub use crate::interpolation::Interpolation;
-pub use camera::{Camera, CameraMatrices};
+pub use camera::{Camera, CameraMatrices, Fit, FrameRect};
 pub use config::{Blend, RendererConfig};
 pub use error::RenderError;
 pub use frame_view::{FrameView, WorldView};

@@ -12,10 +12,10 @@
 //! `pipeline.rs`.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use std::ops::Range;
 
-use super::camera::{Camera, CameraMatrices};
+use super::camera::{CameraMatrices, FrameRect};
 use super::config::RendererConfig;
 use super::frame_view::FrameView;
 use super::hermite::HermiteParticles;
@@ -90,6 +90,8 @@ pub struct Renderer {
     shape_calls: Vec<ShapeCall>,
     /// The worlds are drawn after the shapes of this layer.
     particle_layer: i32,
+    /// Where a letterboxed camera draws (`None`: the whole frame).
+    letterbox: Option<FrameRect>,
     /// The frame's texts in pixels, for the HUD.
     placed_texts: Vec<PlacedText>,
     instance_scratch: Vec<Instance>,
@@ -253,6 +255,7 @@ impl Renderer {
             world_line_vertices: 0,
             shape_calls: Vec::new(),
             particle_layer: 0,
+            letterbox: None,
             placed_texts: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
@@ -302,6 +305,8 @@ impl Renderer {
             view_proj,
             pixels_per_unit,
         } = view.camera.matrices(buffers.width, buffers.height);
+        let rect = view.camera.frame_rect(buffers.width, buffers.height);
+        self.letterbox = (rect != FrameRect::whole(buffers.width, buffers.height)).then_some(rect);
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
         let dt = match self.config.interpolation {
@@ -326,7 +331,9 @@ impl Renderer {
         self.splat_active = self.splat.is_some()
             && self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
-            && matches!(view.camera, Camera::TwoD { .. })
+            && view.camera.is_2d()
+            // The splat covers the whole frame.
+            && self.letterbox.is_none()
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
         if self.splat_active
             && let Some(splat) = &mut self.splat
@@ -347,7 +354,7 @@ impl Renderer {
         }
         let globals = Globals {
             view_proj: view_proj.to_cols_array_2d(),
-            viewport: [buffers.width as f32, buffers.height as f32],
+            viewport: [rect.width, rect.height],
             pixels_per_unit,
             t,
             min_radius_px: self.config.min_radius_px,
@@ -368,7 +375,7 @@ impl Renderer {
         self.build_triangles(view)?;
         self.upload_triangles(gpu);
         self.order_shapes(view)?;
-        self.place_texts(view, view_proj, buffers.width, buffers.height)?;
+        self.place_texts(view, buffers.width, buffers.height)?;
         self.hud
             .prepare(
                 gpu,
@@ -426,6 +433,11 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let Some(r) = self.letterbox {
+            // Only the field: the bars keep the clear colour.
+            pass.set_viewport(r.x, r.y, r.width, r.height, 0.0, 1.0);
+            pass.set_scissor_rect(r.x as u32, r.y as u32, r.width as u32, r.height as u32);
+        }
         for call in self.shape_calls.iter().filter(|c| c.layer <= self.particle_layer) {
             self.draw_shapes(&mut pass, call, single);
         }
@@ -458,6 +470,12 @@ impl Renderer {
         }
         for call in self.shape_calls.iter().filter(|c| c.layer > self.particle_layer) {
             self.draw_shapes(&mut pass, call, single);
+        }
+        if self.letterbox.is_some() {
+            // The HUD and text over the whole frame, bars included.
+            let (w, h) = (buffers.width.max(1), buffers.height.max(1));
+            pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
+            pass.set_scissor_rect(0, 0, w, h);
         }
         self.hud.render(&mut pass);
     }
@@ -644,13 +662,7 @@ impl Renderer {
 
     /// The frame's texts in pixels: each anchor point projected through the
     /// camera (texts behind a 3D camera are left out).
-    fn place_texts(
-        &mut self,
-        view: &FrameView<'_>,
-        view_proj: Mat4,
-        width: u32,
-        height: u32,
-    ) -> Result<(), RenderError> {
+    fn place_texts(&mut self, view: &FrameView<'_>, width: u32, height: u32) -> Result<(), RenderError> {
         self.placed_texts.clear();
         for (k, text) in view.texts.iter().enumerate() {
             if !(text.at.is_finite() && text.size.is_finite() && text.size > 0.0 && text.size <= 1000.0) {
@@ -660,15 +672,13 @@ impl Renderer {
                     text.text, text.at, text.size
                 )));
             }
-            let clip = view_proj * text.at.extend(1.0);
-            if clip.w <= 0.0 {
+            let Some(at) = view.camera.pixel_of(text.at, width, height) else {
                 continue;
-            }
-            let ndc = clip.truncate() / clip.w;
+            };
             self.placed_texts.push(PlacedText {
                 text: text.text.clone(),
-                x: (ndc.x + 1.0) * 0.5 * width as f32,
-                y: (1.0 - ndc.y) * 0.5 * height as f32,
+                x: at.x,
+                y: at.y,
                 size: text.size,
                 colour: text.colour,
                 anchor: text.anchor,

@@ -22,6 +22,7 @@ mod particle_data;
 mod particles;
 mod removal;
 mod rigid;
+mod sensor_set;
 mod sensors;
 mod snapshot;
 #[allow(clippy::module_inception)] // named after the type it defines, which a newcomer looks for
@@ -40,4 +41,4 @@ pub use world::World;
 pub use crate::layout::{Colour, Entities, Entity, EntityError, Particle, RowsMut, SpawnError, Vec3Column};
 pub(crate) use command::Command;
 pub(crate) use lane::{Lane, SweepScratch};
-pub(crate) use sensors::Sensors;
+pub(crate) use sensor_set::Sensors;

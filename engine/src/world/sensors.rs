@@ -1,5 +1,5 @@
-//! A world's sensors and the overlaps they found in the last step, and
-//! queries of which particles are within a sphere or a box now (the same
+//! A world's sensors (adding, changing, removing them), the overlaps they
+//! found in the last step, and queries of which particles are within a sphere or a box now (the same
 //! overlap rule, [`Sensor`]).
 
 use glam::{Vec3, Vec3A};
@@ -7,44 +7,6 @@ use glam::{Vec3, Vec3A};
 use super::World;
 use crate::layout::Entity;
 use crate::sensor::{Overlap, OverlapPhase, Sensor, SensorError, SensorId};
-
-/// The sensors of a world, in the order added, and their overlaps.
-#[derive(Debug, Default)]
-pub(crate) struct Sensors {
-    pub list: Vec<(SensorId, Sensor)>,
-    /// The next id to hand out (ids are never reused).
-    next: u64,
-    /// The last step's overlaps, by sensor then entity.
-    pub overlaps: Vec<Overlap>,
-    /// The overlaps of the step before, while a step finds the new ones.
-    before: Vec<Overlap>,
-}
-
-impl Clone for Sensors {
-    fn clone(&self) -> Self {
-        Self {
-            list: self.list.clone(),
-            next: self.next,
-            overlaps: self.overlaps.clone(),
-            before: Vec::new(),
-        }
-    }
-
-    fn clone_from(&mut self, source: &Self) {
-        self.list.clone_from(&source.list);
-        self.next = source.next;
-        self.overlaps.clone_from(&source.overlaps);
-    }
-}
-
-impl Sensors {
-    fn index(&self, id: SensorId) -> Result<usize, SensorError> {
-        // Ids ascend with the list (removal keeps the order).
-        self.list
-            .binary_search_by_key(&id, |(k, _)| *k)
-            .map_err(|_| SensorError::Unknown { id })
-    }
-}
 
 impl World {
     /// Adds a sensor; from the next step on, [`overlaps`](Self::overlaps)
