@@ -308,3 +308,238 @@ fn a_letterboxed_field_draws_nothing_in_its_bars_and_the_stage_knows_the_frame()
     let corner = stage.world_to_screen(glam::Vec3::new(-8.0, 4.5, 0.0)).expect("2D");
     assert!(corner.abs_diff_eq(Vec2::new(11.0, 0.0), 0.2), "{corner}");
 }
+
+/// One text, "Tick\nwork 42", at the world origin, in yellow.
+struct Label {
+    anchor: tickwork_engine::render::Anchor,
+    size: f32,
+    unit: tickwork_engine::render::TextUnit,
+    /// The camera's height in metres.
+    zoom: f32,
+    /// What `measure` said, in pixels.
+    measured: Cell<Option<Vec2>>,
+}
+
+impl Game for Label {
+    fn title(&self) -> &str {
+        "label"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: self.zoom,
+        };
+        stage.background = BLACK;
+        stage.hud_size = 1.0;
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        use tickwork_engine::render::TextUnit;
+        let text = "Tick\nwork 42";
+        let pixels = match self.unit {
+            TextUnit::Pixels => self.size,
+            TextUnit::Metres => self.size * draw.viewport().pixels_per_metre,
+            TextUnit::FrameHeight => self.size * draw.viewport().height as f32,
+        };
+        self.measured.set(Some(draw.measure(text, pixels)));
+        let placed = draw.text(text, glam::Vec3::ZERO).colour(YELLOW).anchor(self.anchor);
+        match self.unit {
+            TextUnit::Pixels => placed.size(self.size),
+            TextUnit::Metres => placed.size_metres(self.size),
+            TextUnit::FrameHeight => placed.size_of_frame(self.size),
+        };
+        Ok(())
+    }
+}
+
+/// The box (left, top, right, bottom; pixels) of the label's lit pixels in
+/// a `width` x `height` frame, and what `measure` said.
+fn label_box(
+    gpu: &Gpu,
+    anchor: tickwork_engine::render::Anchor,
+    size: f32,
+    unit: tickwork_engine::render::TextUnit,
+    zoom: f32,
+    (width, height): (u32, u32),
+) -> ([u32; 4], Vec2, u32) {
+    let game = Label {
+        anchor,
+        size,
+        unit,
+        zoom,
+        measured: Cell::new(None),
+    };
+    let mut session = GameSession::new(game, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(gpu, width, height, renderer_config(session.stage(), height)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    let lit = |x: u32, y: u32| image.get_pixel(x, y).0[0] > 60;
+    let xs: Vec<u32> = (0..width).filter(|&x| (0..height).any(|y| lit(x, y))).collect();
+    let ys: Vec<u32> = (0..height).filter(|&y| (0..width).any(|x| lit(x, y))).collect();
+    let (Some(&left), Some(&right), Some(&top), Some(&bottom)) = (xs.first(), xs.last(), ys.first(), ys.last()) else {
+        panic!("no text drawn for {anchor:?}")
+    };
+    let measured = session.game().measured.get().expect("drawn");
+    // The right end of the first line ("Tick"): its rows are the top third.
+    let first_line = top + (bottom - top) / 3;
+    let first_right = (0..width)
+        .filter(|&x| (top..=first_line).any(|y| lit(x, y)))
+        .max()
+        .unwrap_or(0);
+    ([left, top, right, bottom], measured, first_right)
+}
+
+#[test]
+fn text_sits_on_any_of_nine_anchors_measures_as_drawn_and_scales_by_its_unit() {
+    use tickwork_engine::render::{Anchor, TextUnit};
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    // The origin is pixel (200, 150) of a 400 x 300 frame.
+    let frame = (400, 300);
+    let (cx, cy) = (200i64, 150i64);
+    for anchor in [
+        Anchor::TopLeft,
+        Anchor::Top,
+        Anchor::TopRight,
+        Anchor::Left,
+        Anchor::Centre,
+        Anchor::Right,
+        Anchor::BottomLeft,
+        Anchor::Bottom,
+        Anchor::BottomRight,
+    ] {
+        let ([left, top, right, bottom], measured, first_right) =
+            label_box(&gpu, anchor, 30.0, TextUnit::Pixels, 10.0, frame);
+        let (fx, fy) = anchor.fractions();
+        // The measured box put at the anchor holds the lit pixels, within
+        // a few pixels of side bearing and line spacing.
+        let boxed_left = cx as f32 - fx * measured.x;
+        let boxed_top = cy as f32 - fy * measured.y;
+        let near = |a: f32, b: u32, slack: f32| (a - b as f32).abs() <= slack;
+        assert!(
+            near(boxed_left, left, 4.0) && near(boxed_left + measured.x, right, 4.0),
+            "{anchor:?}: columns {left}..{right}, measured {measured} from {boxed_left}"
+        );
+        assert!(
+            near(boxed_top, top, 9.0) && near(boxed_top + measured.y, bottom, 9.0),
+            "{anchor:?}: rows {top}..{bottom}, measured {measured} from {boxed_top}"
+        );
+        // Right-anchored text ends at the point, each line right-aligned
+        // (the short first line too); left-anchored lines start together.
+        if fx == 1.0 {
+            assert!((i64::from(right) - cx).abs() <= 3, "{anchor:?} ends at x = {right}");
+            assert!(
+                right - first_right <= 3,
+                "{anchor:?}: the first line ends at {first_right}"
+            );
+        } else if fx == 0.0 {
+            assert!(right - first_right > 20, "{anchor:?}: the first line is the shorter");
+        }
+    }
+    // World units: half the camera's height, twice the pixels.
+    let (near_box, _, _) = label_box(&gpu, Anchor::Centre, 1.0, TextUnit::Metres, 20.0, frame);
+    let (far_box, _, _) = label_box(&gpu, Anchor::Centre, 1.0, TextUnit::Metres, 10.0, frame);
+    let tall = |b: [u32; 4]| f64::from(b[3] - b[1] + 1);
+    let ratio = tall(far_box) / tall(near_box);
+    assert!((1.8..=2.2).contains(&ratio), "zoomed in twice: {ratio}");
+    // A fraction of the frame: twice the frame, twice the text.
+    let (small, _, _) = label_box(&gpu, Anchor::Centre, 0.1, TextUnit::FrameHeight, 10.0, (400, 300));
+    let (big, _, _) = label_box(&gpu, Anchor::Centre, 0.1, TextUnit::FrameHeight, 10.0, (800, 600));
+    let ratio = tall(big) / tall(small);
+    assert!((1.8..=2.2).contains(&ratio), "a frame twice as high: {ratio}");
+}
+
+/// A concave L, a square with a hole and a stroke `stroke_px` pixels wide,
+/// under a camera `zoom` metres high; or a polygon with a NaN corner.
+struct Outlines {
+    zoom: f32,
+    nan: bool,
+}
+
+impl Game for Outlines {
+    fn title(&self) -> &str {
+        "outlines"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: self.zoom,
+        };
+        stage.background = BLACK;
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        use tickwork_engine::render::Stroke;
+        if self.nan {
+            draw.polygon(&[Vec2::ZERO, Vec2::new(f32::NAN, 1.0), Vec2::ONE], RED);
+            return Ok(());
+        }
+        // An L from (-4.5, -2) of three 1 m squares; its notch at (-3, -0.5).
+        let l = [
+            Vec2::new(-4.5, -2.0),
+            Vec2::new(-2.5, -2.0),
+            Vec2::new(-2.5, -1.0),
+            Vec2::new(-3.5, -1.0),
+            Vec2::new(-3.5, 0.0),
+            Vec2::new(-4.5, 0.0),
+        ];
+        draw.polygon(&l, RED);
+        // A 3 m square at (1.5, -2) with a 1 m hole in its middle.
+        let square = [
+            Vec2::new(0.0, -3.5),
+            Vec2::new(3.0, -3.5),
+            Vec2::new(3.0, -0.5),
+            Vec2::new(0.0, -0.5),
+        ];
+        let hole = [
+            Vec2::new(1.0, -2.5),
+            Vec2::new(2.0, -2.5),
+            Vec2::new(2.0, -1.5),
+            Vec2::new(1.0, -1.5),
+        ];
+        draw.polygon_with_holes(&square, &[&hole], GREEN);
+        // A horizontal stroke 4 pixels wide along y = 2 m (a pixel edge at
+        // both zooms), whatever the zoom.
+        draw.stroke(
+            &[Vec2::new(-4.0, 2.0), Vec2::new(4.0, 2.0)],
+            false,
+            Stroke::pixels(4.0),
+            YELLOW,
+        );
+        Ok(())
+    }
+}
+
+#[test]
+fn concave_and_holed_polygons_and_strokes_in_pixels_reach_the_frame_and_a_nan_is_an_error() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let draw = |zoom: f32| {
+        let mut session =
+            GameSession::new(Outlines { zoom, nan: false }, SessionOptions::default()).expect("a session");
+        let mut run =
+            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+        run.frame(&mut session, 1.0 / 60.0, true).expect("a frame")
+    };
+    let image = draw(10.0);
+    assert_eq!(at(&image, -4.0, -1.5), RED, "the L's corner square");
+    assert_eq!(at(&image, -4.0, -0.5), RED, "its upright");
+    assert_eq!(at(&image, -3.0, -1.5), RED, "its foot");
+    assert_eq!(at(&image, -3.0, -0.5), BLACK, "the notch of the concave L");
+    assert_eq!(at(&image, 0.5, -3.0), GREEN, "the square");
+    assert_eq!(at(&image, 1.5, -2.0), BLACK, "its hole");
+    // The stroke is 4 pixels thick at 10 px a metre and at 5.
+    for (zoom, image) in [(10.0, image), (20.0, draw(20.0))] {
+        let rows: Vec<u32> = (0..HEIGHT).filter(|&y| image.get_pixel(100, y).0 == YELLOW).collect();
+        assert_eq!(rows.len(), 4, "a camera {zoom} m high: rows {rows:?}");
+    }
+    let mut session =
+        GameSession::new(Outlines { zoom: 10.0, nan: true }, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let error = run.frame(&mut session, 1.0 / 60.0, true).expect_err("a NaN corner");
+    assert!(
+        error.to_string().contains("Draw::polygon: point 1 is [NaN, 1]"),
+        "{error}"
+    );
+}

@@ -5,7 +5,8 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::render::{Batch, Line, Shapes, Text, Triangle, extend_batches};
+use crate::render::tessellate;
+use crate::render::{Batch, Line, Shapes, Stroke, Text, Triangle, Width, extend_batches, measure_text};
 use crate::world::Colour;
 
 /// The frame a game draws into: its size and how many pixels a metre is.
@@ -57,6 +58,41 @@ pub struct Draw {
     viewport: Viewport,
     layer: i32,
     particle_layer: i32,
+    /// The first problem a call met this frame.
+    problem: Option<String>,
+    /// Tessellated triangles, reused.
+    scratch: Vec<[Vec2; 3]>,
+}
+
+/// A point a drawing call takes: a `Vec3`, or a `Vec2` on the z = 0 plane
+/// (so 2D games pass `Vec2` everywhere).
+pub trait DrawPoint {
+    /// The point in 3D.
+    fn point(self) -> Vec3;
+}
+
+impl DrawPoint for Vec3 {
+    fn point(self) -> Vec3 {
+        self
+    }
+}
+
+impl DrawPoint for Vec2 {
+    fn point(self) -> Vec3 {
+        self.extend(0.0)
+    }
+}
+
+/// `Ok` if every point of `points` is finite, else the problem, naming the
+/// call and the point.
+fn check_points(call: &str, points: &[Vec2]) -> Result<(), String> {
+    match points.iter().position(|p| !p.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(format!(
+            "Draw::{call}: point {k} is {}: every point must be finite",
+            points[k]
+        )),
+    }
 }
 
 impl Draw {
@@ -91,14 +127,20 @@ impl Draw {
         self.particle_layer
     }
 
-    /// Adds a segment from `a` to `b`, one pixel wide.
-    pub fn line(&mut self, a: Vec3, b: Vec3, colour: Colour) {
+    /// Adds a segment from `a` to `b`, one pixel wide (a `Vec2` lies on
+    /// the z = 0 plane, as every 2D call's points do).
+    pub fn line(&mut self, a: impl DrawPoint, b: impl DrawPoint, colour: Colour) {
         extend_batches(&mut self.batches, Shapes::Lines, self.layer, self.lines.len());
-        self.lines.push(Line { a, b, colour });
+        self.lines.push(Line {
+            a: a.point(),
+            b: b.point(),
+            colour,
+        });
     }
 
-    /// Adds segments joining `points` in order; `closed` joins the last to the first.
-    pub fn polyline(&mut self, points: &[Vec3], colour: Colour, closed: bool) {
+    /// Adds one-pixel segments joining `points` in order; `closed` joins
+    /// the last to the first.
+    pub fn polyline<P: DrawPoint + Copy>(&mut self, points: &[P], colour: Colour, closed: bool) {
         for pair in points.windows(2) {
             self.line(pair[0], pair[1], colour);
         }
@@ -107,13 +149,38 @@ impl Draw {
         }
     }
 
-    /// Adds a segment `width` metres wide in the xy plane (a filled quad).
+    /// Adds a segment `width` metres wide in the xy plane, flat ended.
     pub fn thick_line(&mut self, a: Vec2, b: Vec2, width: f32, colour: Colour) {
-        let Some(along) = (b - a).try_normalize() else {
-            return;
+        self.stroke(&[a, b], false, Stroke::metres(width), colour);
+    }
+
+    /// Adds a thick line through `points` in the xy plane (closed back to
+    /// the first if `closed`): its width in metres or pixels, its joins
+    /// and its end caps as `stroke` says:
+    /// `draw.stroke(&outline, true, Stroke::pixels(3.0), WHITE);`
+    pub fn stroke(&mut self, points: &[Vec2], closed: bool, stroke: Stroke, colour: Colour) {
+        let width = match stroke.width {
+            Width::Metres(metres) => metres,
+            Width::Pixels(pixels) => pixels / self.viewport.pixels_per_metre,
         };
-        let side = along.perp() * (0.5 * width);
-        self.polygon(&[a - side, b - side, b + side, a + side], colour);
+        if let Err(problem) = check_points("stroke", points).and_then(|()| match width.is_finite() && width > 0.0 {
+            true => Ok(()),
+            false => Err(format!(
+                "Draw::stroke: width {:?} is not a finite size above 0",
+                stroke.width
+            )),
+        }) {
+            self.fail(problem);
+            return;
+        }
+        let mut out = core::mem::take(&mut self.scratch);
+        out.clear();
+        let tolerance = self.tolerance();
+        match tessellate::stroke(points, closed, width, stroke.join, stroke.cap, tolerance, &mut out) {
+            Ok(()) => self.push_triangles(&out, colour),
+            Err(error) => self.fail(format!("Draw::stroke: {error}")),
+        }
+        self.scratch = out;
     }
 
     /// Adds a filled axis-aligned rectangle from `min` to `max` in the xy plane.
@@ -121,16 +188,69 @@ impl Draw {
         self.polygon(&[min, Vec2::new(max.x, min.y), max, Vec2::new(min.x, max.y)], colour);
     }
 
-    /// Adds a filled convex polygon in the xy plane (corners in order,
-    /// either winding), as a fan of triangles from the first corner.
+    /// Adds a filled polygon in the xy plane: corners in order, either
+    /// winding, convex or not (a jagged rock), even crossing itself (the
+    /// even-odd rule: a pentagram's centre is left empty).
     pub fn polygon(&mut self, corners: &[Vec2], colour: Colour) {
-        let Some((&first, rest)) = corners.split_first() else {
+        self.polygon_with_holes(corners, &[], colour);
+    }
+
+    /// Adds a filled polygon with holes: `outline`'s corners, less each of
+    /// `holes` (each a ring of corners, either winding).
+    pub fn polygon_with_holes(&mut self, outline: &[Vec2], holes: &[&[Vec2]], colour: Colour) {
+        let checked = check_points("polygon", outline).and_then(|()| {
+            holes
+                .iter()
+                .enumerate()
+                .try_for_each(|(k, hole)| check_points(&format!("polygon's hole {k}"), hole))
+        });
+        if let Err(problem) = checked {
+            self.fail(problem);
             return;
-        };
-        for pair in rest.windows(2) {
+        }
+        if outline.len() < 3 {
+            return;
+        }
+        let mut rings: Vec<&[Vec2]> = Vec::with_capacity(holes.len() + 1);
+        rings.push(outline);
+        rings.extend_from_slice(holes);
+        let mut out = core::mem::take(&mut self.scratch);
+        out.clear();
+        match tessellate::fill(&rings, self.tolerance(), &mut out) {
+            Ok(()) => self.push_triangles(&out, colour),
+            Err(error) => self.fail(format!("Draw::polygon: {error}")),
+        }
+        self.scratch = out;
+    }
+
+    /// The frame's first drawing problem (a NaN corner, a zero width), if
+    /// any: the runner fails the frame with it rather than drawing a
+    /// wrong picture.
+    #[must_use]
+    pub fn problem(&self) -> Option<&str> {
+        self.problem.as_deref()
+    }
+
+    fn fail(&mut self, problem: String) {
+        self.problem.get_or_insert(problem);
+    }
+
+    /// A quarter of a pixel in metres: how closely curves (round joins and
+    /// caps) are followed.
+    fn tolerance(&self) -> f32 {
+        let scale = self.viewport.pixels_per_metre;
+        if scale.is_finite() && scale > 0.0 {
+            0.25 / scale
+        } else {
+            0.01
+        }
+    }
+
+    fn push_triangles(&mut self, triangles: &[[Vec2; 3]], colour: Colour) {
+        for t in triangles {
             extend_batches(&mut self.batches, Shapes::Fills, self.layer, self.triangles.len());
             self.triangles.push(Triangle {
-                corners: [first.extend(0.0), pair[0].extend(0.0), pair[1].extend(0.0)],
+                corners: t.map(|c| c.extend(0.0)),
                 colour,
             });
         }
@@ -145,6 +265,21 @@ impl Draw {
         &mut self.texts[last]
     }
 
+    /// The width and height in pixels of `text` drawn `pixels` high (as
+    /// [`text`](Self::text) draws it): to fit a box or place a column.
+    #[must_use]
+    pub fn measure(&self, text: &str, pixels: f32) -> Vec2 {
+        measure_text(text, pixels)
+    }
+
+    /// The width and height in metres of `text` drawn `metres` high
+    /// ([`Text::size_metres`]) at this frame's scale.
+    #[must_use]
+    pub fn measure_metres(&self, text: &str, metres: f32) -> Vec2 {
+        let scale = self.viewport.pixels_per_metre;
+        measure_text(text, metres * scale) / scale
+    }
+
     /// HUD text written from now on is drawn in `colour` (a legend's entries).
     pub fn colour(&mut self, colour: Colour) {
         self.hud_colours.push((self.hud.len(), colour));
@@ -157,6 +292,7 @@ impl Draw {
         self.batches.clear();
         self.layer = 0;
         self.particle_layer = 0;
+        self.problem = None;
         self.texts.clear();
         self.hud.clear();
         self.hud_colours.clear();

@@ -31,7 +31,7 @@ pub use crate::input::{InputEvent, Key, KeySet, Recording, RecordingError, TickI
 /// game flattens [`RunOptions`] into its own options with the same version.
 pub use clap;
 pub use control::Control;
-pub use draw::{Draw, Viewport};
+pub use draw::{Draw, DrawPoint, Viewport};
 pub use error::{PlaybackError, RunError};
 pub use game::{Game, GameError};
 pub use network::{

@@ -595,6 +595,9 @@ impl<G: Game> FrameSource for GameSession<G> {
         self.game
             .draw(&self.stage, alpha, &mut self.draw)
             .map_err(RunError::Game)?;
+        if let Some(problem) = self.draw.problem() {
+            return Err(RunError::Game(GameError::Message(problem.to_owned())));
+        }
         if !hud {
             self.draw.hud.clear();
             self.draw.hud_colours.clear();

@@ -10,6 +10,7 @@ use glyphon::{
 use super::Gpu;
 use super::overlay::Anchor;
 use super::target::DEPTH_FORMAT;
+use super::text_layout::{LINE_HEIGHT, font_system, lay_out};
 
 /// A game's text as the frame places it: its anchor point in pixels from
 /// the top-left corner.
@@ -29,12 +30,11 @@ struct LaidOut {
     buffer: Buffer,
     text: String,
     size: f32,
+    /// Its anchor, which aligns its lines.
+    anchor: Anchor,
     /// Width and height of the laid-out text, in pixels.
     extent: (f32, f32),
 }
-
-/// DejaVu Sans, shipped with its licence in `assets/fonts/`.
-const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 
 /// glyphon's state for one renderer: fonts, glyph atlas, laid-out text.
 pub(crate) struct Hud {
@@ -59,10 +59,7 @@ pub(crate) struct Hud {
 
 impl Hud {
     pub(crate) fn new(gpu: &Gpu, format: wgpu::TextureFormat, multisample: wgpu::MultisampleState, size: f32) -> Self {
-        let mut db = glyphon::fontdb::Database::new();
-        db.load_font_data(FONT.to_vec());
-        db.set_sans_serif_family("DejaVu Sans");
-        let mut fonts = FontSystem::new_with_locale_and_db("en-US".into(), db);
+        let mut fonts = font_system();
         let cache = Cache::new(&gpu.device);
         let viewport = Viewport::new(&gpu.device, &cache);
         let mut atlas = TextAtlas::new(&gpu.device, &gpu.queue, &cache, format);
@@ -161,11 +158,8 @@ impl Hud {
         let bounds = area.bounds;
         let placed = texts.iter().zip(&self.placed).map(|(text, laid)| {
             let (w, h) = laid.extent;
-            let (left, top) = match text.anchor {
-                Anchor::Centre => (text.x - 0.5 * w, text.y - 0.5 * h),
-                Anchor::TopLeft => (text.x, text.y),
-                Anchor::Top => (text.x - 0.5 * w, text.y),
-            };
+            let (fx, fy) = text.anchor.fractions();
+            let (left, top) = (text.x - fx * w, text.y - fy * h);
             let [r, g, b, a] = text.colour;
             TextArea {
                 buffer: &laid.buffer,
@@ -199,30 +193,28 @@ impl Hud {
         for (k, text) in texts.iter().enumerate() {
             if k == self.placed.len() {
                 self.placed.push(LaidOut {
-                    buffer: Buffer::new(&mut self.fonts, Metrics::new(text.size, text.size * 1.2)),
+                    buffer: Buffer::new(&mut self.fonts, Metrics::new(text.size, text.size * LINE_HEIGHT)),
                     text: String::new(),
                     size: 0.0,
+                    anchor: text.anchor,
                     extent: (0.0, 0.0),
                 });
             }
             let laid = &mut self.placed[k];
-            if laid.text == text.text && laid.size == text.size {
+            if laid.text == text.text && laid.size == text.size && laid.anchor == text.anchor {
                 continue;
             }
             laid.text.clone_from(&text.text);
             laid.size = text.size;
-            let fonts = &mut self.fonts;
-            laid.buffer.set_metrics(Metrics::new(text.size, text.size * 1.2));
-            laid.buffer.set_size(None, None);
-            let attrs = Attrs::new().family(Family::SansSerif);
-            laid.buffer.set_text(&text.text, &attrs, Shaping::Basic, None);
-            laid.buffer.shape_until_scroll(fonts, false);
-            let (mut width, mut height) = (0.0f32, 0.0f32);
-            for run in laid.buffer.layout_runs() {
-                width = width.max(run.line_w);
-                height = height.max(run.line_top + run.line_height);
-            }
-            laid.extent = (width, height);
+            laid.anchor = text.anchor;
+            let extent = lay_out(
+                &mut self.fonts,
+                &mut laid.buffer,
+                &text.text,
+                text.size,
+                text.anchor.align(),
+            );
+            laid.extent = (extent.x, extent.y);
         }
     }
 

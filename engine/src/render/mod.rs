@@ -49,7 +49,10 @@ mod pipeline;
 mod records;
 mod renderer;
 mod splat;
+mod stroke;
 mod target;
+pub(crate) mod tessellate;
+mod text_layout;
 mod trails;
 mod world_lines;
 
@@ -62,7 +65,9 @@ pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff
 pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::RgbaImage;
 pub(crate) use overlay::extend_batches;
-pub use overlay::{Anchor, Batch, Line, Shapes, Text, Triangle};
+pub use overlay::{Anchor, Batch, Line, Shapes, Text, TextUnit, Triangle};
 pub use renderer::Renderer;
+pub use stroke::{Cap, Join, Stroke, Width};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
+pub use text_layout::measure_text;
 pub use trails::Trails;

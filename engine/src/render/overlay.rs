@@ -72,28 +72,89 @@ pub(crate) fn extend_batches(batches: &mut Vec<Batch>, shapes: Shapes, layer: i3
     });
 }
 
-/// Which point of a text's box sits at its position.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Which point of a text's box sits at its position; its lines are
+/// aligned the same way (left, centred or right).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Anchor {
-    /// The centre of the text (default): a title, "YOU WIN".
-    #[default]
-    Centre,
     /// The top-left corner: a label to the right of and below a point.
     TopLeft,
     /// The middle of the top edge: a caption under a point.
     Top,
+    /// The top-right corner: a score in a frame's top-right corner.
+    TopRight,
+    /// The middle of the left edge.
+    Left,
+    /// The centre of the text (default): a title, "YOU WIN".
+    #[default]
+    Centre,
+    /// The middle of the right edge: a column of numbers, right-aligned.
+    Right,
+    /// The bottom-left corner.
+    BottomLeft,
+    /// The middle of the bottom edge: a label above a point.
+    Bottom,
+    /// The bottom-right corner.
+    BottomRight,
 }
 
-/// Text at a place in the world, a size in pixels (it does not scale with
-/// the camera's zoom) and a colour.
+impl Anchor {
+    /// Where the anchor is in the text's box, as fractions of its width
+    /// and height from the top left (`(1, 0)`: the top-right corner).
+    #[must_use]
+    pub fn fractions(self) -> (f32, f32) {
+        let x = match self {
+            Self::TopLeft | Self::Left | Self::BottomLeft => 0.0,
+            Self::Top | Self::Centre | Self::Bottom => 0.5,
+            Self::TopRight | Self::Right | Self::BottomRight => 1.0,
+        };
+        let y = match self {
+            Self::TopLeft | Self::Top | Self::TopRight => 0.0,
+            Self::Left | Self::Centre | Self::Right => 0.5,
+            Self::BottomLeft | Self::Bottom | Self::BottomRight => 1.0,
+        };
+        (x, y)
+    }
+
+    /// How the text's lines are aligned within its box.
+    pub(crate) fn align(self) -> glyphon::cosmic_text::Align {
+        use glyphon::cosmic_text::Align;
+        match self.fractions().0 {
+            0.0 => Align::Left,
+            1.0 => Align::Right,
+            _ => Align::Center,
+        }
+    }
+}
+
+/// What a text's [`size`](Text::size) is measured in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TextUnit {
+    /// Pixels (default): the same size at any zoom and window size, in
+    /// `(0, 1000]`.
+    #[default]
+    Pixels,
+    /// World units (metres): the text scales with the camera's zoom, as
+    /// the world does.
+    Metres,
+    /// A fraction of the frame's height (of the field's, letterboxed): the
+    /// text scales with the window.
+    FrameHeight,
+}
+
+/// Text at a place in the world, a size (in pixels by default, or in world
+/// units or a fraction of the frame's height: [`TextUnit`]) and a colour.
+/// Drawn sizes are capped at 1000 pixels; a text drawn less than a pixel
+/// high is left out.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Text {
     /// The text (several lines with `\n`).
     pub text: String,
     /// Where its [`anchor`](Self::anchor) goes, in world space.
     pub at: Vec3,
-    /// Font size in pixels (default 24).
+    /// Font size, in [`unit`](Self::unit)s (default 24 pixels).
     pub size: f32,
+    /// What `size` is measured in (default [`TextUnit::Pixels`]).
+    pub unit: TextUnit,
     /// Colour, sRGB RGBA (default light grey `[235, 235, 235, 255]`).
     pub colour: [u8; 4],
     /// Which point of the text is at `at` (default [`Anchor::Centre`]).
@@ -108,6 +169,7 @@ impl Text {
             text: text.into(),
             at,
             size: 24.0,
+            unit: TextUnit::Pixels,
             colour: [235, 235, 235, 255],
             anchor: Anchor::Centre,
         }
@@ -116,6 +178,22 @@ impl Text {
     /// Sets the size in pixels.
     pub fn size(&mut self, pixels: f32) -> &mut Self {
         self.size = pixels;
+        self.unit = TextUnit::Pixels;
+        self
+    }
+
+    /// Sets the size in world units (metres): the text zooms with the world.
+    pub fn size_metres(&mut self, metres: f32) -> &mut Self {
+        self.size = metres;
+        self.unit = TextUnit::Metres;
+        self
+    }
+
+    /// Sets the size as a fraction of the frame's height (`0.05`: a
+    /// twentieth): the text grows with the window.
+    pub fn size_of_frame(&mut self, fraction: f32) -> &mut Self {
+        self.size = fraction;
+        self.unit = TextUnit::FrameHeight;
         self
     }
 

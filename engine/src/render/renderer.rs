@@ -21,7 +21,7 @@ use super::frame_view::FrameView;
 use super::hermite::HermiteParticles;
 use super::hud::{Hud, PlacedText};
 use super::line_vertices::{LineVertex, upload_vertices, vertex_buffer};
-use super::overlay::Shapes;
+use super::overlay::{Shapes, TextUnit};
 use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
 use super::records::{Instance, instance_block, instance_buffer_layout, record_buffer, write_records};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
@@ -664,22 +664,41 @@ impl Renderer {
     /// camera (texts behind a 3D camera are left out).
     fn place_texts(&mut self, view: &FrameView<'_>, width: u32, height: u32) -> Result<(), RenderError> {
         self.placed_texts.clear();
+        let matrices = view.camera.matrices(width, height);
+        let rect = view.camera.frame_rect(width, height);
         for (k, text) in view.texts.iter().enumerate() {
-            if !(text.at.is_finite() && text.size.is_finite() && text.size > 0.0 && text.size <= 1000.0) {
+            let most = if text.unit == TextUnit::Pixels {
+                1000.0
+            } else {
+                f32::MAX
+            };
+            if !(text.at.is_finite() && text.size.is_finite() && text.size > 0.0 && text.size <= most) {
                 return Err(RenderError::Config(format!(
-                    "text {k} of the frame ({:?}) has position {} and size {} px: the position must be finite and \
-                     the size in (0, 1000]",
-                    text.text, text.at, text.size
+                    "text {k} of the frame ({:?}) has position {} and size {} ({:?}): the position must be finite \
+                     and the size above 0 (at most 1000 pixels)",
+                    text.text, text.at, text.size, text.unit
                 )));
             }
+            let clip = matrices.view_proj * text.at.extend(1.0);
             let Some(at) = view.camera.pixel_of(text.at, width, height) else {
                 continue;
             };
+            let pixels = match text.unit {
+                TextUnit::Pixels => text.size,
+                // Perspective: smaller with distance, as the world is.
+                TextUnit::Metres => text.size * matrices.pixels_per_unit / clip.w,
+                TextUnit::FrameHeight => text.size * rect.height,
+            };
+            // Less than a pixel high (or a NaN from a degenerate camera):
+            // nothing to see.
+            if pixels.is_nan() || pixels < 1.0 {
+                continue;
+            }
             self.placed_texts.push(PlacedText {
                 text: text.text.clone(),
                 x: at.x,
                 y: at.y,
-                size: text.size,
+                size: pixels.min(1000.0),
                 colour: text.colour,
                 anchor: text.anchor,
             });
