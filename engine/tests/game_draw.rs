@@ -543,3 +543,48 @@ fn concave_and_holed_polygons_and_strokes_in_pixels_reach_the_frame_and_a_nan_is
         "{error}"
     );
 }
+
+/// One green particle of radius 1 m at the origin, hidden or not.
+struct Ghost {
+    visible: bool,
+}
+
+impl Game for Ghost {
+    fn title(&self) -> &str {
+        "ghost"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: 10.0,
+        };
+        stage.background = BLACK;
+        let mut world = tickwork_engine::World::default();
+        let ghost = world.spawn(tickwork_engine::Particle {
+            radius: 1.0,
+            colour: GREEN,
+            ..tickwork_engine::Particle::default()
+        })?;
+        world.set_visible(ghost, self.visible)?;
+        stage.add_world("ghost", world);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_hidden_particle_is_not_drawn() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    for visible in [true, false] {
+        let mut session = GameSession::new(Ghost { visible }, SessionOptions::default()).expect("a session");
+        let mut run =
+            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+        let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+        let centre = at(&image, 0.0, 0.0);
+        if visible {
+            assert!(centre[1] > 150, "drawn: {centre:?}");
+        } else {
+            assert_eq!(centre, BLACK, "hidden");
+        }
+    }
+}

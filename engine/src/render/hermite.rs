@@ -81,7 +81,15 @@ impl HermiteParticles {
                 replaced = true;
             }
             if n > 0 {
-                write_records(gpu, view, n, &mut self.scratch, &self.velocities, velocity_block);
+                write_records(
+                    gpu,
+                    view,
+                    n,
+                    &mut self.scratch,
+                    &self.velocities,
+                    velocity_block,
+                    |_, _| {},
+                );
             }
         }
         replaced

@@ -45,10 +45,24 @@ pub(crate) fn instance_block(particles: &crate::world::Particles, first: usize, 
     }
 }
 
+/// Hidden particles ([`World::set_visible`](crate::World::set_visible))
+/// drawn fully transparent: in place, so the records stay row-aligned with
+/// Hermite's velocities.
+pub(crate) fn hide_instances(world: &crate::world::World, records: &mut [Instance]) {
+    if let Some(hidden) = world.hidden_rows() {
+        for (record, hidden) in records.iter_mut().zip(hidden) {
+            if hidden.0 {
+                record.colour = 0;
+            }
+        }
+    }
+}
+
 /// One record per particle of every world `view` shows, in order, into
 /// `scratch` (reused), then into `buffer`: `block(particles, row, records)`
 /// fills the records of the block of four rows from `row`, in parallel
-/// chunks of [`UPLOAD_CHUNK`] rows for large worlds. The instance records
+/// chunks of [`UPLOAD_CHUNK`] rows for large worlds; `finish(world,
+/// records)` then adjusts a world's records. The instance records
 /// and Hermite's velocities are uploaded through it.
 pub(crate) fn write_records<T: Pod + Default + Send>(
     gpu: &Gpu,
@@ -57,6 +71,7 @@ pub(crate) fn write_records<T: Pod + Default + Send>(
     scratch: &mut Vec<T>,
     buffer: &wgpu::Buffer,
     block: impl Fn(&crate::world::Particles, usize, &mut [T]) + Sync,
+    finish: impl Fn(&crate::world::World, &mut [T]),
 ) {
     scratch.resize(n, T::default());
     let mut offset = 0;
@@ -76,6 +91,7 @@ pub(crate) fn write_records<T: Pod + Default + Send>(
         } else {
             fill(0, out);
         }
+        finish(shown.world, out);
         offset += particles.len();
     }
     gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(scratch));

@@ -23,7 +23,7 @@ use super::hud::{Hud, PlacedText};
 use super::line_vertices::{LineVertex, upload_vertices, vertex_buffer};
 use super::overlay::{Shapes, TextUnit};
 use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
-use super::records::{Instance, instance_block, instance_buffer_layout, record_buffer, write_records};
+use super::records::{Instance, hide_instances, instance_block, instance_buffer_layout, record_buffer, write_records};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::target::FrameBuffers;
 use super::{Gpu, RenderError};
@@ -612,6 +612,7 @@ impl Renderer {
             &mut self.instance_scratch,
             &self.instances,
             instance_block,
+            hide_instances,
         );
     }
 

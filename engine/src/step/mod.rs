@@ -147,6 +147,7 @@ impl World {
             flush_subnormals(self.particles.velocity.blocks_mut());
         }
         self.step_rigid_bodies(t, dt, tick)?;
+        self.turn_headings(dt);
         // Aged once the particles and bodies have stepped (a failed step
         // leaves the lived time, and the dead it would find, for the next),
         // and before the emitters, for whom expiry makes room.

@@ -8,7 +8,7 @@
 //! `Debug` form (their parameters and state: a kinematic paddle's place, a
 //! game's thrust; Rust prints each float as the shortest text that reads
 //! back to the same bits, so the text is as exact as the bits) and the
-//! sensors' last overlaps; the emitters
+//! sensors' last overlaps; 2D headings and visibility; the emitters
 //! (their owed fraction too); the random generator; the integrator's name
 //! and everything it remembers between steps (history, cached
 //! accelerations: `Integrator::visit_state`). Not covered: the angular
@@ -190,6 +190,17 @@ impl World {
         h.u64(self.emitters.len() as u64);
         for emitter in &self.emitters {
             h.debug(emitter);
+        }
+        // Only where there are headings or hidden particles, likewise.
+        if let Some((headings, hidden)) = self.heading_state() {
+            h.u64(headings.len() as u64);
+            for heading in headings {
+                h.debug(heading);
+            }
+            h.u64(hidden.len() as u64);
+            for row in hidden {
+                h.u64(u64::from(row.0));
+            }
         }
         // Only where there are sensors (or their last overlaps), so worlds
         // without them keep the hashes they had.
