@@ -588,3 +588,234 @@ fn a_hidden_particle_is_not_drawn() {
         }
     }
 }
+
+/// A 2 x 2 texture (red, green over blue, white) drawn three ways.
+struct Sprites {
+    texture: tickwork_engine::render::Texture,
+    bad_region: bool,
+}
+
+impl Game for Sprites {
+    fn title(&self) -> &str {
+        "sprites"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: 10.0,
+        };
+        stage.background = BLACK;
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        if self.bad_region {
+            draw.sprite(&self.texture, Vec2::ZERO, Vec2::ONE).region([1, 1, 2, 1]);
+            return Ok(());
+        }
+        // As is, 4 m square, centred at (-5, 0).
+        draw.sprite(&self.texture, Vec2::new(-5.0, 0.0), Vec2::splat(4.0));
+        // Turned a quarter turn counter-clockwise about its centre (3, 0).
+        draw.sprite(&self.texture, Vec2::new(3.0, 0.0), Vec2::splat(4.0))
+            .rotation(core::f32::consts::FRAC_PI_2);
+        // The white texel alone, tinted yellow, its bottom-left corner at (6, 2).
+        draw.sprite(&self.texture, Vec2::new(6.0, 2.0), Vec2::splat(2.0))
+            .region([1, 1, 1, 1])
+            .pivot(Vec2::ZERO)
+            .tint(YELLOW);
+        Ok(())
+    }
+}
+
+#[test]
+fn sprites_are_drawn_placed_turned_tinted_and_cut_from_an_atlas() {
+    use tickwork_engine::render::{RgbaImage, Texture};
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    // Through a PNG file, as a game loads one.
+    let mut png = RgbaImage::new(2, 2);
+    for (x, y, colour) in [(0, 0, RED), (1, 0, GREEN), (0, 1, BLUE), (1, 1, [255, 255, 255, 255])] {
+        png.put_pixel(x, y, tickwork_engine::render::Rgba(colour));
+    }
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sprite-2x2.png");
+    png.save(&path).expect("saved");
+    let texture = Texture::load(&path).expect("a PNG");
+    assert_eq!((texture.width(), texture.height()), (2, 2));
+    let frame = |bad_region| {
+        let game = Sprites {
+            texture: texture.clone(),
+            bad_region,
+        };
+        let mut session = GameSession::new(game, SessionOptions::default()).expect("a session");
+        let mut run =
+            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+        run.frame(&mut session, 1.0 / 60.0, true)
+    };
+    let image = frame(false).expect("a frame");
+    let white = [255, 255, 255, 255];
+    // As is: the texture's top row at the top.
+    assert_eq!(at(&image, -6.0, 1.0), RED);
+    assert_eq!(at(&image, -4.0, 1.0), GREEN);
+    assert_eq!(at(&image, -6.0, -1.0), BLUE);
+    assert_eq!(at(&image, -4.0, -1.0), white);
+    assert_eq!(at(&image, -7.5, 2.5), BLACK, "outside it");
+    // A quarter turn counter-clockwise: the top-left texel goes bottom-left.
+    assert_eq!(at(&image, 2.0, -1.0), RED);
+    assert_eq!(at(&image, 2.0, 1.0), GREEN);
+    assert_eq!(at(&image, 4.0, 1.0), white);
+    assert_eq!(at(&image, 4.0, -1.0), BLUE);
+    // One texel of the atlas, tinted, placed by its bottom-left corner.
+    let tinted = at(&image, 7.0, 3.0);
+    assert!(tinted.iter().zip(YELLOW).all(|(a, b)| a.abs_diff(b) <= 2), "{tinted:?}");
+    assert_eq!(at(&image, 5.5, 3.0), BLACK, "nothing left of its corner");
+    // A region past the texture is an error naming the sprite.
+    let error = frame(true).expect_err("a region past the texture");
+    assert!(
+        error
+            .to_string()
+            .contains("sprite 0 of the frame: its region [1, 1, 2, 1]"),
+        "{error}"
+    );
+    // A file that is not a PNG names itself.
+    let error = Texture::load(path.with_extension("missing")).expect_err("no file");
+    assert!(error.to_string().contains("sprite-2x2.missing"), "{error}");
+}
+
+/// One white particle of radius 1 m at the origin, its world drawn as
+/// sprites of the 2 x 2 texture.
+struct Coins {
+    texture: tickwork_engine::render::Texture,
+}
+
+impl Game for Coins {
+    fn title(&self) -> &str {
+        "coins"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: 10.0,
+        };
+        stage.background = BLACK;
+        let mut world = tickwork_engine::World::default();
+        world.spawn(tickwork_engine::Particle {
+            radius: 1.0,
+            colour: [255, 255, 255, 255],
+            ..tickwork_engine::Particle::default()
+        })?;
+        stage.add_world("coins", world).sprites(&self.texture);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_worlds_particles_can_be_drawn_as_sprites() {
+    use tickwork_engine::render::Texture;
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let pixels = [RED, GREEN, BLUE, [255, 255, 255, 255]].concat();
+    let texture = Texture::from_rgba(2, 2, pixels).expect("2 x 2");
+    let mut session = GameSession::new(Coins { texture }, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    // The sprite is the disc's square (2 m); the white disc is not drawn
+    // over it.
+    assert_eq!(at(&image, -0.5, 0.5), RED);
+    assert_eq!(at(&image, 0.5, 0.5), GREEN);
+    assert_eq!(at(&image, -0.5, -0.5), BLUE);
+    assert_eq!(at(&image, 0.9, 0.9), GREEN, "the square's corner, outside the disc");
+    assert_eq!(at(&image, 1.5, 0.0), BLACK);
+}
+
+/// Every part of the kit in one frame: a layered backdrop, a concave rock,
+/// a stroked path, sprites from an atlas turned and tinted, a world drawn
+/// as sprites, a letterboxed field, and labels on several anchors.
+struct Kit {
+    atlas: tickwork_engine::render::Texture,
+}
+
+impl Game for Kit {
+    fn title(&self) -> &str {
+        "kit"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::Field {
+            center: Vec2::ZERO,
+            size: Vec2::new(16.0, 9.0),
+            fit: tickwork_engine::render::Fit::Letterbox,
+        };
+        stage.background = [20, 20, 30, 255];
+        let mut world = tickwork_engine::World::default();
+        for k in 0..5 {
+            world.spawn(tickwork_engine::Particle {
+                position: glam::Vec3::new(-6.0 + 1.2 * k as f32, -3.0, 0.0),
+                radius: 0.5,
+                colour: [255, 200 - 30 * k as u8, 80, 255],
+                ..tickwork_engine::Particle::default()
+            })?;
+        }
+        stage.add_world("coins", world).sprites(&self.atlas);
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        use tickwork_engine::render::{Anchor, Cap, Join, Stroke};
+        draw.rect(Vec2::new(-8.0, -4.5), Vec2::new(8.0, 4.5), [30, 40, 60, 255]);
+        let rock = [
+            Vec2::new(-6.0, 1.0),
+            Vec2::new(-4.0, 0.5),
+            Vec2::new(-4.5, 2.0),
+            Vec2::new(-3.5, 3.0),
+            Vec2::new(-5.5, 3.5),
+            Vec2::new(-5.0, 2.2),
+        ];
+        draw.polygon(&rock, [120, 110, 100, 255]);
+        let path = [
+            Vec2::new(-2.0, -1.0),
+            Vec2::new(0.0, 2.0),
+            Vec2::new(2.0, -1.0),
+            Vec2::new(4.0, 2.0),
+        ];
+        draw.stroke(
+            &path,
+            false,
+            Stroke::metres(0.3).join(Join::Miter).cap(Cap::Round),
+            GREEN,
+        );
+        draw.sprite(&self.atlas, Vec2::new(5.0, 2.0), Vec2::splat(2.0))
+            .rotation(0.4)
+            .tint([255, 255, 255, 255]);
+        draw.sprite(&self.atlas, Vec2::new(6.5, -1.0), Vec2::splat(1.0))
+            .region([0, 0, 1, 1])
+            .smooth();
+        draw.layer(1);
+        draw.rect(Vec2::new(-8.0, -4.5), Vec2::new(-2.5, -2.0), [0, 0, 0, 160]);
+        draw.text("SCORE 1200", glam::Vec3::new(7.8, 4.3, 0.0))
+            .anchor(Anchor::TopRight)
+            .size_of_frame(0.08);
+        draw.text("left\nand below", glam::Vec3::new(-7.8, 4.3, 0.0))
+            .anchor(Anchor::TopLeft)
+            .size_metres(0.5);
+        draw.text("BOTTOM", glam::Vec3::new(0.0, -4.3, 0.0))
+            .anchor(Anchor::Bottom)
+            .size(12.0);
+        Ok(())
+    }
+}
+
+#[test]
+fn the_game_kit_frame_matches_its_golden_image() {
+    use tickwork_engine::render::{GoldenImages, Texture};
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let pixels = [RED, GREEN, BLUE, [255, 255, 255, 255]].concat();
+    let atlas = Texture::from_rgba(2, 2, pixels).expect("2 x 2");
+    let mut session = GameSession::new(Kit { atlas }, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, 400, 300, renderer_config(session.stage(), 300)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let golden = GoldenImages::new(root.join("assets/golden"), root.join("target/golden"));
+    golden
+        .check("game_kit", &image)
+        .unwrap_or_else(|error| panic!("{error}"));
+}

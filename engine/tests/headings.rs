@@ -82,3 +82,18 @@ fn headings_follow_their_entities_and_are_hashed_only_where_set() {
     assert!(turned.is_visible(e[2]).expect("live"));
     assert_ne!(turned.state_hash(), hash);
 }
+
+#[test]
+fn an_entity_is_drawn_between_its_last_two_positions() {
+    let mut w = World::default();
+    let e = w
+        .spawn(Particle {
+            velocity: Vec3::X,
+            ..Particle::default()
+        })
+        .expect("valid");
+    step(&mut w, 0.5);
+    assert_eq!(w.drawn_position(e, 0.0).expect("live"), Vec3::ZERO);
+    assert_eq!(w.drawn_position(e, 0.5).expect("live"), Vec3::new(0.25, 0.0, 0.0));
+    assert_eq!(w.drawn_position(e, 1.0).expect("live"), Vec3::new(0.5, 0.0, 0.0));
+}

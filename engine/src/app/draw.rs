@@ -6,7 +6,9 @@
 use glam::{Vec2, Vec3};
 
 use crate::render::tessellate;
-use crate::render::{Batch, Line, Shapes, Stroke, Text, Triangle, Width, extend_batches, measure_text};
+use crate::render::{
+    Batch, Line, Shapes, Sprite, Stroke, Text, Texture, Triangle, Width, extend_batches, measure_text,
+};
 use crate::world::Colour;
 
 /// The frame a game draws into: its size and how many pixels a metre is.
@@ -49,6 +51,8 @@ pub struct Draw {
     /// pushed onto the vectors directly are drawn after those batches, on
     /// layer 0.
     pub batches: Vec<Batch>,
+    /// Sprites, ordered with the shapes by `batches`.
+    pub sprites: Vec<Sprite>,
     /// Text placed in the world.
     pub texts: Vec<Text>,
     /// HUD text, top-left (`write!` into it).
@@ -256,6 +260,18 @@ impl Draw {
         }
     }
 
+    /// Adds `texture` drawn `size` metres large centred at `at` (a world
+    /// position: interpolate an entity's with `alpha` as its particle is);
+    /// the returned sprite sets its rotation, pivot, tint, atlas region
+    /// and filtering:
+    /// `draw.sprite(&ship, at, Vec2::splat(1.0)).rotation(heading).tint(RED);`
+    pub fn sprite(&mut self, texture: &Texture, at: Vec2, size: Vec2) -> &mut Sprite {
+        extend_batches(&mut self.batches, Shapes::Sprites, self.layer, self.sprites.len());
+        self.sprites.push(Sprite::new(texture, at, size));
+        let last = self.sprites.len() - 1;
+        &mut self.sprites[last]
+    }
+
     /// Adds `text` centred at `at` (24 px, light grey); the returned text
     /// sets its size, colour and anchor:
     /// `draw.text("YOU WIN", Vec3::ZERO).size(48.0).colour(GREEN);`
@@ -290,6 +306,7 @@ impl Draw {
         self.lines.clear();
         self.triangles.clear();
         self.batches.clear();
+        self.sprites.clear();
         self.layer = 0;
         self.particle_layer = 0;
         self.problem = None;

@@ -606,19 +606,27 @@ impl<G: Game> FrameSource for GameSession<G> {
             Some((first, rest)) => (Some(first), rest),
             None => (None, &[][..]),
         };
+        for shown in &self.stage.worlds {
+            if let Some(texture) = &shown.sprite {
+                particle_sprites(&shown.world, texture, alpha, self.draw.particles_on(), &mut self.draw);
+            }
+        }
         let others: Vec<WorldView<'_>> = rest
             .iter()
             .map(|w| WorldView {
                 world: &w.world,
                 trails: Some(&w.trails),
+                as_sprites: w.sprite.is_some(),
             })
             .collect();
         let view = FrameView {
             trails: first.map(|w| &w.trails),
+            as_sprites: first.is_some_and(|w| w.sprite.is_some()),
             others: &others,
             lines: &self.draw.lines,
             triangles: &self.draw.triangles,
             batches: &self.draw.batches,
+            sprites: &self.draw.sprites,
             particle_layer: self.draw.particles_on(),
             texts: &self.draw.texts,
             hud: &self.draw.hud,
@@ -647,4 +655,31 @@ impl<G: Game> FrameSource for GameSession<G> {
             .collect();
         super::panel::lay_out(ctx, &clock, &rows, chosen);
     }
+}
+
+/// A world's particles as sprites of `texture` on `layer`: each at its
+/// drawn position, as wide as its disc, tinted by its colour, turned by
+/// its heading (if the world has headings).
+fn particle_sprites(
+    world: &crate::world::World,
+    texture: &crate::render::Texture,
+    alpha: f32,
+    layer: i32,
+    draw: &mut Draw,
+) {
+    let p = world.particles();
+    let headings = world.column::<crate::world::Heading>().ok();
+    let previous_layer = draw.current_layer();
+    draw.layer(layer);
+    for row in 0..p.len() {
+        let (from, to) = (p.previous_position.row(row), p.position.row(row));
+        let at = from + (to - from) * alpha;
+        let size = glam::Vec2::splat(2.0 * p.radius[row]);
+        let sprite = draw.sprite(texture, glam::Vec2::new(at.x, at.y), size);
+        sprite.tint(p.colour[row]);
+        if let Some(h) = headings.and_then(|h| h.get(row)) {
+            sprite.rotation(h.interpolated(alpha));
+        }
+    }
+    draw.layer(previous_layer);
 }

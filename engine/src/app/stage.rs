@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::draw::Viewport;
 use crate::clock::{FixedStep, Rate};
-use crate::render::{Camera, Trails};
+use crate::render::{Camera, Texture, Trails};
 use crate::step::SimulationError;
 use crate::world::{Colour, Entity, World, WorldConfig};
 
@@ -87,6 +87,9 @@ pub struct StageWorld {
     pub failure: Option<String>,
     /// The state before the current step, kept under [`OnFailure::Freeze`].
     pub(crate) last_good: Option<crate::world::Snapshot>,
+    /// Its particles drawn as this image, each as wide as its disc, tinted
+    /// by its colour and turned by its heading (default `None`: discs).
+    pub sprite: Option<Texture>,
 }
 
 /// What happens when a world's step fails (an explicit method blowing up
@@ -346,6 +349,7 @@ impl Stage {
             on_failure: OnFailure::Stop,
             failure: None,
             last_good: None,
+            sprite: None,
         });
         let index = self.worlds.len() - 1;
         WorldBuilder { stage: self, index }
@@ -454,6 +458,14 @@ impl WorldBuilder<'_> {
     /// Trails kept `points` long (default 240).
     pub fn trail_length(mut self, points: usize) -> Self {
         self.shown().trails = Trails::new(points);
+        self
+    }
+
+    /// Draws its particles as `texture`, each as wide as its disc, tinted
+    /// by its colour and turned by its heading (a rain of coins, a field
+    /// of asteroids).
+    pub fn sprites(mut self, texture: &Texture) -> Self {
+        self.shown().sprite = Some(texture.clone());
         self
     }
 

@@ -3,6 +3,7 @@
 
 use super::camera::Camera;
 use super::overlay::{Batch, Line, Text, Triangle};
+use super::sprite::Sprite;
 use super::trails::Trails;
 use crate::world::World;
 
@@ -18,6 +19,8 @@ pub struct FrameView<'a> {
     pub camera: Camera,
     /// Trails to draw, if any.
     pub trails: Option<&'a Trails>,
+    /// `world`'s particles are drawn as sprites (in `sprites`), not discs.
+    pub as_sprites: bool,
     /// More worlds drawn in the same frame, after `world` (an integrator
     /// race: one world per method, side by side or overlaid).
     pub others: &'a [WorldView<'a>],
@@ -29,6 +32,8 @@ pub struct FrameView<'a> {
     /// covers are drawn after the batches, on layer 0 (all of them, fills
     /// first, when there are no batches).
     pub batches: &'a [Batch],
+    /// Sprites (a game's images), ordered by `batches` with the shapes.
+    pub sprites: &'a [Sprite],
     /// The worlds are drawn after the shapes of this layer (default 0).
     pub particle_layer: i32,
     /// Text placed in the world, drawn last.
@@ -50,10 +55,12 @@ impl<'a> FrameView<'a> {
             alpha,
             camera,
             trails: None,
+            as_sprites: false,
             others: &[],
             lines: &[],
             triangles: &[],
             batches: &[],
+            sprites: &[],
             particle_layer: 0,
             texts: &[],
             hud: "",
@@ -66,6 +73,7 @@ impl<'a> FrameView<'a> {
         std::iter::once(WorldView {
             world: self.world,
             trails: self.trails,
+            as_sprites: self.as_sprites,
         })
         .chain(self.others.iter().copied())
     }
@@ -78,4 +86,7 @@ pub struct WorldView<'a> {
     pub world: &'a World,
     /// Its trails, if any.
     pub trails: Option<&'a Trails>,
+    /// Its particles are drawn as sprites (in the frame's `sprites`), not
+    /// discs.
+    pub as_sprites: bool,
 }

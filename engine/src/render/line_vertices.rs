@@ -30,9 +30,14 @@ pub(crate) fn upload_vertices(gpu: &Gpu, vertices: &[LineVertex], buffer: &mut w
 
 /// An empty vertex buffer for `vertices` line vertices (at least one).
 pub(crate) fn vertex_buffer(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
+    vertex_buffer_of::<LineVertex>(device, vertices)
+}
+
+/// An empty vertex buffer for `vertices` vertices of type `T` (at least one).
+pub(crate) fn vertex_buffer_of<T>(device: &wgpu::Device, vertices: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("tickwork lines"),
-        size: (vertices.max(1) * std::mem::size_of::<LineVertex>()) as u64,
+        label: Some("tickwork vertices"),
+        size: (vertices.max(1) * std::mem::size_of::<T>()) as u64,
         usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })

@@ -35,10 +35,12 @@ pub enum Shapes {
     Fills,
     /// Line segments.
     Lines,
+    /// Sprites.
+    Sprites,
 }
 
 /// A run of shapes of one kind drawn one after the other on one layer:
-/// items `start..end` of the frame's triangles or lines. A frame's batches,
+/// items `start..end` of the frame's triangles, lines or sprites. A frame's batches,
 /// in the order they were drawn, are what makes a fill drawn after a line
 /// cover it (and the other way round), whatever their kinds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -45,11 +45,17 @@ pub(crate) fn instance_block(particles: &crate::world::Particles, first: usize, 
     }
 }
 
-/// Hidden particles ([`World::set_visible`](crate::World::set_visible))
-/// drawn fully transparent: in place, so the records stay row-aligned with
-/// Hermite's velocities.
-pub(crate) fn hide_instances(world: &crate::world::World, records: &mut [Instance]) {
-    if let Some(hidden) = world.hidden_rows() {
+/// Hidden particles ([`World::set_visible`](crate::World::set_visible)),
+/// and those of a world drawn as sprites, drawn fully transparent: in
+/// place, so the records stay row-aligned with Hermite's velocities.
+pub(crate) fn hide_instances(shown: &super::frame_view::WorldView<'_>, records: &mut [Instance]) {
+    if shown.as_sprites {
+        for record in records.iter_mut() {
+            record.colour = 0;
+        }
+        return;
+    }
+    if let Some(hidden) = shown.world.hidden_rows() {
         for (record, hidden) in records.iter_mut().zip(hidden) {
             if hidden.0 {
                 record.colour = 0;
@@ -71,7 +77,7 @@ pub(crate) fn write_records<T: Pod + Default + Send>(
     scratch: &mut Vec<T>,
     buffer: &wgpu::Buffer,
     block: impl Fn(&crate::world::Particles, usize, &mut [T]) + Sync,
-    finish: impl Fn(&crate::world::World, &mut [T]),
+    finish: impl Fn(&super::frame_view::WorldView<'_>, &mut [T]),
 ) {
     scratch.resize(n, T::default());
     let mut offset = 0;
@@ -91,7 +97,7 @@ pub(crate) fn write_records<T: Pod + Default + Send>(
         } else {
             fill(0, out);
         }
-        finish(shown.world, out);
+        finish(&shown, out);
         offset += particles.len();
     }
     gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(scratch));

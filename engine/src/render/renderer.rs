@@ -25,6 +25,7 @@ use super::overlay::{Shapes, TextUnit};
 use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
 use super::records::{Instance, hide_instances, instance_block, instance_buffer_layout, record_buffer, write_records};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
+use super::sprites::Sprites;
 use super::target::FrameBuffers;
 use super::{Gpu, RenderError};
 use crate::interpolation::Interpolation;
@@ -92,6 +93,8 @@ pub struct Renderer {
     particle_layer: i32,
     /// Where a letterboxed camera draws (`None`: the whole frame).
     letterbox: Option<FrameRect>,
+    /// The game's sprites.
+    sprites: Sprites,
     /// The frame's texts in pixels, for the HUD.
     placed_texts: Vec<PlacedText>,
     instance_scratch: Vec<Instance>,
@@ -214,6 +217,7 @@ impl Renderer {
         let line_buffer = vertex_buffer(device, 1024);
         let triangle_buffer = vertex_buffer(device, 1024);
         let hud = Hud::new(gpu, format, multisample, config.hud_size);
+        let sprites = Sprites::new(device, &line_layout, format, config.samples);
         // WebGL2 has no compute: no splat there, every particle a quad.
         let splat = gpu
             .adapter
@@ -256,6 +260,7 @@ impl Renderer {
             shape_calls: Vec::new(),
             particle_layer: 0,
             letterbox: None,
+            sprites,
             placed_texts: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
@@ -374,6 +379,7 @@ impl Renderer {
         self.upload_lines(gpu);
         self.build_triangles(view)?;
         self.upload_triangles(gpu);
+        self.sprites.prepare(gpu, view.sprites)?;
         self.order_shapes(view)?;
         self.place_texts(view, buffers.width, buffers.height)?;
         self.hud
@@ -482,11 +488,18 @@ impl Renderer {
 
     /// One run of the frame's fills or lines.
     fn draw_shapes(&self, pass: &mut wgpu::RenderPass<'_>, call: &ShapeCall, single: bool) {
+        if call.shapes == Shapes::Sprites {
+            pass.set_bind_group(0, &self.line_bind_group, &[]);
+            self.sprites
+                .draw(pass, call.vertices.start as usize..call.vertices.end as usize, single);
+            return;
+        }
         let (pipeline, buffer) = match (call.shapes, single) {
             (Shapes::Fills, true) => (&self.triangle_pipeline_single, &self.triangle_buffer),
             (Shapes::Fills, false) => (&self.triangle_pipeline, &self.triangle_buffer),
-            (Shapes::Lines, true) => (&self.line_pipeline_single, &self.line_buffer),
-            (Shapes::Lines, false) => (&self.line_pipeline, &self.line_buffer),
+            // Sprites returned above.
+            (Shapes::Lines | Shapes::Sprites, true) => (&self.line_pipeline_single, &self.line_buffer),
+            (Shapes::Lines | Shapes::Sprites, false) => (&self.line_pipeline, &self.line_buffer),
         };
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.line_bind_group, &[]);
@@ -500,8 +513,8 @@ impl Renderer {
     fn order_shapes(&mut self, view: &FrameView<'_>) -> Result<(), RenderError> {
         self.shape_calls.clear();
         self.particle_layer = view.particle_layer;
-        let (fills, lines) = (view.triangles.len(), view.lines.len());
-        let (mut fills_drawn, mut lines_drawn) = (0, 0);
+        let (fills, lines, sprites) = (view.triangles.len(), view.lines.len(), view.sprites.len());
+        let (mut fills_drawn, mut lines_drawn, mut sprites_drawn) = (0, 0, 0);
         let world = self.world_line_vertices as usize;
         let vertices = |range: Range<usize>| {
             u32::try_from(range.start).unwrap_or(u32::MAX)..u32::try_from(range.end).unwrap_or(u32::MAX)
@@ -510,6 +523,7 @@ impl Renderer {
             let (len, kind) = match batch.shapes {
                 Shapes::Fills => (fills, "triangles"),
                 Shapes::Lines => (lines, "lines"),
+                Shapes::Sprites => (sprites, "sprites"),
             };
             if batch.start > batch.end || batch.end > len {
                 return Err(RenderError::Config(format!(
@@ -525,6 +539,11 @@ impl Renderer {
                 Shapes::Lines => {
                     lines_drawn = lines_drawn.max(batch.end);
                     world + batch.start * 2..world + batch.end * 2
+                }
+                // Sprite calls count sprites, not vertices.
+                Shapes::Sprites => {
+                    sprites_drawn = sprites_drawn.max(batch.end);
+                    batch.start..batch.end
                 }
             };
             self.shape_calls.push(ShapeCall {
@@ -545,6 +564,13 @@ impl Renderer {
                 shapes: Shapes::Lines,
                 layer: 0,
                 vertices: vertices(world + lines_drawn * 2..world + lines * 2),
+            });
+        }
+        if sprites_drawn < sprites {
+            self.shape_calls.push(ShapeCall {
+                shapes: Shapes::Sprites,
+                layer: 0,
+                vertices: vertices(sprites_drawn..sprites),
             });
         }
         // A stable sort: the order drawn is kept within a layer.

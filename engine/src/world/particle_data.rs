@@ -55,6 +55,22 @@ impl World {
         Ok(self.particles.position.row(self.row(entity)?).into())
     }
 
+    /// Where an entity is drawn a frame `alpha` of the way from the last
+    /// step's start to its end (its previous position lerped to its
+    /// current one, as the renderer draws its particle): where a game puts
+    /// a sprite or a label that moves with it.
+    ///
+    /// # Errors
+    /// [`EntityError`] for a handle that names no live entity.
+    pub fn drawn_position(&self, entity: Entity, alpha: f32) -> Result<Vec3, EntityError> {
+        let row = self.row(entity)?;
+        let (from, to) = (
+            self.particles.previous_position.row(row),
+            self.particles.position.row(row),
+        );
+        Ok((from + (to - from) * alpha).into())
+    }
+
     /// An entity's velocity.
     ///
     /// # Errors
