@@ -819,3 +819,43 @@ fn the_game_kit_frame_matches_its_golden_image() {
         .check("game_kit", &image)
         .unwrap_or_else(|error| panic!("{error}"));
 }
+
+/// A red block far larger than the frame, clipped to a 4 m square, then a
+/// green bar after the clip is lifted.
+struct Clipped;
+
+impl Game for Clipped {
+    fn title(&self) -> &str {
+        "clipped"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+        stage.camera = Camera::TwoD {
+            center: Vec2::ZERO,
+            height: 10.0,
+        };
+        stage.background = BLACK;
+        Ok(())
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        draw.clip(Some((Vec2::new(-2.0, -2.0), Vec2::new(2.0, 2.0))));
+        draw.rect(Vec2::splat(-100.0), Vec2::splat(100.0), RED);
+        draw.clip(None);
+        draw.rect(Vec2::new(5.0, -4.0), Vec2::new(9.0, 4.0), GREEN);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_clip_rectangle_keeps_shapes_inside_it_until_lifted() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let mut session = GameSession::new(Clipped, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    // 4 m at 10 px a metre: columns 80..120 on the middle row.
+    let red: Vec<u32> = (0..WIDTH).filter(|&x| image.get_pixel(x, 50).0 == RED).collect();
+    assert_eq!(red, (80..120).collect::<Vec<_>>());
+    assert_eq!(at(&image, 0.0, 3.0), BLACK, "above the clip");
+    assert_eq!(at(&image, 7.0, 0.0), GREEN, "after the clip is lifted");
+}

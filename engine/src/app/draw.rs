@@ -62,6 +62,7 @@ pub struct Draw {
     viewport: Viewport,
     layer: i32,
     particle_layer: i32,
+    clip: Option<(Vec2, Vec2)>,
     /// The first problem a call met this frame.
     problem: Option<String>,
     /// Tessellated triangles, reused.
@@ -113,6 +114,15 @@ impl Draw {
         self.layer = layer;
     }
 
+    /// Shapes and sprites added from now on are drawn only inside the
+    /// world rectangle from `min` to `max` (a scrolling panel, a minimap);
+    /// `None` lifts the clip. Each frame starts unclipped. (A letterboxed
+    /// [`Camera::Field`](crate::render::Camera::Field) clips to its field
+    /// by itself.)
+    pub fn clip(&mut self, rect: Option<(Vec2, Vec2)>) {
+        self.clip = rect;
+    }
+
     /// The layer shapes are being added on.
     #[must_use]
     pub fn current_layer(&self) -> i32 {
@@ -134,7 +144,13 @@ impl Draw {
     /// Adds a segment from `a` to `b`, one pixel wide (a `Vec2` lies on
     /// the z = 0 plane, as every 2D call's points do).
     pub fn line(&mut self, a: impl DrawPoint, b: impl DrawPoint, colour: Colour) {
-        extend_batches(&mut self.batches, Shapes::Lines, self.layer, self.lines.len());
+        extend_batches(
+            &mut self.batches,
+            Shapes::Lines,
+            self.layer,
+            self.clip,
+            self.lines.len(),
+        );
         self.lines.push(Line {
             a: a.point(),
             b: b.point(),
@@ -252,7 +268,13 @@ impl Draw {
 
     fn push_triangles(&mut self, triangles: &[[Vec2; 3]], colour: Colour) {
         for t in triangles {
-            extend_batches(&mut self.batches, Shapes::Fills, self.layer, self.triangles.len());
+            extend_batches(
+                &mut self.batches,
+                Shapes::Fills,
+                self.layer,
+                self.clip,
+                self.triangles.len(),
+            );
             self.triangles.push(Triangle {
                 corners: t.map(|c| c.extend(0.0)),
                 colour,
@@ -266,7 +288,13 @@ impl Draw {
     /// and filtering:
     /// `draw.sprite(&ship, at, Vec2::splat(1.0)).rotation(heading).tint(RED);`
     pub fn sprite(&mut self, texture: &Texture, at: Vec2, size: Vec2) -> &mut Sprite {
-        extend_batches(&mut self.batches, Shapes::Sprites, self.layer, self.sprites.len());
+        extend_batches(
+            &mut self.batches,
+            Shapes::Sprites,
+            self.layer,
+            self.clip,
+            self.sprites.len(),
+        );
         self.sprites.push(Sprite::new(texture, at, size));
         let last = self.sprites.len() - 1;
         &mut self.sprites[last]
@@ -309,6 +337,7 @@ impl Draw {
         self.sprites.clear();
         self.layer = 0;
         self.particle_layer = 0;
+        self.clip = None;
         self.problem = None;
         self.texts.clear();
         self.hud.clear();

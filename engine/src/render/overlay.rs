@@ -6,7 +6,7 @@
 //! and text last, over everything. They are few and built on the CPU each
 //! frame.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// A line segment in world space, drawn one pixel wide.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,7 +43,7 @@ pub enum Shapes {
 /// items `start..end` of the frame's triangles, lines or sprites. A frame's batches,
 /// in the order they were drawn, are what makes a fill drawn after a line
 /// cover it (and the other way round), whatever their kinds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Batch {
     /// Triangles or lines.
     pub shapes: Shapes,
@@ -53,14 +53,24 @@ pub struct Batch {
     pub start: usize,
     /// One past the last item.
     pub end: usize,
+    /// The world rectangle `(min, max)` (on the z = 0 plane) outside which
+    /// nothing of the batch is drawn (default `None`: no clip).
+    pub clip: Option<(Vec2, Vec2)>,
 }
 
 /// Adds item `index` of kind `shapes` on `layer` to `batches`: to the last
 /// batch where it continues it, else as a new batch.
-pub(crate) fn extend_batches(batches: &mut Vec<Batch>, shapes: Shapes, layer: i32, index: usize) {
+pub(crate) fn extend_batches(
+    batches: &mut Vec<Batch>,
+    shapes: Shapes,
+    layer: i32,
+    clip: Option<(Vec2, Vec2)>,
+    index: usize,
+) {
     if let Some(last) = batches.last_mut()
         && last.shapes == shapes
         && last.layer == layer
+        && last.clip == clip
         && last.end == index
     {
         last.end = index + 1;
@@ -71,6 +81,7 @@ pub(crate) fn extend_batches(batches: &mut Vec<Batch>, shapes: Shapes, layer: i3
         layer,
         start: index,
         end: index + 1,
+        clip,
     });
 }
 

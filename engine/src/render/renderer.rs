@@ -95,6 +95,11 @@ pub struct Renderer {
     letterbox: Option<FrameRect>,
     /// The game's sprites.
     sprites: Sprites,
+    /// Where this frame draws, as a scissor `[x, y, width, height]` (the
+    /// letterbox's rectangle, or the whole frame).
+    frame_scissor: [u32; 4],
+    /// This frame's size in pixels.
+    frame_size: (u32, u32),
     /// The frame's texts in pixels, for the HUD.
     placed_texts: Vec<PlacedText>,
     instance_scratch: Vec<Instance>,
@@ -261,6 +266,8 @@ impl Renderer {
             particle_layer: 0,
             letterbox: None,
             sprites,
+            frame_scissor: [0, 0, 1, 1],
+            frame_size: (1, 1),
             placed_texts: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
@@ -312,6 +319,11 @@ impl Renderer {
         } = view.camera.matrices(buffers.width, buffers.height);
         let rect = view.camera.frame_rect(buffers.width, buffers.height);
         self.letterbox = (rect != FrameRect::whole(buffers.width, buffers.height)).then_some(rect);
+        self.frame_size = (buffers.width.max(1), buffers.height.max(1));
+        self.frame_scissor = match self.letterbox {
+            Some(r) => [r.x as u32, r.y as u32, r.width as u32, r.height as u32],
+            None => [0, 0, self.frame_size.0, self.frame_size.1],
+        };
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
         let dt = match self.config.interpolation {
@@ -452,6 +464,7 @@ impl Renderer {
                 shapes: Shapes::Lines,
                 layer: self.particle_layer,
                 vertices: 0..self.world_line_vertices,
+                scissor: None,
             };
             self.draw_shapes(&mut pass, &world_lines, single);
         }
@@ -486,8 +499,38 @@ impl Renderer {
         self.hud.render(&mut pass);
     }
 
-    /// One run of the frame's fills or lines.
+    /// One run of the frame's fills, lines or sprites, clipped as it asks.
     fn draw_shapes(&self, pass: &mut wgpu::RenderPass<'_>, call: &ShapeCall, single: bool) {
+        let Some([x, y, w, h]) = call.scissor else {
+            self.draw_unclipped(pass, call, single);
+            return;
+        };
+        if w == 0 || h == 0 {
+            return;
+        }
+        pass.set_scissor_rect(x, y, w, h);
+        self.draw_unclipped(pass, call, single);
+        let [x, y, w, h] = self.frame_scissor;
+        pass.set_scissor_rect(x, y, w, h);
+    }
+
+    /// The pixel rectangle of the world rectangle `clip` in this frame,
+    /// within where the camera draws.
+    fn scissor(&self, view: &FrameView<'_>, (min, max): (glam::Vec2, glam::Vec2)) -> [u32; 4] {
+        let [fx, fy, fw, fh] = self.frame_scissor;
+        let (width, height) = (self.frame_size.0, self.frame_size.1);
+        let corner = |p: glam::Vec2| view.camera.pixel_of(p.extend(0.0), width, height);
+        let (Some(a), Some(b)) = (corner(min), corner(max)) else {
+            return [fx, fy, 0, 0];
+        };
+        let (lo, hi) = (a.min(b), a.max(b));
+        let clamp = |v: f32, from: u32, to: u32| (v.round().max(from as f32).min(to as f32)) as u32;
+        let (x0, x1) = (clamp(lo.x, fx, fx + fw), clamp(hi.x, fx, fx + fw));
+        let (y0, y1) = (clamp(lo.y, fy, fy + fh), clamp(hi.y, fy, fy + fh));
+        [x0, y0, x1 - x0, y1 - y0]
+    }
+
+    fn draw_unclipped(&self, pass: &mut wgpu::RenderPass<'_>, call: &ShapeCall, single: bool) {
         if call.shapes == Shapes::Sprites {
             pass.set_bind_group(0, &self.line_bind_group, &[]);
             self.sprites
@@ -550,6 +593,7 @@ impl Renderer {
                 shapes: batch.shapes,
                 layer: batch.layer,
                 vertices: vertices(range),
+                scissor: batch.clip.map(|clip| self.scissor(view, clip)),
             });
         }
         if fills_drawn < fills {
@@ -557,6 +601,7 @@ impl Renderer {
                 shapes: Shapes::Fills,
                 layer: 0,
                 vertices: vertices(fills_drawn * 3..fills * 3),
+                scissor: None,
             });
         }
         if lines_drawn < lines {
@@ -564,6 +609,7 @@ impl Renderer {
                 shapes: Shapes::Lines,
                 layer: 0,
                 vertices: vertices(world + lines_drawn * 2..world + lines * 2),
+                scissor: None,
             });
         }
         if sprites_drawn < sprites {
@@ -571,6 +617,7 @@ impl Renderer {
                 shapes: Shapes::Sprites,
                 layer: 0,
                 vertices: vertices(sprites_drawn..sprites),
+                scissor: None,
             });
         }
         // A stable sort: the order drawn is kept within a layer.
@@ -758,10 +805,12 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
 }
 
 /// One draw of a run of the frame's shapes: which kind, on which layer,
-/// which vertices of its buffer.
+/// which vertices of its buffer (sprites: which sprites), and the pixel
+/// rectangle `[x, y, width, height]` it is clipped to, if any.
 #[derive(Clone, Debug)]
 struct ShapeCall {
     shapes: Shapes,
     layer: i32,
     vertices: Range<u32>,
+    scissor: Option<[u32; 4]>,
 }
