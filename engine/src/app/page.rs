@@ -195,6 +195,10 @@ impl<G: Game> FrameSource for PageRun<G> {
         self.session.takes_input()
     }
 
+    fn claimed_keys(&self) -> crate::input::KeySet {
+        self.session.claimed_keys()
+    }
+
     fn input(&mut self, event: crate::input::InputEvent, arrival: f64) {
         self.session.input(event, arrival);
     }

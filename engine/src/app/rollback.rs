@@ -41,9 +41,9 @@ pub struct SavedTick<G> {
 /// key names and leaves out an absent pointer, so its size varies).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WireInput {
-    held: u32,
-    pressed: u32,
-    released: u32,
+    held: u64,
+    pressed: u64,
+    released: u64,
     /// The pointer's bits, so that GGRS's comparison of a prediction with
     /// the real input is of bits (as `==` on floats is not: `-0.0 == 0.0`
     /// would keep a prediction that runs differently, and NaN would never

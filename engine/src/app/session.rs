@@ -557,6 +557,10 @@ impl<G: Game> FrameSource for GameSession<G> {
         true
     }
 
+    fn claimed_keys(&self) -> crate::input::KeySet {
+        self.stage.claimed_keys
+    }
+
     fn input(&mut self, event: InputEvent, arrival: f64) {
         if matches!(self.mode, InputMode::Live { .. }) {
             self.queue.push(event, arrival);

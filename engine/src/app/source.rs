@@ -4,7 +4,7 @@
 
 use super::control::Control;
 use super::error::RunError;
-use crate::input::InputEvent as Event;
+use crate::input::{InputEvent as Event, KeySet};
 use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
 
@@ -35,6 +35,13 @@ pub trait FrameSource {
     /// the mouse to the camera. Default: not taken.
     fn takes_input(&self) -> bool {
         false
+    }
+
+    /// The runner's keys the source takes for itself while it takes input
+    /// (see [`Stage::claimed_keys`](super::Stage)); the others stay the
+    /// runner's. Default: none.
+    fn claimed_keys(&self) -> KeySet {
+        KeySet::EMPTY
     }
 
     /// An input event that arrived at `arrival` in the coming frame (0 at

@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::draw::Viewport;
 use crate::clock::{FixedStep, Rate};
+use crate::input::KeySet;
 use crate::render::{Camera, Texture, Trails};
 use crate::step::SimulationError;
 use crate::world::{Colour, Entity, World, WorldConfig};
@@ -256,6 +257,12 @@ pub struct Stage {
     pub(crate) settings: Settings,
     /// The last frame drawn's size and scale (see [`Stage::viewport`]).
     pub(crate) viewport: Viewport,
+    /// The runner's keys this game takes for itself (default none): P
+    /// (pause), Tab and 1-9 (integrator), F1 (panel), F5 (restart), F12
+    /// (screenshot), Escape (quit). A claimed key reaches the game; its
+    /// control is then Ctrl and the key (Ctrl+Escape quits). Every other
+    /// [`Key`](crate::input::Key) is the game's anyway.
+    pub claimed_keys: KeySet,
 }
 
 impl Default for Stage {
@@ -274,6 +281,7 @@ impl Default for Stage {
             hermite: false,
             settings: Settings::default(),
             viewport: Viewport::default(),
+            claimed_keys: KeySet::EMPTY,
         }
     }
 }

@@ -4,10 +4,13 @@ use core::fmt;
 
 use serde::{Deserialize, Serialize};
 
-/// The keys a game can read; mouse buttons are keys too (held and pressed
-/// alike). Keys outside this set drive the runner's controls (P pause,
-/// Period step, `+`/`-` time scale, Tab and 1-9 integrator, F1 panel, F5
-/// restart, F12 screenshot, Escape quit).
+/// The keys a game can read: every letter and digit, the arrows, Space,
+/// Enter, Shift, Escape, Tab, Backspace and F1 to F12; mouse buttons are
+/// keys too (held and pressed alike). While a game takes input these are
+/// its own, and the runner's controls (P pause, Period step, `+`/`-` time
+/// scale, Tab and 1-9 integrator, F1 panel, F5 restart, F12 screenshot,
+/// Escape quit) are reached with Ctrl held (Ctrl is never a game key);
+/// without a game (a scene's viewer) they need no Ctrl.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[allow(missing_docs)]
 pub enum Key {
@@ -32,11 +35,51 @@ pub enum Key {
     MouseLeft,
     MouseRight,
     MouseMiddle,
+    B,
+    G,
+    H,
+    I,
+    J,
+    K,
+    L,
+    M,
+    N,
+    O,
+    P,
+    T,
+    U,
+    V,
+    Y,
+    Digit0,
+    Digit1,
+    Digit2,
+    Digit3,
+    Digit4,
+    Digit5,
+    Digit6,
+    Digit7,
+    Digit8,
+    Digit9,
+    Escape,
+    Tab,
+    Backspace,
+    F1,
+    F2,
+    F3,
+    F4,
+    F5,
+    F6,
+    F7,
+    F8,
+    F9,
+    F10,
+    F11,
+    F12,
 }
 
 impl Key {
     /// Every key, in bit order.
-    pub const ALL: [Key; 21] = [
+    pub const ALL: [Key; 61] = [
         Key::Left,
         Key::Right,
         Key::Up,
@@ -58,17 +101,57 @@ impl Key {
         Key::MouseLeft,
         Key::MouseRight,
         Key::MouseMiddle,
+        Key::B,
+        Key::G,
+        Key::H,
+        Key::I,
+        Key::J,
+        Key::K,
+        Key::L,
+        Key::M,
+        Key::N,
+        Key::O,
+        Key::P,
+        Key::T,
+        Key::U,
+        Key::V,
+        Key::Y,
+        Key::Digit0,
+        Key::Digit1,
+        Key::Digit2,
+        Key::Digit3,
+        Key::Digit4,
+        Key::Digit5,
+        Key::Digit6,
+        Key::Digit7,
+        Key::Digit8,
+        Key::Digit9,
+        Key::Escape,
+        Key::Tab,
+        Key::Backspace,
+        Key::F1,
+        Key::F2,
+        Key::F3,
+        Key::F4,
+        Key::F5,
+        Key::F6,
+        Key::F7,
+        Key::F8,
+        Key::F9,
+        Key::F10,
+        Key::F11,
+        Key::F12,
     ];
 
-    fn bit(self) -> u32 {
-        1 << (self as u32)
+    fn bit(self) -> u64 {
+        1 << (self as u64)
     }
 }
 
 /// A set of [`Key`]s (a bit mask), written in recordings as a list of names.
 #[derive(Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(from = "Vec<Key>", into = "Vec<Key>")]
-pub struct KeySet(u32);
+pub struct KeySet(u64);
 
 impl KeySet {
     /// No keys.
@@ -99,14 +182,14 @@ impl KeySet {
     /// The set as a bit mask, bit `k` for the key numbered `k` (a fixed-size
     /// form for the network).
     #[must_use]
-    pub fn bits(self) -> u32 {
+    pub fn bits(self) -> u64 {
         self.0
     }
 
     /// The set of a bit mask from [`bits`](Self::bits); bits that name no
     /// key are dropped.
     #[must_use]
-    pub fn from_bits(bits: u32) -> Self {
+    pub fn from_bits(bits: u64) -> Self {
         let known = Key::ALL.iter().fold(0, |mask, key| mask | key.bit());
         Self(bits & known)
     }

@@ -56,6 +56,38 @@ pub(super) fn key_action(logical: &Key, physical: PhysicalKey) -> Option<KeyActi
     Some(KeyAction::Control(control))
 }
 
+/// Whether `key` has a control of the runner's when pressed without Ctrl
+/// (it reaches a game only if the game claims it).
+pub(super) fn runner_owned(key: GameKey) -> bool {
+    matches!(
+        key,
+        GameKey::P
+            | GameKey::Tab
+            | GameKey::Escape
+            | GameKey::F1
+            | GameKey::F5
+            | GameKey::F12
+            | GameKey::Digit1
+            | GameKey::Digit2
+            | GameKey::Digit3
+            | GameKey::Digit4
+            | GameKey::Digit5
+            | GameKey::Digit6
+            | GameKey::Digit7
+            | GameKey::Digit8
+            | GameKey::Digit9
+    )
+}
+
+/// The game key `physical` gives a source that takes input (`takes_input`)
+/// and claimed `claimed` of the runner's keys; `None` where the key is the
+/// runner's.
+pub(super) fn game_key_for(physical: PhysicalKey, takes_input: bool, claimed: crate::input::KeySet) -> Option<GameKey> {
+    let key = game_key(physical)?;
+    let taken = !runner_owned(key) || claimed.contains(key);
+    (takes_input && taken).then_some(key)
+}
+
 /// The game key of a physical key, if it is one.
 pub(super) fn game_key(key: PhysicalKey) -> Option<GameKey> {
     let PhysicalKey::Code(code) = key else {
@@ -80,6 +112,46 @@ pub(super) fn game_key(key: PhysicalKey) -> Option<GameKey> {
         KeyCode::KeyZ => GameKey::Z,
         KeyCode::KeyX => GameKey::X,
         KeyCode::KeyC => GameKey::C,
+        KeyCode::KeyB => GameKey::B,
+        KeyCode::KeyG => GameKey::G,
+        KeyCode::KeyH => GameKey::H,
+        KeyCode::KeyI => GameKey::I,
+        KeyCode::KeyJ => GameKey::J,
+        KeyCode::KeyK => GameKey::K,
+        KeyCode::KeyL => GameKey::L,
+        KeyCode::KeyM => GameKey::M,
+        KeyCode::KeyN => GameKey::N,
+        KeyCode::KeyO => GameKey::O,
+        KeyCode::KeyP => GameKey::P,
+        KeyCode::KeyT => GameKey::T,
+        KeyCode::KeyU => GameKey::U,
+        KeyCode::KeyV => GameKey::V,
+        KeyCode::KeyY => GameKey::Y,
+        KeyCode::Digit0 => GameKey::Digit0,
+        KeyCode::Digit1 => GameKey::Digit1,
+        KeyCode::Digit2 => GameKey::Digit2,
+        KeyCode::Digit3 => GameKey::Digit3,
+        KeyCode::Digit4 => GameKey::Digit4,
+        KeyCode::Digit5 => GameKey::Digit5,
+        KeyCode::Digit6 => GameKey::Digit6,
+        KeyCode::Digit7 => GameKey::Digit7,
+        KeyCode::Digit8 => GameKey::Digit8,
+        KeyCode::Digit9 => GameKey::Digit9,
+        KeyCode::Escape => GameKey::Escape,
+        KeyCode::Tab => GameKey::Tab,
+        KeyCode::Backspace => GameKey::Backspace,
+        KeyCode::F1 => GameKey::F1,
+        KeyCode::F2 => GameKey::F2,
+        KeyCode::F3 => GameKey::F3,
+        KeyCode::F4 => GameKey::F4,
+        KeyCode::F5 => GameKey::F5,
+        KeyCode::F6 => GameKey::F6,
+        KeyCode::F7 => GameKey::F7,
+        KeyCode::F8 => GameKey::F8,
+        KeyCode::F9 => GameKey::F9,
+        KeyCode::F10 => GameKey::F10,
+        KeyCode::F11 => GameKey::F11,
+        KeyCode::F12 => GameKey::F12,
         _ => return None,
     })
 }
@@ -108,6 +180,102 @@ mod tests {
         assert_eq!(key_action(&Key::Character("0".into()), code(KeyCode::Digit0)), None);
         assert!(repeatable(code(KeyCode::Period)) && !repeatable(code(KeyCode::F1)));
         assert_eq!(game_key(code(KeyCode::ArrowLeft)), Some(GameKey::Left));
-        assert_eq!(game_key(code(KeyCode::F5)), None);
+        assert_eq!(game_key(code(KeyCode::F5)), Some(GameKey::F5));
+        assert_eq!(game_key(code(KeyCode::KeyP)), Some(GameKey::P));
+        assert_eq!(game_key(code(KeyCode::Digit7)), Some(GameKey::Digit7));
+        assert_eq!(game_key(code(KeyCode::ControlLeft)), None, "Ctrl is the runner's");
+        // Every game key but the mouse buttons has a physical key.
+        let mut codes = vec![
+            KeyCode::ArrowLeft,
+            KeyCode::ArrowRight,
+            KeyCode::ArrowUp,
+            KeyCode::ArrowDown,
+            KeyCode::Space,
+            KeyCode::Enter,
+            KeyCode::ShiftLeft,
+            KeyCode::Escape,
+            KeyCode::Tab,
+            KeyCode::Backspace,
+        ];
+        codes.extend([
+            KeyCode::KeyA,
+            KeyCode::KeyB,
+            KeyCode::KeyC,
+            KeyCode::KeyD,
+            KeyCode::KeyE,
+            KeyCode::KeyF,
+            KeyCode::KeyG,
+            KeyCode::KeyH,
+            KeyCode::KeyI,
+            KeyCode::KeyJ,
+            KeyCode::KeyK,
+            KeyCode::KeyL,
+            KeyCode::KeyM,
+            KeyCode::KeyN,
+            KeyCode::KeyO,
+            KeyCode::KeyP,
+            KeyCode::KeyQ,
+            KeyCode::KeyR,
+            KeyCode::KeyS,
+            KeyCode::KeyT,
+            KeyCode::KeyU,
+            KeyCode::KeyV,
+            KeyCode::KeyW,
+            KeyCode::KeyX,
+            KeyCode::KeyY,
+            KeyCode::KeyZ,
+        ]);
+        codes.extend([
+            KeyCode::Digit0,
+            KeyCode::Digit1,
+            KeyCode::Digit2,
+            KeyCode::Digit3,
+            KeyCode::Digit4,
+            KeyCode::Digit5,
+            KeyCode::Digit6,
+            KeyCode::Digit7,
+            KeyCode::Digit8,
+            KeyCode::Digit9,
+        ]);
+        codes.extend([
+            KeyCode::F1,
+            KeyCode::F2,
+            KeyCode::F3,
+            KeyCode::F4,
+            KeyCode::F5,
+            KeyCode::F6,
+            KeyCode::F7,
+            KeyCode::F8,
+            KeyCode::F9,
+            KeyCode::F10,
+            KeyCode::F11,
+            KeyCode::F12,
+        ]);
+        let mut given: Vec<GameKey> = codes.into_iter().filter_map(|c| game_key(code(c))).collect();
+        given.sort();
+        given.dedup();
+        let wanted: Vec<GameKey> = GameKey::ALL
+            .into_iter()
+            .filter(|k| !matches!(k, GameKey::MouseLeft | GameKey::MouseRight | GameKey::MouseMiddle))
+            .collect();
+        assert_eq!(given, wanted);
+        // The runner's keys reach a game only when claimed; the others
+        // always; none reaches a source that takes no input.
+        let mut claimed = crate::input::KeySet::EMPTY;
+        assert_eq!(game_key_for(code(KeyCode::KeyP), true, claimed), None, "P pauses");
+        assert_eq!(game_key_for(code(KeyCode::Digit3), true, claimed), None, "3 switches");
+        assert_eq!(game_key_for(code(KeyCode::KeyB), true, claimed), Some(GameKey::B));
+        assert_eq!(
+            game_key_for(code(KeyCode::Digit0), true, claimed),
+            Some(GameKey::Digit0)
+        );
+        claimed.insert(GameKey::P);
+        claimed.insert(GameKey::Escape);
+        assert_eq!(game_key_for(code(KeyCode::KeyP), true, claimed), Some(GameKey::P));
+        assert_eq!(
+            game_key_for(code(KeyCode::Escape), true, claimed),
+            Some(GameKey::Escape)
+        );
+        assert_eq!(game_key_for(code(KeyCode::KeyP), false, claimed), None);
     }
 }

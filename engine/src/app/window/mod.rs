@@ -37,7 +37,7 @@ use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
 use crate::platform::say;
 use crate::render::RenderError;
-use keys::{KeyAction, game_key};
+use keys::KeyAction;
 pub use options::WindowOptions;
 use panel::draw_panel;
 use surface::{Panel, WindowState, open, screenshot};
@@ -176,6 +176,7 @@ impl<'a> App<'a> {
             events: Vec::new(),
             controls: Vec::new(),
             physical_down: [0; GameKey::ALL.len()],
+            ctrl: false,
             frame_started: Instant::now(),
             hold_started: None,
             screenshot: false,
@@ -208,6 +209,8 @@ struct App<'a> {
     controls: Vec<Control>,
     /// Physical keys down per game key (two Shift keys are one game key).
     physical_down: [u8; GameKey::ALL.len()],
+    /// Whether Ctrl is held: the runner's keys then win over the game's.
+    ctrl: bool,
     /// When the coming frame began (the last `advance`).
     frame_started: Instant,
     hold_started: Option<crate::platform::Instant>,
@@ -225,10 +228,20 @@ impl App<'_> {
         event_loop.exit();
     }
 
+    /// The game key `physical` gives the source, if it takes input and
+    /// the key is its (a runner's key only when claimed).
+    fn game_key_of(&self, physical: winit::keyboard::PhysicalKey) -> Option<GameKey> {
+        let claimed = self.source.claimed_keys();
+        keys::game_key_for(physical, self.source.takes_input(), claimed)
+    }
+
     fn key(&mut self, event: &KeyEvent, event_loop: &ActiveEventLoop) {
         let down = event.state == ElementState::Pressed;
-        if let Some(key) = game_key(event.physical_key)
-            && self.source.takes_input()
+        // With Ctrl held a key is the runner's (Ctrl+P pauses a game that
+        // claimed P); without, a game key is the game's, but for the
+        // runner's own keys the game did not claim.
+        if let Some(key) = self.game_key_of(event.physical_key)
+            && !(down && self.ctrl)
         {
             // Releases were forwarded before the panel saw the event.
             if down && !event.repeat {
@@ -496,7 +509,7 @@ impl App<'_> {
         if self.source.takes_input() {
             let released = match &event {
                 WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Released => {
-                    game_key(event.physical_key)
+                    self.game_key_of(event.physical_key)
                 }
                 WindowEvent::MouseInput {
                     state: ElementState::Released,
@@ -513,10 +526,14 @@ impl App<'_> {
             if let Some(key) = released {
                 // Up only when the last of its physical keys is (left and
                 // right Shift are one game key).
+                // (A key pressed with Ctrl went to the runner: the game
+                // never saw it down, so it sees no release.)
                 let down = &mut self.physical_down[key as usize];
-                *down = down.saturating_sub(1);
-                if *down == 0 {
-                    self.events.push((InputEvent::Key { key, down: false }, Instant::now()));
+                if *down > 0 {
+                    *down -= 1;
+                    if *down == 0 {
+                        self.events.push((InputEvent::Key { key, down: false }, Instant::now()));
+                    }
                 }
             }
         }
@@ -546,6 +563,7 @@ impl App<'_> {
                     }
                 }
             }
+            WindowEvent::ModifiersChanged(modifiers) => self.ctrl = modifiers.state().control_key(),
             WindowEvent::KeyboardInput { event, .. } => self.key(&event, event_loop),
             WindowEvent::MouseInput { state, button, .. } if self.source.takes_input() => {
                 let key = match button {
