@@ -3,6 +3,7 @@
 //! show them, off-screen ([`OffscreenRun`]) and in a window ([`run_window`]),
 //! which share the per-frame path. [`run`] picks one for a game.
 
+mod audio;
 mod control;
 mod draw;
 mod error;
@@ -20,6 +21,7 @@ mod rollback;
 mod run;
 mod session;
 mod session_options;
+mod sound;
 mod source;
 mod stage;
 mod start;
@@ -27,6 +29,7 @@ mod window;
 
 /// The input types a game meets, from [`crate::input`], where they live.
 pub use crate::input::{InputEvent, Key, KeySet, Recording, RecordingError, TickInput};
+pub use audio::{LOGGED_SOUNDS, Played};
 /// The command-line parser [`RunOptions`] is written for, re-exported so a
 /// game flattens [`RunOptions`] into its own options with the same version.
 pub use clap;
@@ -46,6 +49,7 @@ pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, Wire
 pub use run::{MAX_SYNC_TEST_TICKS, RunSummary, exit_code, renderer_config};
 pub use session::GameSession;
 pub use session_options::SessionOptions;
+pub use sound::{Sound, SoundError};
 pub use source::FrameSource;
 pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
 pub use start::run;

@@ -78,6 +78,7 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         super::run::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
         return Ok(());
     }
+    session.open_audio_device();
     let panel = !options.no_panel && (options.panel || session.stage().panel);
     let (width, height) = options.size.unwrap_or((1280, 720));
     let renderer = renderer_config(session.stage(), height);

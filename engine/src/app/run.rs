@@ -402,6 +402,7 @@ fn show<G: Game>(
 ) -> Result<(), RunError> {
     let title = session.game().title().to_owned();
     if summary.windowed {
+        session.open_audio_device();
         let (width, height) = options.size.unwrap_or((1280, 720));
         let panel = !options.no_panel && (options.panel || session.stage().panel);
         let renderer = renderer_config(session.stage(), height);

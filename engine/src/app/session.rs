@@ -10,6 +10,7 @@
 
 use std::path::PathBuf;
 
+use super::audio::{Audio, Played};
 use super::control::{Control, chosen_integrator, clock_control};
 use super::draw::{Draw, Viewport};
 use super::error::RunError;
@@ -22,6 +23,7 @@ use super::stage::Stage;
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::interpolation::Interpolation;
+use crate::platform::say;
 use crate::render::{Camera, FrameView, RenderError, WorldView};
 use tickwork_integrators::build;
 
@@ -57,6 +59,8 @@ pub struct GameSession<G: Game> {
     replay_done: bool,
     /// Drawn when the stage has no world (a game of lines only).
     empty: crate::world::World,
+    /// The sounds started, and the device they play on, if any.
+    audio: Audio,
 }
 
 impl<G: Game> std::fmt::Debug for GameSession<G> {
@@ -164,6 +168,7 @@ impl<G: Game> GameSession<G> {
             frame_rate: FrameRate::default(),
             replay_done: false,
             empty: crate::world::World::default(),
+            audio: Audio::silent(),
         };
         session.restart()?;
         Ok(session)
@@ -236,6 +241,7 @@ impl<G: Game> GameSession<G> {
         self.stage = stage;
         self.inputs.fill(TickInput::default());
         self.queue.restart();
+        self.audio.forget();
         match &mut self.mode {
             InputMode::Live { record } => {
                 *record = self.options.record.clone().map(|path| {
@@ -355,9 +361,11 @@ impl<G: Game> GameSession<G> {
     /// One fixed step of the game: [`Game::fixed_update_players`] with
     /// every player's input, then every world of the stage.
     pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, inputs: &[TickInput]) -> Result<(), RunError> {
+        self.stage.sounds_due.clear();
         self.game
             .fixed_update_players(&mut self.stage, &step, inputs)
             .map_err(RunError::Game)?;
+        self.audio.tick(step.tick, &self.stage.sounds_due);
         for shown in &mut self.stage.worlds {
             shown.step(step).map_err(|error| {
                 RunError::Game(GameError::Simulation {
@@ -383,6 +391,23 @@ impl<G: Game> GameSession<G> {
     pub(super) fn finish_frame(&mut self, frame: Frame) {
         self.last = frame;
         self.game.update(&mut self.stage, &self.last);
+    }
+
+    /// The sounds the game's ticks started, oldest first (the last
+    /// [`LOGGED_SOUNDS`](super::LOGGED_SOUNDS)): each once, at the tick that
+    /// asked for it, however often a rollback ran that tick.
+    pub fn played_sounds(&self) -> impl Iterator<Item = &Played> {
+        self.audio.played()
+    }
+
+    /// Opens the machine's audio device for the sounds to come; where there
+    /// is none (or the build has no device support), says so in one line
+    /// and goes on silently. The window and the page call it; headless
+    /// runs and replays stay silent.
+    pub fn open_audio_device(&mut self) {
+        if let Err(why) = self.audio.open_device() {
+            say(&format!("tickwork: sound is silent: {why}"));
+        }
     }
 
     /// The clock, to give back steps a rollback session could not run.

@@ -9,6 +9,7 @@ use core::fmt;
 use glam::{Vec2, Vec3};
 
 use super::draw::Viewport;
+use super::sound::Sound;
 use crate::clock::{FixedStep, Rate};
 use crate::input::KeySet;
 use crate::render::{Camera, Texture, Trails};
@@ -263,6 +264,8 @@ pub struct Stage {
     /// control is then Ctrl and the key (Ctrl+Escape quits). Every other
     /// [`Key`](crate::input::Key) is the game's anyway.
     pub claimed_keys: KeySet,
+    /// The sounds this tick's `fixed_update` asked for, in order.
+    pub(crate) sounds_due: Vec<Sound>,
 }
 
 impl Default for Stage {
@@ -282,6 +285,7 @@ impl Default for Stage {
             settings: Settings::default(),
             viewport: Viewport::default(),
             claimed_keys: KeySet::EMPTY,
+            sounds_due: Vec::new(),
         }
     }
 }
@@ -305,6 +309,16 @@ impl Stage {
     #[must_use]
     pub fn settings(&self) -> &Settings {
         &self.settings
+    }
+
+    /// Plays `sound`: call it from `fixed_update`, so the sound starts at
+    /// the tick that asked for it, once, however often a rollback runs that
+    /// tick again. It plays on the machine's audio device where there is
+    /// one (a window run built with the `audio-device` feature), silently
+    /// otherwise; either way [`GameSession::played_sounds`](super::GameSession::played_sounds)
+    /// lists it (a test asserts "the explosion started at tick 812").
+    pub fn play(&mut self, sound: &Sound) {
+        self.sounds_due.push(sound.clone());
     }
 
     /// The size and scale of the last frame drawn (before the first, 640 x
