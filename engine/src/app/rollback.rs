@@ -24,7 +24,7 @@ use super::game::{Game, GameError};
 use super::session::GameSession;
 use super::source::FrameSource;
 use crate::clock::FixedStep;
-use crate::input::{KeySet, TickInput};
+use crate::input::{KeySet, MAX_PADS, PadButtons, PadInput, TickInput};
 use crate::world::Snapshot;
 use serde::{Deserialize, Serialize};
 
@@ -50,6 +50,9 @@ pub struct WireInput {
     /// match).
     pointer: [u32; 2],
     has_pointer: bool,
+    /// Each pad's held, pressed and released buttons as bits, then its
+    /// quantised axes (fixed size, as GGRS needs).
+    pads: [([u16; 3], [i16; 6]); MAX_PADS],
 }
 
 impl From<TickInput> for WireInput {
@@ -62,6 +65,9 @@ impl From<TickInput> for WireInput {
             released: input.released.bits(),
             pointer: pointer.unwrap_or_default().map(|c| (c + 0.0).to_bits()),
             has_pointer: pointer.is_some(),
+            pads: input
+                .pads
+                .map(|p| ([p.held.bits(), p.pressed.bits(), p.released.bits()], p.axes)),
         }
     }
 }
@@ -76,6 +82,12 @@ impl From<WireInput> for TickInput {
             released: KeySet::from_bits(wire.released),
             pointer: Some(wire.pointer.map(f32::from_bits))
                 .filter(|p| wire.has_pointer && p.iter().all(|c| c.is_finite())),
+            pads: wire.pads.map(|([held, pressed, released], axes)| PadInput {
+                held: PadButtons::from_bits(held),
+                pressed: PadButtons::from_bits(pressed),
+                released: PadButtons::from_bits(released),
+                axes,
+            }),
         }
     }
 }

@@ -29,6 +29,7 @@ use std::collections::VecDeque;
 use glam::Vec2;
 
 use super::keys::{Key, KeySet};
+use super::pad::{MAX_PADS, PadAxis, PadButton, PadButtons, PadInput, quantise};
 use super::tick::TickInput;
 
 /// One thing the player did, as the window saw it.
@@ -43,6 +44,24 @@ pub enum InputEvent {
     },
     /// The pointer moved to this world point (on the `z = 0` plane).
     Pointer(Vec2),
+    /// A gamepad's button went down (`down`) or up.
+    PadButton {
+        /// The pad (0 for the first connected; past [`MAX_PADS`] ignored).
+        pad: u8,
+        /// The button.
+        button: PadButton,
+        /// Down (pressed) or up (released).
+        down: bool,
+    },
+    /// A gamepad's stick or trigger moved to `value` (in `[-1, 1]`).
+    PadAxis {
+        /// The pad (0 for the first connected; past [`MAX_PADS`] ignored).
+        pad: u8,
+        /// The axis.
+        axis: PadAxis,
+        /// Its new value.
+        value: f32,
+    },
 }
 
 /// Events waiting for the fixed step whose simulated time they arrived in,
@@ -58,6 +77,7 @@ pub struct InputQueue {
     pressed: KeySet,
     released: KeySet,
     pointer: Option<[f32; 2]>,
+    pads: [PadInput; MAX_PADS],
 }
 
 impl InputQueue {
@@ -101,6 +121,27 @@ impl InputQueue {
                     self.held.remove(key);
                 }
                 InputEvent::Pointer(at) => self.pointer = Some(at.to_array()),
+                InputEvent::PadButton { pad, button, down } => {
+                    let Some(pad) = self.pads.get_mut(usize::from(pad)) else {
+                        continue;
+                    };
+                    if down && !pad.held.contains(button) {
+                        pad.pressed.insert(button);
+                    }
+                    if !down && pad.held.contains(button) {
+                        pad.released.insert(button);
+                    }
+                    if down {
+                        pad.held.insert(button);
+                    } else {
+                        pad.held.remove(button);
+                    }
+                }
+                InputEvent::PadAxis { pad, axis, value } => {
+                    if let Some(pad) = self.pads.get_mut(usize::from(pad)) {
+                        pad.axes[axis as usize] = quantise(value);
+                    }
+                }
             }
         }
         let input = TickInput {
@@ -108,9 +149,14 @@ impl InputQueue {
             pressed: self.pressed,
             released: self.released,
             pointer: self.pointer,
+            pads: self.pads,
         };
         self.pressed = KeySet::EMPTY;
         self.released = KeySet::EMPTY;
+        for pad in &mut self.pads {
+            pad.pressed = PadButtons::default();
+            pad.released = PadButtons::default();
+        }
         input
     }
 
@@ -127,6 +173,10 @@ impl InputQueue {
         self.waiting.clear();
         self.pressed = KeySet::EMPTY;
         self.released = KeySet::EMPTY;
+        for pad in &mut self.pads {
+            pad.pressed = PadButtons::default();
+            pad.released = PadButtons::default();
+        }
     }
 }
 
@@ -138,6 +188,50 @@ mod tests {
 
     fn key(key: Key, down: bool) -> InputEvent {
         InputEvent::Key { key, down }
+    }
+
+    #[test]
+    fn gamepad_buttons_latch_per_tick_as_keys_do_and_axes_keep_their_last_value() {
+        let mut queue = InputQueue::default();
+        let button = |pad, button, down| InputEvent::PadButton { pad, button, down };
+        // Pad 1 taps South within step 0; pad 0 holds East from step 1; the
+        // left stick moves twice in step 0; pad 7 does not exist.
+        queue.push(button(1, PadButton::South, true), 0.1);
+        queue.push(button(1, PadButton::South, false), 0.2);
+        queue.push(
+            InputEvent::PadAxis {
+                pad: 0,
+                axis: PadAxis::LeftX,
+                value: 0.3,
+            },
+            0.1,
+        );
+        queue.push(
+            InputEvent::PadAxis {
+                pad: 0,
+                axis: PadAxis::LeftX,
+                value: -0.5,
+            },
+            0.2,
+        );
+        queue.push(button(0, PadButton::East, true), 0.5);
+        queue.push(button(7, PadButton::North, true), 0.5);
+        queue.stamp(0.0, 3.0 * DT);
+        let steps: Vec<TickInput> = (1..=3).map(|k| queue.tick(f64::from(k) * DT)).collect();
+        let tap = steps[0].pad(1);
+        assert!(tap.pressed(PadButton::South) && tap.released(PadButton::South) && !tap.held(PadButton::South));
+        assert_eq!(steps[0].pad(0).axes[0], quantise(-0.5), "the last value in the step");
+        assert!((steps[0].pad(0).axis(PadAxis::LeftX) + 0.5).abs() < 1e-4);
+        assert!(steps[1].pad(0).pressed(PadButton::East) && steps[1].pad(0).held(PadButton::East));
+        assert!(!steps[2].pad(0).pressed(PadButton::East) && steps[2].pad(0).held(PadButton::East));
+        assert_eq!(steps[2].pad(0).axes[0], quantise(-0.5), "kept");
+        assert!(steps.iter().all(|s| s.pad(7).is_idle()), "no eighth pad");
+        // A recording keeps the pads and reads them back; one without pads
+        // (every recording before them) still reads.
+        let text = ron::to_string(&steps[1]).expect("serialises");
+        assert_eq!(ron::from_str::<TickInput>(&text).expect("reads back"), steps[1]);
+        let keys_only = ron::to_string(&TickInput::default()).expect("serialises");
+        assert!(!keys_only.contains("pads"), "{keys_only}");
     }
 
     #[test]

@@ -4,8 +4,9 @@ use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
 use super::keys::{Key, KeySet};
+use super::pad::{MAX_PADS, PadButtons, PadInput};
 
-/// What one fixed step sees of the keyboard and the mouse.
+/// What one fixed step sees of the keyboard, the mouse and the gamepads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TickInput {
@@ -29,6 +30,11 @@ pub struct TickInput {
     /// the same way.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pointer: Option<[f32; 2]>,
+    /// The first [`MAX_PADS`] gamepads (by the order they connected),
+    /// their buttons latched as keys are and their axes quantised. Absent
+    /// from recordings where no pad did anything.
+    #[serde(default, skip_serializing_if = "no_pads")]
+    pub pads: [PadInput; MAX_PADS],
 }
 
 impl TickInput {
@@ -50,6 +56,13 @@ impl TickInput {
         self.released.contains(key)
     }
 
+    /// Gamepad `k` (0 for the first connected); an idle pad past
+    /// [`MAX_PADS`].
+    #[must_use]
+    pub fn pad(&self, k: usize) -> PadInput {
+        self.pads.get(k).copied().unwrap_or_default()
+    }
+
     /// The pointer as a vector (see [`pointer`](Self::pointer)).
     #[must_use]
     pub fn pointer_at(&self) -> Option<Vec2> {
@@ -60,12 +73,23 @@ impl TickInput {
     /// held and pointer, none newly pressed or released.
     #[must_use]
     pub fn carried(&self) -> Self {
+        let mut pads = self.pads;
+        for pad in &mut pads {
+            pad.pressed = PadButtons::default();
+            pad.released = PadButtons::default();
+        }
         Self {
             pressed: KeySet::EMPTY,
             released: KeySet::EMPTY,
+            pads,
             ..*self
         }
     }
+}
+
+/// Whether no pad did anything.
+fn no_pads(pads: &[PadInput; MAX_PADS]) -> bool {
+    pads.iter().all(PadInput::is_idle)
 }
 
 /// Whether `keys` is empty (serde's `skip_serializing_if` passes a reference).

@@ -15,6 +15,7 @@
 //! then the controls of keys and panel, applied through
 //! [`FrameSource::control`] at that tick boundary.
 
+mod gamepads;
 mod keys;
 mod options;
 mod panel;
@@ -37,6 +38,7 @@ use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
 use crate::platform::say;
 use crate::render::RenderError;
+use gamepads::Gamepads;
 use keys::KeyAction;
 pub use options::WindowOptions;
 use panel::draw_panel;
@@ -177,6 +179,7 @@ impl<'a> App<'a> {
             controls: Vec::new(),
             physical_down: [0; GameKey::ALL.len()],
             ctrl: false,
+            gamepads: Gamepads::open(),
             frame_started: Instant::now(),
             hold_started: None,
             screenshot: false,
@@ -211,6 +214,8 @@ struct App<'a> {
     physical_down: [u8; GameKey::ALL.len()],
     /// Whether Ctrl is held: the runner's keys then win over the game's.
     ctrl: bool,
+    /// The gamepads polled each frame (none without the `gamepad` feature).
+    gamepads: Gamepads,
     /// When the coming frame began (the last `advance`).
     frame_started: Instant,
     hold_started: Option<crate::platform::Instant>,
@@ -285,6 +290,9 @@ impl App<'_> {
         // not this frame's (a key released now must reach the new run).
         for control in self.controls.drain(..) {
             self.source.control(control)?;
+        }
+        if self.source.takes_input() {
+            self.gamepads.poll(&mut self.events);
         }
         let now = Instant::now();
         let span = now.duration_since(self.frame_started).as_secs_f64();
