@@ -83,6 +83,22 @@ fn at(image: &RgbaImage, x: f32, y: f32) -> [u8; 4] {
     image.get_pixel(px, py).0
 }
 
+/// A 2D camera 10 m high (10 pixels a metre in the frame) over a black stage.
+fn black_stage(stage: &mut Stage) {
+    stage.camera = Camera::TwoD {
+        center: Vec2::ZERO,
+        height: 10.0,
+    };
+    stage.background = BLACK;
+}
+
+/// The first frame `game` draws, `WIDTH` x `HEIGHT`, as `run` would.
+fn first_frame<G: Game>(gpu: &Gpu, game: G) -> Result<RgbaImage, tickwork_engine::app::RunError> {
+    let mut session = GameSession::new(game, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    run.frame(&mut session, 1.0 / 60.0, true)
+}
+
 /// Rows of the top-left quarter holding HUD text: (first, last).
 fn hud_rows(image: &RgbaImage) -> (u32, u32) {
     let rows: Vec<u32> = (0..HEIGHT / 2)
@@ -157,11 +173,7 @@ impl Game for Layers {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        stage.camera = Camera::TwoD {
-            center: Vec2::ZERO,
-            height: 10.0,
-        };
-        stage.background = BLACK;
+        black_stage(stage);
         let mut world = tickwork_engine::World::default();
         world.spawn(tickwork_engine::Particle {
             radius: 1.0,
@@ -515,13 +527,7 @@ impl Game for Outlines {
 #[test]
 fn concave_and_holed_polygons_and_strokes_in_pixels_reach_the_frame_and_a_nan_is_an_error() {
     let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
-    let draw = |zoom: f32| {
-        let mut session =
-            GameSession::new(Outlines { zoom, nan: false }, SessionOptions::default()).expect("a session");
-        let mut run =
-            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-        run.frame(&mut session, 1.0 / 60.0, true).expect("a frame")
-    };
+    let draw = |zoom: f32| first_frame(&gpu, Outlines { zoom, nan: false }).expect("a frame");
     let image = draw(10.0);
     assert_eq!(at(&image, -4.0, -1.5), RED, "the L's corner square");
     assert_eq!(at(&image, -4.0, -0.5), RED, "its upright");
@@ -534,10 +540,7 @@ fn concave_and_holed_polygons_and_strokes_in_pixels_reach_the_frame_and_a_nan_is
         let rows: Vec<u32> = (0..HEIGHT).filter(|&y| image.get_pixel(100, y).0 == YELLOW).collect();
         assert_eq!(rows.len(), 4, "a camera {zoom} m high: rows {rows:?}");
     }
-    let mut session =
-        GameSession::new(Outlines { zoom: 10.0, nan: true }, SessionOptions::default()).expect("a session");
-    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-    let error = run.frame(&mut session, 1.0 / 60.0, true).expect_err("a NaN corner");
+    let error = first_frame(&gpu, Outlines { zoom: 10.0, nan: true }).expect_err("a NaN corner");
     assert!(
         error.to_string().contains("Draw::polygon: point 1 is [NaN, 1]"),
         "{error}"
@@ -555,11 +558,7 @@ impl Game for Ghost {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        stage.camera = Camera::TwoD {
-            center: Vec2::ZERO,
-            height: 10.0,
-        };
-        stage.background = BLACK;
+        black_stage(stage);
         let mut world = tickwork_engine::World::default();
         let ghost = world.spawn(tickwork_engine::Particle {
             radius: 1.0,
@@ -576,10 +575,7 @@ impl Game for Ghost {
 fn a_hidden_particle_is_not_drawn() {
     let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
     for visible in [true, false] {
-        let mut session = GameSession::new(Ghost { visible }, SessionOptions::default()).expect("a session");
-        let mut run =
-            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-        let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+        let image = first_frame(&gpu, Ghost { visible }).expect("a frame");
         let centre = at(&image, 0.0, 0.0);
         if visible {
             assert!(centre[1] > 150, "drawn: {centre:?}");
@@ -601,11 +597,7 @@ impl Game for Sprites {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        stage.camera = Camera::TwoD {
-            center: Vec2::ZERO,
-            height: 10.0,
-        };
-        stage.background = BLACK;
+        black_stage(stage);
         Ok(())
     }
 
@@ -646,10 +638,7 @@ fn sprites_are_drawn_placed_turned_tinted_and_cut_from_an_atlas() {
             texture: texture.clone(),
             bad_region,
         };
-        let mut session = GameSession::new(game, SessionOptions::default()).expect("a session");
-        let mut run =
-            OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-        run.frame(&mut session, 1.0 / 60.0, true)
+        first_frame(&gpu, game)
     };
     let image = frame(false).expect("a frame");
     let white = [255, 255, 255, 255];
@@ -693,11 +682,7 @@ impl Game for Coins {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        stage.camera = Camera::TwoD {
-            center: Vec2::ZERO,
-            height: 10.0,
-        };
-        stage.background = BLACK;
+        black_stage(stage);
         let mut world = tickwork_engine::World::default();
         world.spawn(tickwork_engine::Particle {
             radius: 1.0,
@@ -715,9 +700,7 @@ fn a_worlds_particles_can_be_drawn_as_sprites() {
     let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
     let pixels = [RED, GREEN, BLUE, [255, 255, 255, 255]].concat();
     let texture = Texture::from_rgba(2, 2, pixels).expect("2 x 2");
-    let mut session = GameSession::new(Coins { texture }, SessionOptions::default()).expect("a session");
-    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    let image = first_frame(&gpu, Coins { texture }).expect("a frame");
     // The sprite is the disc's square (2 m); the white disc is not drawn
     // over it.
     assert_eq!(at(&image, -0.5, 0.5), RED);
@@ -830,11 +813,7 @@ impl Game for Clipped {
     }
 
     fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
-        stage.camera = Camera::TwoD {
-            center: Vec2::ZERO,
-            height: 10.0,
-        };
-        stage.background = BLACK;
+        black_stage(stage);
         Ok(())
     }
 
@@ -850,9 +829,7 @@ impl Game for Clipped {
 #[test]
 fn a_clip_rectangle_keeps_shapes_inside_it_until_lifted() {
     let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
-    let mut session = GameSession::new(Clipped, SessionOptions::default()).expect("a session");
-    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
-    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    let image = first_frame(&gpu, Clipped).expect("a frame");
     // 4 m at 10 px a metre: columns 80..120 on the middle row.
     let red: Vec<u32> = (0..WIDTH).filter(|&x| image.get_pixel(x, 50).0 == RED).collect();
     assert_eq!(red, (80..120).collect::<Vec<_>>());
