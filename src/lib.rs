@@ -32,15 +32,16 @@ pub mod prelude {
     pub use crate::glam::{Quat, Vec2, Vec3};
     pub use crate::math;
     pub use tickwork_engine::app::{
-        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Stage, TickInput, Viewport, WorldId,
-        exit_code, parse_args, run,
+        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Sound, Stage, TickInput, Viewport,
+        WorldId, exit_code, parse_args, run,
     };
+    pub use tickwork_engine::input::{PadAxis, PadButton};
     pub use tickwork_engine::interpolation::Interpolated;
-    pub use tickwork_engine::render::{Anchor, Camera, Line};
+    pub use tickwork_engine::render::{Anchor, Camera, Cap, Fit, Join, Line, Stroke, Texture};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, LinearDrag,
-        Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause, RigidBody,
-        Sensor, SensorId, SphereCollisions, Spring, SpringEnd, Springs, StableHasher, Touched, Wind, World,
+        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, Heading,
+        LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause,
+        RigidBody, Sensor, SensorId, SphereCollisions, Spring, SpringEnd, Springs, StableHasher, Touched, Wind, World,
         WorldConfig,
     };
 }
