@@ -460,6 +460,29 @@ fn a_particle_that_would_need_more_events_than_the_limit_is_an_error_naming_it()
     );
 }
 
+/// One 60 Hz step, asserting the path it took: in-step colliders are
+/// pointwise, so the fused path takes them unless `plain` forced the other.
+fn step_on_path(w: &mut World, plain: bool) {
+    let tick = w.tick();
+    let report = w
+        .step(FixedStep {
+            tick,
+            time: tick as f64 / 60.0,
+            dt: 1.0 / 60.0,
+        })
+        .expect("steps");
+    assert_eq!(report.fused, !plain, "the path taken");
+}
+
+/// The state's hash, leaving out the collider that forced the plain path.
+fn hash_on_path(w: &mut World, plain: bool) -> u64 {
+    if plain {
+        support::hash_without_plain_path(w)
+    } else {
+        w.state_hash()
+    }
+}
+
 /// A crowd of fast particles in a box over a floor, both in-step, with
 /// contacts reported: the world after 60 steps at 60 Hz.
 fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
@@ -503,24 +526,10 @@ fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
             }
             let mut contacts = Vec::new();
             for _ in 0..60 {
-                let tick = w.tick();
-                let report = w
-                    .step(FixedStep {
-                        tick,
-                        time: tick as f64 / 60.0,
-                        dt: 1.0 / 60.0,
-                    })
-                    .expect("steps");
-                // In-step colliders are pointwise: the fused path takes them.
-                assert_eq!(report.fused, !plain, "the path taken");
+                step_on_path(&mut w, plain);
                 contacts.extend_from_slice(w.contacts());
             }
-            let hash = if plain {
-                support::hash_without_plain_path(&mut w)
-            } else {
-                w.state_hash()
-            };
-            (hash, contacts)
+            (hash_on_path(&mut w, plain), contacts)
         })
 }
 
@@ -580,26 +589,13 @@ fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
                 })
                 .collect();
             for _ in 0..120 {
-                let tick = w.tick();
-                let report = w
-                    .step(FixedStep {
-                        tick,
-                        time: tick as f64 / 60.0,
-                        dt: 1.0 / 60.0,
-                    })
-                    .expect("steps");
-                assert_eq!(report.fused, !plain, "the path taken");
+                step_on_path(&mut w, plain);
             }
             let resting = rows
                 .iter()
                 .filter(|&&e| w.position(e).expect("live").y == 0.02 && w.velocity(e).expect("live").y == 0.0)
                 .count();
-            let hash = if plain {
-                support::hash_without_plain_path(&mut w)
-            } else {
-                w.state_hash()
-            };
-            (hash, resting)
+            (hash_on_path(&mut w, plain), resting)
         })
 }
 

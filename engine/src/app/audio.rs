@@ -5,9 +5,10 @@
 //! otherwise (headless runs, replays, tests, machines without sound).
 //!
 //! ```text
-//! key of a sound = (tick, its order among that tick's sounds)
-//! started once per key; keys older than KEPT_TICKS before the newest tick
-//! are forgotten (rollback never reaches that far back)
+//! key of a sound = (tick, its order k among that tick's sounds)
+//! started once per key: per tick, how many have started (k below that count
+//! has); ticks older than KEPT_TICKS before the newest are forgotten
+//! (rollback never reaches that far back)
 //! ```
 //!
 //! A sound started in a predicted tick that a rollback then re-simulates
@@ -15,6 +16,7 @@
 //! rollback engine).
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use super::sound::Sound;
 
@@ -30,13 +32,14 @@ pub const LOGGED_SOUNDS: usize = 65_536;
 pub struct Played {
     /// The tick whose `fixed_update` played it.
     pub tick: u64,
-    /// The sound's name.
-    pub sound: String,
+    /// The sound's name (shared with the sound: logging allocates nothing).
+    pub sound: Arc<str>,
 }
 
 /// The sounds started (their keys, their log) and the device, if open.
 pub(crate) struct Audio {
-    started: VecDeque<(u64, u32)>,
+    /// Per tick that started sounds, in tick order: how many it started.
+    started: VecDeque<(u64, usize)>,
     newest: u64,
     log: VecDeque<Played>,
     #[cfg(feature = "audio-device")]
@@ -95,20 +98,38 @@ impl Audio {
         if tick > self.newest {
             self.newest = tick;
             let oldest = tick.saturating_sub(KEPT_TICKS);
-            self.started.retain(|&(t, _)| t >= oldest);
-        }
-        for (k, sound) in sounds.iter().enumerate() {
-            let key = (tick, u32::try_from(k).unwrap_or(u32::MAX));
-            if self.started.contains(&key) {
-                continue;
+            while self.started.front().is_some_and(|&(t, _)| t < oldest) {
+                self.started.pop_front();
             }
-            self.started.push_back(key);
+        }
+        if sounds.is_empty() {
+            return;
+        }
+        // A tick run again is near the newest: searched from the back.
+        let at = self.started.iter().rposition(|&(t, _)| t <= tick);
+        let already = match at {
+            Some(k) if self.started[k].0 == tick => {
+                let count = &mut self.started[k].1;
+                let already = *count;
+                *count = (*count).max(sounds.len());
+                already
+            }
+            Some(k) => {
+                self.started.insert(k + 1, (tick, sounds.len()));
+                0
+            }
+            None => {
+                self.started.push_front((tick, sounds.len()));
+                0
+            }
+        };
+        for sound in sounds.iter().skip(already) {
             if self.log.len() == LOGGED_SOUNDS {
                 self.log.pop_front();
             }
             self.log.push_back(Played {
                 tick,
-                sound: sound.name().to_owned(),
+                sound: sound.name.clone(),
             });
             #[cfg(feature = "audio-device")]
             if let Some(device) = &mut self.device

@@ -13,7 +13,7 @@ use kira::sound::static_sound::StaticSoundData;
 /// [`Stage::play`](super::Stage::play) in `fixed_update`.
 #[derive(Clone)]
 pub struct Sound {
-    name: Arc<str>,
+    pub(crate) name: Arc<str>,
     pub(crate) data: StaticSoundData,
 }
 
