@@ -1,6 +1,10 @@
 //! Breakout, written only against Tickwork's public API: Left/Right (or
-//! A/D, or the mouse) move the paddle, Space or a click serves, Enter plays
-//! again. Clear the 40 bricks before the ball gets past you three times.
+//! A/D, the mouse, a gamepad's stick or D-pad) move the paddle, Space, a
+//! click or the pad's South button serves, Enter or Start plays again.
+//! Clear the 40 bricks before the ball gets past you three times.
+//!
+//! The ball is a sprite and the hits are sounds, loaded from `assets/` (a
+//! page fetches them first: [`Game::assets`]).
 //!
 //! The paddle is a kinematic box (moved by its velocity each step, it hands
 //! the ball its speed); bricks are solid boxes that report contacts, and a
@@ -27,6 +31,12 @@ const ROWS: [[u8; 4]; 5] = [
     [110, 205, 95, 255],
     [80, 160, 240, 255],
 ];
+/// The files the game loads, relative to the workspace (natively) or the
+/// page's asset root (in a page).
+const BALL_PNG: &str = "assets/sprites/ball.png";
+const BRICK_WAV: &str = "assets/sounds/brick.wav";
+const PADDLE_WAV: &str = "assets/sounds/paddle.wav";
+const LOST_WAV: &str = "assets/sounds/lost.wav";
 /// A bounce with no loss and no friction: the ball keeps its speed.
 const ELASTIC: Material = Material {
     restitution: 1.0,
@@ -47,6 +57,15 @@ pub enum Play {
     Lost,
 }
 
+/// What the game loaded in `setup`: the ball's sprite and the sounds.
+#[derive(Clone, Debug)]
+struct Loaded {
+    ball: Texture,
+    brick: Sound,
+    paddle: Sound,
+    lost: Sound,
+}
+
 /// The Breakout game.
 #[derive(Clone, Debug, Default)]
 pub struct Breakout {
@@ -64,6 +83,7 @@ pub struct Breakout {
     paddle: ColliderId,
     /// The bricks left: each one's collider and row.
     pub bricks: Vec<(ColliderId, usize)>,
+    loaded: Option<Loaded>,
 }
 
 impl Breakout {
@@ -106,7 +126,11 @@ impl Breakout {
             ..Particle::default()
         })?;
         stage.worlds.clear();
-        self.court = stage.add_world("court", court).id();
+        let court = stage.add_world("court", court);
+        self.court = match &self.loaded {
+            Some(loaded) => court.sprites(&loaded.ball).id(),
+            None => court.id(),
+        };
         (self.score, self.lives, self.play) = (0, 3, Play::Serving);
         Ok(())
     }
@@ -117,7 +141,17 @@ impl Game for Breakout {
         "breakout"
     }
 
+    fn assets(&self) -> &[&str] {
+        &[BALL_PNG, BRICK_WAV, PADDLE_WAV, LOST_WAV]
+    }
+
     fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+        self.loaded = Some(Loaded {
+            ball: Texture::load(BALL_PNG)?,
+            brick: Sound::load(BRICK_WAV)?,
+            paddle: Sound::load(PADDLE_WAV)?,
+            lost: Sound::load(LOST_WAV)?,
+        });
         stage.camera = Camera::TwoD {
             center: Vec2::new(0.0, 6.0),
             height: 13.0,
@@ -127,33 +161,45 @@ impl Game for Breakout {
     }
 
     fn fixed_update(&mut self, stage: &mut Stage, step: &FixedStep, input: &TickInput) -> Result<(), GameError> {
+        let pad = input.pad(0);
         match self.play {
-            Play::Won | Play::Lost if input.pressed(Key::Enter) => return self.build(&stage.settings().clone(), stage),
+            Play::Won | Play::Lost if input.pressed(Key::Enter) || pad.pressed(PadButton::Start) => {
+                return self.build(&stage.settings().clone(), stage);
+            }
             Play::Won | Play::Lost => return Ok(()),
             Play::Serving | Play::Playing => {}
         }
+        let Some(loaded) = &self.loaded else {
+            return Err("breakout: fixed_update before setup".into());
+        };
         let world = stage.world_mut(self.court)?;
         let mut paddle = *world.collider::<BoxCollider>(self.paddle)?;
         let x = paddle.centre().x;
         // Bricks the ball touched in the last step go; where it met the
         // paddle aims it (the ends send it out at 60 degrees).
+        let mut sounds = Vec::new();
         for k in 0..world.contacts().len() {
             let Contact { touched, point, .. } = world.contacts()[k];
             let hit = self.bricks.iter().position(|(b, _)| touched == Touched::Collider(*b));
             if touched == Touched::Collider(self.paddle) {
                 let angle = ((point.x - x) / PADDLE.x).clamp(-1.0, 1.0) * 60f32.to_radians();
                 world.set_velocity(self.ball, BALL.1 * Vec3::new(math::sin(angle), math::cos(angle), 0.0))?;
+                sounds.push(&loaded.paddle);
             } else if let Some(k) = hit {
                 let (brick, row) = self.bricks.remove(k);
                 world.remove_collider(brick)?;
                 self.score += 10 * (ROWS.len() - row) as u32;
+                sounds.push(&loaded.brick);
             }
         }
         let ball = world.position(self.ball)?;
-        // Where the paddle heads: the autopilot's aim, the keys while held,
-        // else the pointer.
-        let held = |a, b| f32::from(u8::from(input.held(a) || input.held(b)));
-        let keys = held(Key::Right, Key::D) - held(Key::Left, Key::A);
+        // Where the paddle heads: the autopilot's aim, the keys, D-pad or
+        // stick while held, else the pointer.
+        let held = |a, b, c| f32::from(u8::from(input.held(a) || input.held(b) || pad.held(c)));
+        let stick = pad.axis(PadAxis::LeftX);
+        let keys = (held(Key::Right, Key::D, PadButton::DPadRight) - held(Key::Left, Key::A, PadButton::DPadLeft)
+            + stick)
+            .clamp(-1.0, 1.0);
         let dt = step.dt as f32;
         let towards = |t: f32| ((t - x) / dt).clamp(-PADDLE_SPEED, PADDLE_SPEED);
         let speed = match input.pointer_at() {
@@ -166,7 +212,12 @@ impl Game for Breakout {
         paddle.velocity.x = ((x + speed * dt).clamp(-reach, reach) - x) / dt;
         *world.collider_mut::<BoxCollider>(self.paddle)? = paddle;
         match self.play {
-            Play::Serving if self.autopilot || input.pressed(Key::Space) || input.pressed(Key::MouseLeft) => {
+            Play::Serving
+                if self.autopilot
+                    || input.pressed(Key::Space)
+                    || input.pressed(Key::MouseLeft)
+                    || pad.pressed(PadButton::South) =>
+            {
                 world.set_velocity(self.ball, BALL.1 * Vec3::new(0.5, 0.866, 0.0))?;
                 self.play = Play::Playing;
             }
@@ -175,11 +226,15 @@ impl Game for Breakout {
             _ if self.bricks.is_empty() => self.play = Play::Won,
             _ if ball.y < -0.5 => {
                 self.lives -= 1;
+                sounds.push(&loaded.lost);
                 world.teleport(self.ball, Vec3::new(x, RIDE, 0.0))?;
                 world.set_velocity(self.ball, Vec3::ZERO)?;
                 self.play = if self.lives == 0 { Play::Lost } else { Play::Serving };
             }
             _ => {}
+        }
+        for sound in sounds {
+            stage.play(sound);
         }
         Ok(())
     }

@@ -32,6 +32,14 @@ fn the_autopilot_clears_every_brick_and_scores_each_once() {
     assert_eq!(game.game().play, Play::Won, "won by tick {}", game.ticks());
     // Eight bricks a row, 10 points a brick in the bottom row to 50 in the top.
     assert_eq!(game.game().score, 8 * (10 + 20 + 30 + 40 + 50));
+    // A sound each brick, and one each return off the paddle.
+    let count = |name: &str| game.played_sounds().filter(|p| &*p.sound == name).count();
+    assert_eq!(count("brick"), 40);
+    assert!(
+        count("paddle") >= 2,
+        "the paddle sent the ball back: {}",
+        count("paddle")
+    );
     println!("won at tick {}", game.ticks());
 }
 
@@ -155,6 +163,20 @@ fn a_recorded_game_of_keys_and_mouse_replays_to_the_same_state() {
         replayed.stage().worlds[0].world.state_hash(),
         live.stage().worlds[0].world.state_hash(),
         "the replay reaches the live run's exact state"
+    );
+    // A sound for each brick that went and each ball lost, at
+    // the ticks they happened: the replay starts the same ones.
+    let sounds = |s: &GameSession<Breakout>| -> Vec<(u64, String)> {
+        s.played_sounds().map(|p| (p.tick, p.sound.to_string())).collect()
+    };
+    let played = sounds(&live);
+    let count = |name: &str| played.iter().filter(|(_, s)| s == name).count();
+    assert_eq!(count("brick"), 40 - live.game().bricks.len(), "{played:?}");
+    assert_eq!(count("lost"), 3 - live.game().lives as usize, "{played:?}");
+    assert_eq!(
+        sounds(&replayed),
+        played,
+        "the replay plays the live run's sounds at its ticks"
     );
 }
 

@@ -22,6 +22,7 @@ use std::time::Duration;
 
 use browser::{Browser, Server};
 use tickwork::engine::render::{Tolerance, compare, diff_image};
+use tickwork::prelude::{PadAxis, PadButton};
 
 /// How long a page may take to print its last line: software WebGPU on
 /// CI's two cores draws the fountain's 60 000 particles slowly. The wait
@@ -379,6 +380,17 @@ fn tick_and_checksum(line: &str, before: &str, between: &str) -> Option<(u64, St
 /// give it input once it draws, and returns the page's final-state line
 /// and the recording the page offered as a download.
 fn record_in_page(demo: &str, query: &str, test: &str, play: impl FnOnce(&mut browser::Page<'_>)) -> (String, String) {
+    record_in_page_with(demo, query, test, None, play)
+}
+
+/// As [`record_in_page`], with `script` run in the page before its own.
+fn record_in_page_with(
+    demo: &str,
+    query: &str,
+    test: &str,
+    script: Option<&str>,
+    play: impl FnOnce(&mut browser::Page<'_>),
+) -> (String, String) {
     let site = site();
     let server = Server::start(&site).expect("the file server starts");
     let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
@@ -386,7 +398,7 @@ fn record_in_page(demo: &str, query: &str, test: &str, play: impl FnOnce(&mut br
     browser.allow_downloads(&downloads).unwrap_or_else(|e| panic!("{e}"));
     let name = format!("{test}.ron");
     let mut page = browser
-        .open(&server.url(&format!("{demo}/index.html?{query}&record={name}")))
+        .open_with(&server.url(&format!("{demo}/index.html?{query}&record={name}")), script)
         .unwrap_or_else(|e| panic!("{e}"));
     page.wait_console(|l| l.starts_with("tickwork: drawing with"), PAGE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
@@ -549,4 +561,161 @@ fn the_canvas_fills_the_page_at_its_pixel_ratio_and_follows_a_resize() {
             "the canvas fills the {width}x{height} page in device pixels at {scale}x"
         );
     }
+}
+
+/// Set up before a page's own script: a standard gamepad that
+/// `navigator.getGamepads()` reports (`window.tickworkPad`; a test presses
+/// its buttons and moves its sticks by changing it, as a browser updates a
+/// real one), and an ear on the page's audio output: every buffer the page
+/// fills for its audio context (`AudioBuffer.copyToChannel`, how kira's
+/// Web Audio host plays) is counted in `window.tickworkBuffers`, and its
+/// loudest sample kept in `window.tickworkHeard`.
+const PAD_AND_EAR: &str = r#"(() => {
+  const buttons = Array.from({ length: 17 }, () => ({ pressed: false, touched: false, value: 0 }));
+  window.tickworkPad = {
+    id: "Tickwork test pad (STANDARD GAMEPAD Vendor: 045e Product: 028e)",
+    index: 0, connected: true, mapping: "standard", timestamp: 0, buttons, axes: [0, 0, 0, 0],
+  };
+  Navigator.prototype.getGamepads = function () { return [window.tickworkPad, null, null, null]; };
+  window.tickworkHeard = 0;
+  window.tickworkBuffers = 0;
+  const copy = AudioBuffer.prototype.copyToChannel;
+  AudioBuffer.prototype.copyToChannel = function (source, channel, start) {
+    window.tickworkBuffers += 1;
+    for (const x of source) { window.tickworkHeard = Math.max(window.tickworkHeard, Math.abs(x)); }
+    return copy.call(this, source, channel, start ?? 0);
+  };
+})();"#;
+
+/// Runs `js` in `page` (a statement or an expression), failing the test on
+/// an error; its value.
+fn run_js(page: &mut browser::Page<'_>, js: &str) -> serde_json::Value {
+    page.eval(js).unwrap_or_else(|e| panic!("{js}: {e}"))
+}
+
+#[test]
+fn a_gamepad_in_a_page_plays_and_replays_natively_and_the_games_sounds_reach_the_pages_audio_output() {
+    let test = "pad";
+    let mut before_any_sound = serde_json::Value::Null;
+    let mut opened = String::new();
+    let mut heard = 0.0;
+    let (end, text) = record_in_page_with("breakout", "frames=360&size=480x270", test, Some(PAD_AND_EAR), |page| {
+        page.animation_frames(5).unwrap_or_else(|e| panic!("{e}"));
+        // The first key press is the gesture a browser wants before sound.
+        page.key(true, "ArrowRight", "ArrowRight", 39)
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.animation_frames(3).unwrap_or_else(|e| panic!("{e}"));
+        page.key(false, "ArrowRight", "ArrowRight", 39)
+            .unwrap_or_else(|e| panic!("{e}"));
+        opened = page
+            .wait_console(
+                |l| l.starts_with("tickwork: sound plays") || l.starts_with("tickwork: sound is silent"),
+                PAGE_TIMEOUT,
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
+        page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+        // The device plays silence until the game starts a sound.
+        before_any_sound = run_js(page, "[window.tickworkBuffers, window.tickworkHeard]");
+        // The pad's South button serves; its stick moves the paddle left.
+        run_js(
+            page,
+            "tickworkPad.buttons[0].pressed = true; tickworkPad.buttons[0].value = 1;",
+        );
+        page.animation_frames(4).unwrap_or_else(|e| panic!("{e}"));
+        run_js(
+            page,
+            "tickworkPad.buttons[0].pressed = false; tickworkPad.buttons[0].value = 0;",
+        );
+        run_js(page, "tickworkPad.axes[0] = -0.75;");
+        page.animation_frames(20).unwrap_or_else(|e| panic!("{e}"));
+        run_js(page, "tickworkPad.axes[0] = 0;");
+        // The ball served meets the bricks about a second later, and their
+        // sound reaches the output; looked for every ten frames, until the
+        // page's last.
+        for _ in 0..36 {
+            heard = run_js(page, "window.tickworkHeard").as_f64().unwrap_or(0.0);
+            if heard > 0.05 {
+                break;
+            }
+            page.animation_frames(10).unwrap_or_else(|e| panic!("{e}"));
+        }
+    });
+    assert_eq!(
+        opened, "tickwork: sound plays through the audio device",
+        "the page opens its audio device at the first key"
+    );
+    let recording = tickwork::engine::Recording::parse(&text, Path::new("pad.ron")).expect("the recording parses");
+    let pad = |input: &tickwork::engine::TickInput| input.pads[0];
+    assert!(
+        recording.inputs.iter().any(|(_, i)| pad(i).pressed(PadButton::South)),
+        "the pad's South press is in the page's recording:\n{text}"
+    );
+    assert!(
+        recording.inputs.iter().any(|(_, i)| pad(i).axis(PadAxis::LeftX) < -0.7),
+        "the stick's move is in the page's recording:\n{text}"
+    );
+    let native = replay_natively(env!("CARGO_BIN_EXE_breakout"), &text, test);
+    assert_eq!(native, final_state(&end), "the native replay's end against the page's");
+    // Silence went to the output before the game started a sound, and its
+    // sounds after (the page's replay hits a brick natively too).
+    let [buffers, before] = [0, 1].map(|k| before_any_sound[k].as_f64().unwrap_or(f64::NAN));
+    assert!(
+        buffers >= 1.0,
+        "the device was fed before the serve: {before_any_sound}"
+    );
+    assert!(before < 1e-3, "silence before any sound: {before_any_sound}");
+    assert!(
+        heard > 0.05,
+        "the game's sounds reached the page's output: loudest sample {heard}"
+    );
+    let native_sounds = native_sounds(&text, test);
+    assert!(
+        native_sounds.iter().any(|s| s == "brick"),
+        "the native replay hit a brick: {native_sounds:?}"
+    );
+}
+
+/// The sounds a native replay of `recording` started, by name (breakout
+/// in-process, through its session's log).
+fn native_sounds(recording: &str, test: &str) -> Vec<String> {
+    use tickwork::engine::app::FrameSource;
+    let recording =
+        tickwork::engine::Recording::parse(recording, Path::new(&format!("{test}.ron"))).expect("the recording parses");
+    let ticks = recording.ticks;
+    let mut session = tickwork::engine::app::GameSession::new(
+        tickwork_demos::breakout::Breakout::new(false),
+        tickwork::engine::app::SessionOptions {
+            replay: Some(recording),
+            ..tickwork::engine::app::SessionOptions::default()
+        },
+    )
+    .expect("the session starts");
+    while session.ticks() < ticks {
+        session.advance(1.0 / 60.0).expect("steps");
+    }
+    session.played_sounds().map(|p| p.sound.to_string()).collect()
+}
+
+#[test]
+fn a_page_whose_asset_is_missing_says_which() {
+    // The breakout page alone, without the site's assets beside it.
+    let site = scratch("missing-asset");
+    std::fs::create_dir_all(site.join("breakout")).expect("a folder");
+    for file in std::fs::read_dir(root().join("target/web/breakout")).expect("the built page") {
+        let file = file.expect("a file");
+        std::fs::copy(file.path(), site.join("breakout").join(file.file_name())).expect("copied");
+    }
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    let mut page = browser
+        .open(&server.url("breakout/index.html"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let shown = page
+        .wait_console(|l| l.starts_with("error"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        shown,
+        "error: an asset the game lists (Game::assets): cannot fetch ../assets/sprites/ball.png: HTTP 404 Not Found"
+    );
+    let _ = std::fs::remove_dir_all(&site);
 }

@@ -677,6 +677,13 @@ impl Browser {
     /// has loaded): wait for what the page prints with
     /// [`Page::wait_console`].
     pub fn open(&self, url: &str) -> Result<Page<'_>, String> {
+        self.open_with(url, None)
+    }
+
+    /// As [`Browser::open`], running `script` in the page before any of
+    /// its own (`Page.addScriptToEvaluateOnNewDocument`): a test's stand-in
+    /// for a device the machine lacks, or its ear on one.
+    pub fn open_with(&self, url: &str, script: Option<&str>) -> Result<Page<'_>, String> {
         let target = self.call("Target.createTarget", json!({"url": "about:blank"}))?;
         let target_id = target["targetId"]
             .as_str()
@@ -700,6 +707,9 @@ impl Browser {
         // Listening starts before the navigation, so no line is missed.
         for domain in ["Runtime", "Log", "Page", "Inspector"] {
             page.call(&format!("{domain}.enable"), json!({}))?;
+        }
+        if let Some(script) = script {
+            page.call("Page.addScriptToEvaluateOnNewDocument", json!({"source": script}))?;
         }
         page.navigate(url)?;
         Ok(page)

@@ -117,6 +117,9 @@ engine_errors!(
     SimulationError,
     crate::render::RenderError,
     crate::render::GoldenError,
+    crate::render::TextureError,
+    super::sound::SoundError,
+    crate::sensor::SensorError,
 );
 // `PlaybackError` and `RunError` convert too: their `From` impls are in
 // `error.rs`, beside them (this file is imported by it, not the reverse).
@@ -126,6 +129,16 @@ engine_errors!(
 pub trait Game {
     /// The name: window title, output folder, recordings.
     fn title(&self) -> &str;
+
+    /// The asset files [`setup`](Game::setup) loads (textures, sounds),
+    /// by the paths it gives [`Texture::load`](crate::render::Texture::load)
+    /// and [`Sound::load`](super::Sound::load): a page, which cannot read
+    /// files, fetches each before setup (a missing one stops the page with
+    /// its URL). Natively files are read when loaded and this list is not
+    /// needed; none by default.
+    fn assets(&self) -> &[&str] {
+        &[]
+    }
 
     /// Builds the stage: worlds, trails, camera, rate. Called at the start
     /// and again on restart (F5), with a fresh stage.

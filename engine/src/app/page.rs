@@ -71,6 +71,10 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         }
         None => None,
     };
+    // A page reads no files: the game's assets are fetched before setup.
+    web::fetch_assets(game.assets())
+        .await
+        .map_err(|message| RunError::Game(format!("an asset the game lists (Game::assets): {message}").into()))?;
     let sync_inputs = options.sync_test.and(replay.clone());
     // (A page's recording is a download: nothing to overwrite.)
     let mut session = GameSession::new(game, super::run::session_options(&options, replay))?;
@@ -78,7 +82,9 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         super::run::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
         return Ok(());
     }
-    session.open_audio_device();
+    // A browser plays a page's sound only after the user's first key
+    // press, click or touch: the device opens then (PageRun::input).
+    say("tickwork: sound starts at the first key press, click or touch (the browser's rule)");
     let panel = !options.no_panel && (options.panel || session.stage().panel);
     let (width, height) = options.size.unwrap_or((1280, 720));
     let renderer = renderer_config(session.stage(), height);
@@ -100,6 +106,7 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         shown: 0,
         ended: false,
         started: None,
+        heard: false,
     }));
     spawn_window(
         source,
@@ -134,6 +141,8 @@ struct PageRun<G: Game> {
     /// When the first frame was advanced: the page's frame time is
     /// reported at the end (wall time, every frame drawn and presented).
     started: Option<crate::platform::Instant>,
+    /// Whether the audio device was opened (at the first press).
+    heard: bool,
 }
 
 impl<G: Game> PageRun<G> {
@@ -201,6 +210,11 @@ impl<G: Game> FrameSource for PageRun<G> {
     }
 
     fn input(&mut self, event: crate::input::InputEvent, arrival: f64) {
+        // A press is the user's gesture a browser wants before sound.
+        if !self.heard && matches!(event, crate::input::InputEvent::Key { down: true, .. }) {
+            self.heard = true;
+            self.session.open_audio_device();
+        }
         self.session.input(event, arrival);
     }
 

@@ -400,13 +400,16 @@ impl<G: Game> GameSession<G> {
         self.audio.played()
     }
 
-    /// Opens the machine's audio device for the sounds to come; where there
-    /// is none (or the build has no device support), says so in one line
-    /// and goes on silently. The window and the page call it; headless
-    /// runs and replays stay silent.
+    /// Opens the machine's audio device for the sounds to come and says so
+    /// in one line (`tickwork: sound plays through the audio device`);
+    /// where there is none (or the build has no device support), says that
+    /// instead and goes on silently. The window calls it at the start, a
+    /// page at the first key press, click or touch (a browser lets a page
+    /// play sound only after one); headless runs and replays stay silent.
     pub fn open_audio_device(&mut self) {
-        if let Err(why) = self.audio.open_device() {
-            say(&format!("tickwork: sound is silent: {why}"));
+        match self.audio.open_device() {
+            Ok(()) => say("tickwork: sound plays through the audio device"),
+            Err(why) => say(&format!("tickwork: sound is silent: {why}")),
         }
     }
 

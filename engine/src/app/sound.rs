@@ -82,15 +82,18 @@ impl Sound {
         })
     }
 
-    /// A sound from a WAV or Ogg Vorbis file (natively), named by its
-    /// file's stem (`"boom"` for `sounds/boom.wav`).
+    /// A sound from a WAV or Ogg Vorbis asset file, named by its file's
+    /// stem (`"boom"` for `sounds/boom.wav`): natively read from disk, in a
+    /// page the bytes it fetched for `path` (list the path in
+    /// [`Game::assets`](super::Game::assets)); a relative path is found as
+    /// [`platform::read_asset`](crate::platform::read_asset) says.
     ///
     /// # Errors
     /// [`SoundError::Read`] naming the file, or as
     /// [`from_bytes`](Self::from_bytes).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, SoundError> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|error| SoundError::Read {
+        let bytes = crate::platform::read_asset(path).map_err(|error| SoundError::Read {
             path: path.to_path_buf(),
             error,
         })?;

@@ -13,6 +13,7 @@
 //! | the environment ([`env_var`]) | the process's | none |
 //! | threads ([`parallel_threads`]) | rayon's pool, one per core | one: the step runs the one-lane path, bit-identical to the parallel one |
 //! | writing a file ([`write_text`]) | the file system | a download offered to the user |
+//! | reading an asset ([`read_asset`]) | the file system (`TICKWORK_ASSETS`, or the current folder and those above it) | the bytes fetched before the game's setup (`Game::assets`) |
 //! | waiting on a future ([`ready_now`]) | blocks (pollster) | one poll: a browser resolves futures only once the page's script yields |
 //!
 //! The browser alone has `platform::web`: fetching files by URL, offering a file as
@@ -131,6 +132,39 @@ pub fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<()> {
     imp::write_text(path, text)
 }
 
+/// The largest asset file [`read_asset`] reads: 64 MiB. A larger one is an
+/// error naming this constant; a game with larger files splits them.
+pub const MAX_ASSET_BYTES: u64 = 64 << 20;
+
+/// The bytes of the asset file `path` (a texture, a sound), the same on
+/// both platforms:
+/// - natively, an absolute path is read as it is; a relative one is read
+///   from the folder `TICKWORK_ASSETS` names where it is set, else from
+///   the current folder or the nearest folder above it that has it (as
+///   git finds `.git`), so `cargo run` and `cargo test` from any crate
+///   of a workspace find the workspace's `assets/`;
+/// - in a page, which cannot read files, the bytes the page fetched for
+///   that path before the game's setup: the game lists them in
+///   `Game::assets`, and the page fetches each
+///   from its asset root (the `data-assets` attribute of the page's
+///   `tickwork` element, else the page's own folder).
+///
+/// # Errors
+/// Natively the file system's error, or `NotFound` naming the folders
+/// looked in; in a page, `NotFound` for a path the game did not list.
+/// A file larger than [`MAX_ASSET_BYTES`] is an error naming the limit.
+pub fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    imp::read_asset(path)
+}
+
+/// The error for an asset of `bytes` bytes, over [`MAX_ASSET_BYTES`].
+fn asset_too_large(bytes: u64) -> std::io::Error {
+    std::io::Error::other(format!(
+        "{bytes} bytes is larger than the limit of {MAX_ASSET_BYTES} bytes for an asset \
+         (tickwork::platform::MAX_ASSET_BYTES): split the file"
+    ))
+}
+
 /// A status line for the user beside the picture: in a page, the
 /// `tickwork-status` element (the adapter, the backend); natively nothing
 /// (a terminal has the printed lines).
@@ -175,6 +209,33 @@ mod tests {
         assert_eq!(query_args("orbits", "", upper), ["orbits"]);
         // A value may hold '=' (only the first splits).
         assert_eq!(query_args("p", "a=b=c", str::to_owned), ["p", "--a", "b=c"]);
+    }
+
+    #[test]
+    fn an_asset_is_found_from_any_folder_of_the_workspace_and_a_missing_one_says_where_it_was_looked_for() {
+        // The tests run in engine/: the workspace's assets are one folder up.
+        let here = std::env::current_dir().expect("a current folder");
+        let ball = read_asset(std::path::Path::new("assets/sprites/ball.png")).expect("found above");
+        assert_eq!(
+            ball,
+            std::fs::read(here.join("../assets/sprites/ball.png")).expect("the file")
+        );
+        let error = read_asset(std::path::Path::new("assets/no/such.png")).expect_err("missing");
+        assert_eq!(error.kind(), std::io::ErrorKind::NotFound);
+        assert!(
+            error
+                .to_string()
+                .contains(&format!("not found in {} or any folder above it", here.display())),
+            "{error}"
+        );
+        // Past the limit: an error naming it (a sparse file, no disk used).
+        let big = std::env::temp_dir().join(format!("tickwork-big-asset-{}", std::process::id()));
+        std::fs::File::create(&big)
+            .and_then(|f| f.set_len(MAX_ASSET_BYTES + 1))
+            .expect("a sparse file");
+        let error = read_asset(&big).expect_err("too large");
+        let _ = std::fs::remove_file(&big);
+        assert!(error.to_string().contains("MAX_ASSET_BYTES"), "{error}");
     }
 
     #[test]

@@ -56,6 +56,40 @@ pub(super) fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<
     std::fs::write(path, text)
 }
 
+pub(super) fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind};
+    let read = |file: &std::path::Path| {
+        let bytes = std::fs::metadata(file)?.len();
+        if bytes > super::MAX_ASSET_BYTES {
+            return Err(super::asset_too_large(bytes));
+        }
+        std::fs::read(file)
+    };
+    if path.is_absolute() {
+        return read(path);
+    }
+    if let Some(root) = std::env::var_os("TICKWORK_ASSETS") {
+        let root = std::path::PathBuf::from(root);
+        return read(&root.join(path)).map_err(|e| {
+            Error::new(
+                e.kind(),
+                format!("{e} (in {}, which TICKWORK_ASSETS names)", root.display()),
+            )
+        });
+    }
+    let here = std::env::current_dir()?;
+    match here.ancestors().map(|dir| dir.join(path)).find(|file| file.is_file()) {
+        Some(file) => read(&file),
+        None => Err(Error::new(
+            ErrorKind::NotFound,
+            format!(
+                "not found in {} or any folder above it (TICKWORK_ASSETS names the folder to read assets from)",
+                here.display()
+            ),
+        )),
+    }
+}
+
 pub(super) fn exit(code: i32) -> ! {
     std::process::exit(code)
 }

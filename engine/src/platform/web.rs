@@ -106,13 +106,9 @@ pub(super) fn spawn_local(future: impl Future<Output = ()> + 'static) {
     wasm_bindgen_futures::spawn_local(future);
 }
 
-/// Fetches `url` (relative to the page) as text of at most `limit` bytes.
-///
-/// # Errors
-/// What went wrong, naming the URL: the request failed, the server
-/// answered with an error status, the body is larger than `limit`
-/// (`limit_name` names the constant) or is not text.
-pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<String, String> {
+/// Fetches `url` (relative to the page): the response, checked to be a
+/// success.
+async fn fetch(url: &str) -> Result<web_sys::Response, String> {
     let window = web_sys::window().ok_or("no window (not a page)")?;
     let response = JsFuture::from(window.fetch_with_str(url))
         .await
@@ -127,6 +123,22 @@ pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<Strin
             response.status_text()
         ));
     }
+    Ok(response)
+}
+
+/// The error for a body of `bytes` bytes from `url`, over `limit`.
+fn too_large(url: &str, bytes: u64, limit: u64, limit_name: &str) -> String {
+    format!("{url} is larger than the limit of {limit} bytes ({limit_name}): {bytes} bytes")
+}
+
+/// Fetches `url` (relative to the page) as text of at most `limit` bytes.
+///
+/// # Errors
+/// What went wrong, naming the URL: the request failed, the server
+/// answered with an error status, the body is larger than `limit`
+/// (`limit_name` names the constant) or is not text.
+pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<String, String> {
+    let response = fetch(url).await?;
     let text = JsFuture::from(
         response
             .text()
@@ -136,11 +148,80 @@ pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<Strin
     .map_err(|e| format!("cannot read {url}: {}", js_text(&e)))?;
     let text = text.as_string().ok_or_else(|| format!("{url} is not text"))?;
     if text.len() as u64 > limit {
-        return Err(format!(
-            "{url} is larger than the limit of {limit} bytes ({limit_name})"
-        ));
+        return Err(too_large(url, text.len() as u64, limit, limit_name));
     }
     Ok(text)
+}
+
+/// Fetches `url` (relative to the page) as bytes, at most `limit` of them.
+///
+/// # Errors
+/// As [`fetch_text`], but for bytes.
+pub async fn fetch_bytes(url: &str, limit: u64, limit_name: &str) -> Result<Vec<u8>, String> {
+    let response = fetch(url).await?;
+    let buffer = JsFuture::from(
+        response
+            .array_buffer()
+            .map_err(|e| format!("cannot read {url}: {}", js_text(&e)))?,
+    )
+    .await
+    .map_err(|e| format!("cannot read {url}: {}", js_text(&e)))?;
+    let bytes = js_sys::Uint8Array::new(&buffer);
+    if u64::from(bytes.length()) > limit {
+        return Err(too_large(url, u64::from(bytes.length()), limit, limit_name));
+    }
+    Ok(bytes.to_vec())
+}
+
+thread_local! {
+    /// The assets a page fetched before its game's setup, by the path the
+    /// game named them with (a page has one thread).
+    static ASSETS: std::cell::RefCell<std::collections::HashMap<std::path::PathBuf, std::rc::Rc<[u8]>>> =
+        std::cell::RefCell::default();
+}
+
+/// The page's asset root: the `data-assets` attribute of its `tickwork`
+/// element (scripts/web's pages say `../assets/`), else the page's folder.
+fn asset_root() -> String {
+    web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id("tickwork"))
+        .and_then(|e| e.get_attribute("data-assets"))
+        .unwrap_or_default()
+}
+
+/// Fetches each of `paths` from the page's asset root, for
+/// [`read_asset`](super::read_asset) to give the game's setup; paths
+/// fetched before are kept.
+///
+/// # Errors
+/// The first asset that cannot be fetched, naming its URL.
+pub async fn fetch_assets(paths: &[&str]) -> Result<(), String> {
+    let root = asset_root();
+    for path in paths {
+        if ASSETS.with(|assets| assets.borrow().contains_key(std::path::Path::new(path))) {
+            continue;
+        }
+        let url = format!("{root}{path}");
+        let bytes = fetch_bytes(&url, super::MAX_ASSET_BYTES, "tickwork::platform::MAX_ASSET_BYTES").await?;
+        ASSETS.with(|assets| assets.borrow_mut().insert(path.into(), bytes.into()));
+    }
+    Ok(())
+}
+
+pub(super) fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    ASSETS
+        .with(|assets| assets.borrow().get(path).map(|bytes| bytes.to_vec()))
+        .ok_or_else(|| {
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!(
+                    "a page cannot read files, and the game did not list {} in Game::assets (what the page \
+                     fetches before setup)",
+                    path.display()
+                ),
+            )
+        })
 }
 
 pub(super) fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<()> {

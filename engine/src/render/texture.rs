@@ -136,15 +136,17 @@ impl Texture {
         Self::from_rgba(width, height, image.into_rgba8().into_raw())
     }
 
-    /// A texture from a PNG file (natively; a page fetches the bytes and
-    /// calls [`from_png`](Self::from_png)).
+    /// A texture from a PNG asset file: natively read from disk, in a page
+    /// the bytes it fetched for `path` (list the path in
+    /// [`Game::assets`](crate::app::Game::assets)); a relative path is
+    /// found as [`platform::read_asset`](crate::platform::read_asset) says.
     ///
     /// # Errors
     /// [`TextureError::Read`] naming the file, or as
     /// [`from_png`](Self::from_png).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, TextureError> {
         let path = path.as_ref();
-        let bytes = std::fs::read(path).map_err(|error| TextureError::Read {
+        let bytes = crate::platform::read_asset(path).map_err(|error| TextureError::Read {
             path: path.to_path_buf(),
             error,
         })?;
