@@ -264,6 +264,115 @@ fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
         ball[1] > 150 && ball[2] < 100 && ball != YELLOW,
         "the particle over the panel: {ball:?}"
     );
+    // A second world of its own layer (1): its red particle over the
+    // panel, while the first world's stays under it.
+    struct TwoWorlds;
+    impl Game for TwoWorlds {
+        fn title(&self) -> &str {
+            "two worlds"
+        }
+        fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+            Layers.setup(stage, settings)?;
+            let mut sparks = tickwork_engine::World::default();
+            sparks.spawn(tickwork_engine::Particle {
+                position: glam::Vec3::new(2.5, 0.0, 0.0),
+                radius: 0.4,
+                colour: RED,
+                ..tickwork_engine::Particle::default()
+            })?;
+            stage.add_world("sparks", sparks).layer(1);
+            Ok(())
+        }
+        fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+            Layers.draw(stage, alpha, draw)
+        }
+    }
+    let mut session = GameSession::new(TwoWorlds, SessionOptions::default()).expect("a session");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    assert_eq!(at(&image, 0.7, 0.0), YELLOW, "the first world under the panel");
+    let spark = at(&image, 2.5, 0.0);
+    assert!(
+        spark[0] > 150 && spark[1] < 100 && spark[2] < 100,
+        "the second world's particle over the panel: {spark:?}"
+    );
+}
+
+/// Texts and shapes that overlap, over and under one another by call
+/// order and layer, and a particle (green, radius 1 m, at the origin).
+struct TextOrder;
+
+impl Game for TextOrder {
+    fn title(&self) -> &str {
+        "text order"
+    }
+
+    fn setup(&mut self, stage: &mut Stage, settings: &Settings) -> Result<(), GameError> {
+        Layers.setup(stage, settings)
+    }
+
+    fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+        let white = [255, 255, 255, 255];
+        // Left (x -9..-5): a text, then a red block over it.
+        draw.text("MMMM", glam::Vec3::new(-7.0, 2.0, 0.0))
+            .size(30.0)
+            .colour(white);
+        draw.rect(Vec2::new(-9.0, 0.5), Vec2::new(-5.0, 3.5), RED);
+        // Right (x 5..9): a red block, then a text over it.
+        draw.rect(Vec2::new(5.0, 0.5), Vec2::new(9.0, 3.5), RED);
+        draw.text("MMMM", glam::Vec3::new(7.0, 2.0, 0.0))
+            .size(30.0)
+            .colour(white);
+        // Below the middle: a text on layer 1, over the blue block drawn
+        // after it on layer 0.
+        draw.layer(1);
+        draw.text("MMMM", glam::Vec3::new(7.0, -2.5, 0.0))
+            .size(30.0)
+            .colour(white);
+        draw.layer(0);
+        draw.rect(Vec2::new(5.0, -4.0), Vec2::new(9.0, -1.0), BLUE);
+        // The particle's layer (0): a text there is under the particle.
+        draw.text("MMMM", glam::Vec3::ZERO).size(30.0).colour(white);
+        Ok(())
+    }
+}
+
+#[test]
+fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
+    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let mut session = GameSession::new(TextOrder, SessionOptions::default()).expect("a session");
+    let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
+    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+    if let Ok(path) = std::env::var("TICKWORK_SAVE_TEXT_ORDER") {
+        image.save(path).expect("saved");
+    }
+    // Pixels that are text (bright, near white) in a world rectangle.
+    let white = |(x0, y0): (f32, f32), (x1, y1): (f32, f32)| {
+        let pixel = |x: f32, y: f32| (((x + 10.0) * 10.0) as u32, ((5.0 - y) * 10.0) as u32);
+        let ((left, bottom), (right, top)) = (pixel(x0, y0), pixel(x1, y1));
+        (left..right)
+            .flat_map(|x| (top..bottom).map(move |y| (x, y)))
+            .filter(|&(x, y)| image.get_pixel(x, y).0[..3].iter().all(|&c| c > 200))
+            .count()
+    };
+    assert_eq!(
+        white((-9.0, 0.5), (-5.0, 3.5)),
+        0,
+        "the block drawn after the text covers it"
+    );
+    assert!(
+        white((5.0, 0.5), (9.0, 3.5)) > 40,
+        "the text drawn after the block is over it"
+    );
+    assert_eq!(at(&image, 8.9, 0.6), RED);
+    assert!(
+        white((5.0, -4.0), (9.0, -1.0)) > 40,
+        "layer 1's text is over layer 0's block"
+    );
+    assert_eq!(at(&image, 5.1, -3.9), BLUE);
+    // The particle covers the middle of the text under it; the text shows
+    // beside it.
+    assert_eq!(white((-0.6, -0.6), (0.6, 0.6)), 0, "the particle over its layer's text");
+    assert!(white((-3.0, -1.0), (-1.0, 1.0)) > 10, "the text beside the particle");
 }
 
 /// A 16 x 9 m field, letterboxed, and a red block far larger than it.

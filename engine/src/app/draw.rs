@@ -38,8 +38,10 @@ impl Default for Viewport {
 /// Shapes are drawn in the order they are added, on the current
 /// [`layer`](Self::layer) (lower layers first; default 0); the worlds'
 /// particles come after the shapes of [`particle_layer`](Self::particle_layer)
-/// (default 0), so a background drawn on layer 0 is behind them and a panel
-/// on layer 1 over them. Text is drawn last, over everything.
+/// (default 0; a world may have its own:
+/// [`WorldBuilder::layer`](super::WorldBuilder::layer)), so a background
+/// drawn on layer 0 is behind them and a panel on layer 1 over them. Texts
+/// are ordered with the shapes; only the HUD line is drawn over everything.
 #[derive(Debug, Default)]
 pub struct Draw {
     /// Line segments, one pixel wide.
@@ -130,7 +132,9 @@ impl Draw {
     }
 
     /// Draws the worlds (outlines, trails, particles) after the shapes of
-    /// `layer` and before those of higher layers (default 0, each frame).
+    /// `layer` and before those of higher layers (default 0, each frame);
+    /// a world given its own layer ([`WorldBuilder::layer`](super::WorldBuilder::layer))
+    /// keeps it.
     pub fn particle_layer(&mut self, layer: i32) {
         self.particle_layer = layer;
     }
@@ -304,6 +308,13 @@ impl Draw {
     /// sets its size, colour and anchor:
     /// `draw.text("YOU WIN", Vec3::ZERO).size(48.0).colour(GREEN);`
     pub fn text(&mut self, text: impl Into<String>, at: Vec3) -> &mut Text {
+        extend_batches(
+            &mut self.batches,
+            Shapes::Texts,
+            self.layer,
+            self.clip,
+            self.texts.len(),
+        );
         self.texts.push(Text::new(text, at));
         let last = self.texts.len() - 1;
         &mut self.texts[last]

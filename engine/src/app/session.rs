@@ -640,7 +640,8 @@ impl<G: Game> FrameSource for GameSession<G> {
         };
         for shown in &self.stage.worlds {
             if let Some(texture) = &shown.sprite {
-                particle_sprites(&shown.world, texture, alpha, self.draw.particles_on(), &mut self.draw);
+                let layer = shown.layer.unwrap_or(self.draw.particles_on());
+                particle_sprites(&shown.world, texture, alpha, layer, &mut self.draw);
             }
         }
         let others: Vec<WorldView<'_>> = rest
@@ -649,11 +650,13 @@ impl<G: Game> FrameSource for GameSession<G> {
                 world: &w.world,
                 trails: Some(&w.trails),
                 as_sprites: w.sprite.is_some(),
+                layer: w.layer,
             })
             .collect();
         let view = FrameView {
             trails: first.map(|w| &w.trails),
             as_sprites: first.is_some_and(|w| w.sprite.is_some()),
+            layer: first.and_then(|w| w.layer),
             others: &others,
             lines: &self.draw.lines,
             triangles: &self.draw.triangles,

@@ -92,6 +92,10 @@ pub struct StageWorld {
     /// Its particles drawn as this image, each as wide as its disc, tinted
     /// by its colour and turned by its heading (default `None`: discs).
     pub sprite: Option<Texture>,
+    /// The layer its particles, trails and outlines are drawn on: after
+    /// the shapes of that layer (default `None`: the frame's
+    /// [`Draw::particle_layer`](super::Draw::particle_layer)).
+    pub layer: Option<i32>,
 }
 
 /// What happens when a world's step fails (an explicit method blowing up
@@ -372,6 +376,7 @@ impl Stage {
             failure: None,
             last_good: None,
             sprite: None,
+            layer: None,
         });
         let index = self.worlds.len() - 1;
         WorldBuilder { stage: self, index }
@@ -488,6 +493,15 @@ impl WorldBuilder<'_> {
     /// of asteroids).
     pub fn sprites(mut self, texture: &Texture) -> Self {
         self.shown().sprite = Some(texture.clone());
+        self
+    }
+
+    /// Draws its particles, trails and outlines after the shapes of
+    /// `layer` and before those of higher layers, whatever the frame's
+    /// [`Draw::particle_layer`](super::Draw::particle_layer): a background
+    /// world of stars under the game's shapes, sparks over them.
+    pub fn layer(mut self, layer: i32) -> Self {
+        self.shown().layer = Some(layer);
         self
     }
 

@@ -21,6 +21,8 @@ pub struct FrameView<'a> {
     pub trails: Option<&'a Trails>,
     /// `world`'s particles are drawn as sprites (in `sprites`), not discs.
     pub as_sprites: bool,
+    /// The layer `world` is drawn on (default `None`: `particle_layer`).
+    pub layer: Option<i32>,
     /// More worlds drawn in the same frame, after `world` (an integrator
     /// race: one world per method, side by side or overlaid).
     pub others: &'a [WorldView<'a>],
@@ -34,9 +36,11 @@ pub struct FrameView<'a> {
     pub batches: &'a [Batch],
     /// Sprites (a game's images), ordered by `batches` with the shapes.
     pub sprites: &'a [Sprite],
-    /// The worlds are drawn after the shapes of this layer (default 0).
+    /// The worlds are drawn after the shapes of this layer (default 0),
+    /// but those with a layer of their own.
     pub particle_layer: i32,
-    /// Text placed in the world, drawn last.
+    /// Text placed in the world, ordered by `batches` with the shapes
+    /// (those no batch covers are drawn over everything but the HUD).
     pub texts: &'a [Text],
     /// HUD text, drawn top-left; empty for none.
     pub hud: &'a str,
@@ -56,6 +60,7 @@ impl<'a> FrameView<'a> {
             camera,
             trails: None,
             as_sprites: false,
+            layer: None,
             others: &[],
             lines: &[],
             triangles: &[],
@@ -74,6 +79,7 @@ impl<'a> FrameView<'a> {
             world: self.world,
             trails: self.trails,
             as_sprites: self.as_sprites,
+            layer: self.layer,
         })
         .chain(self.others.iter().copied())
     }
@@ -89,4 +95,6 @@ pub struct WorldView<'a> {
     /// Its particles are drawn as sprites (in the frame's `sprites`), not
     /// discs.
     pub as_sprites: bool,
+    /// The layer it is drawn on (`None`: the frame's `particle_layer`).
+    pub layer: Option<i32>,
 }

@@ -107,13 +107,13 @@ impl HermiteParticles {
         pass: &mut wgpu::RenderPass<'_>,
         globals: &wgpu::BindGroup,
         instances: &wgpu::Buffer,
-        count: u32,
+        range: std::ops::Range<u32>,
     ) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, globals, &[]);
         pass.set_vertex_buffer(0, instances.slice(..));
         pass.set_vertex_buffer(1, self.velocities.slice(..));
-        pass.draw(0..4, 0..count);
+        pass.draw(0..4, range);
     }
 }
 

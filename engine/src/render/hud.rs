@@ -1,6 +1,8 @@
-//! The HUD: text drawn over the frame with glyphon, from the font shipped
-//! in `assets/fonts/` (never the machine's fonts, so golden images are the
-//! same everywhere).
+//! Text with glyphon, from the font shipped in `assets/fonts/` (never the
+//! machine's fonts, so golden images are the same everywhere): the HUD
+//! line, drawn over the frame, and the game's texts, in runs drawn where
+//! the frame's order puts them (one glyphon renderer per run, sharing one
+//! glyph atlas).
 
 use glyphon::{
     Attrs, Buffer, Cache, Color, Family, FontSystem, Metrics, PrepareError, Resolution, Shaping, SwashCache, TextArea,
@@ -47,6 +49,12 @@ pub(crate) struct Hud {
     renderer_single: TextRenderer,
     /// Which of the two the last `prepare` filled.
     single: bool,
+    /// One renderer per run of the game's texts (as many as a frame has
+    /// had runs, kept), for multisampled and single-sampled frames.
+    runs: Vec<TextRenderer>,
+    runs_single: Vec<TextRenderer>,
+    multisample: wgpu::MultisampleState,
+    depth: wgpu::DepthStencilState,
     buffer: Buffer,
     text: String,
     /// Colour changes of the laid-out text: (byte offset, sRGB RGBA).
@@ -73,8 +81,12 @@ impl Hud {
             bias: Default::default(),
         };
         let renderer = TextRenderer::new(&mut atlas, &gpu.device, multisample, Some(depth.clone()));
-        let renderer_single =
-            TextRenderer::new(&mut atlas, &gpu.device, wgpu::MultisampleState::default(), Some(depth));
+        let renderer_single = TextRenderer::new(
+            &mut atlas,
+            &gpu.device,
+            wgpu::MultisampleState::default(),
+            Some(depth.clone()),
+        );
         let buffer = Buffer::new(&mut fonts, Metrics::new(size, size * 1.3));
         Self {
             fonts,
@@ -84,6 +96,10 @@ impl Hud {
             renderer,
             renderer_single,
             single: false,
+            runs: Vec::new(),
+            runs_single: Vec::new(),
+            multisample,
+            depth,
             buffer,
             text: String::new(),
             colours: Vec::new(),
@@ -94,7 +110,8 @@ impl Hud {
     }
 
     /// Lays out `text` (only if it changed) and the game's placed `texts`,
-    /// and uploads their glyphs.
+    /// and uploads their glyphs: the HUD's, and each of `runs` (ranges of
+    /// `texts`) for its own draw call.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn prepare(
         &mut self,
@@ -104,8 +121,12 @@ impl Hud {
         text: &str,
         colours: &[(usize, [u8; 4])],
         texts: &[PlacedText],
+        runs: &[std::ops::Range<usize>],
         single: bool,
     ) -> Result<(), PrepareError> {
+        // Glyphs no text of the last frame used may go, so the atlas holds
+        // what is shown rather than every glyph ever drawn.
+        self.atlas.trim();
         self.lay_out_placed(texts);
         self.single = single;
         self.viewport.update(&gpu.queue, Resolution { width, height });
@@ -156,25 +177,30 @@ impl Hud {
             custom_glyphs: &[],
         };
         let bounds = area.bounds;
-        let placed = texts.iter().zip(&self.placed).map(|(text, laid)| {
-            let (w, h) = laid.extent;
-            let (fx, fy) = text.anchor.fractions();
-            let (left, top) = (text.x - fx * w, text.y - fy * h);
-            let [r, g, b, a] = text.colour;
-            TextArea {
-                buffer: &laid.buffer,
-                left: left.round(),
-                top: top.round(),
-                scale: 1.0,
-                bounds,
-                default_color: Color::rgba(r, g, b, a),
-                custom_glyphs: &[],
-            }
-        });
-        let renderer = if single {
-            &mut self.renderer_single
+        let placed = |run: std::ops::Range<usize>| {
+            texts[run.clone()]
+                .iter()
+                .zip(&self.placed[run])
+                .map(move |(text, laid)| {
+                    let (w, h) = laid.extent;
+                    let (fx, fy) = text.anchor.fractions();
+                    let (left, top) = (text.x - fx * w, text.y - fy * h);
+                    let [r, g, b, a] = text.colour;
+                    TextArea {
+                        buffer: &laid.buffer,
+                        left: left.round(),
+                        top: top.round(),
+                        scale: 1.0,
+                        bounds,
+                        default_color: Color::rgba(r, g, b, a),
+                        custom_glyphs: &[],
+                    }
+                })
+        };
+        let (renderer, pool) = if single {
+            (&mut self.renderer_single, &mut self.runs_single)
         } else {
-            &mut self.renderer
+            (&mut self.renderer, &mut self.runs)
         };
         renderer.prepare(
             &gpu.device,
@@ -182,9 +208,34 @@ impl Hud {
             &mut self.fonts,
             &mut self.atlas,
             &self.viewport,
-            std::iter::once(area).chain(placed),
+            std::iter::once(area),
             &mut self.swash,
-        )
+        )?;
+        let multisample = if single {
+            wgpu::MultisampleState::default()
+        } else {
+            self.multisample
+        };
+        for (k, run) in runs.iter().enumerate() {
+            if k == pool.len() {
+                pool.push(TextRenderer::new(
+                    &mut self.atlas,
+                    &gpu.device,
+                    multisample,
+                    Some(self.depth.clone()),
+                ));
+            }
+            pool[k].prepare(
+                &gpu.device,
+                &gpu.queue,
+                &mut self.fonts,
+                &mut self.atlas,
+                &self.viewport,
+                placed(run.clone()),
+                &mut self.swash,
+            )?;
+        }
+        Ok(())
     }
 
     /// Lays out the texts that changed since the last frame (a buffer per
@@ -218,7 +269,16 @@ impl Hud {
         }
     }
 
-    /// Draws the prepared text (nothing if it is empty).
+    /// Draws the prepared run `k` of the game's texts.
+    pub(crate) fn render_run(&self, pass: &mut wgpu::RenderPass<'_>, k: usize) {
+        let pool = if self.single { &self.runs_single } else { &self.runs };
+        if let Some(renderer) = pool.get(k) {
+            // As in `render`.
+            let _ = renderer.render(&self.atlas, &self.viewport, pass);
+        }
+    }
+
+    /// Draws the prepared HUD line (nothing if it is empty).
     pub(crate) fn render(&self, pass: &mut wgpu::RenderPass<'_>) {
         // Fails only if glyphs were evicted between prepare and render,
         // which cannot happen within one frame.

@@ -2,9 +2,9 @@
 //! (rectangles, polygons, thick lines) and text placed in the world, all in
 //! world coordinates. Shapes are drawn by layer (lowest first) and, within
 //! a layer, in the order they were drawn ([`Batch`]); the worlds (their
-//! outlines, trails and particles) come after the shapes of their layer,
-//! and text last, over everything. They are few and built on the CPU each
-//! frame.
+//! outlines, trails and particles) come after the shapes of their layer.
+//! Texts are ordered as shapes are; only the HUD is drawn over everything.
+//! They are few and built on the CPU each frame.
 
 use glam::{Vec2, Vec3};
 
@@ -37,6 +37,8 @@ pub enum Shapes {
     Lines,
     /// Sprites.
     Sprites,
+    /// Texts (items of the frame's texts).
+    Texts,
 }
 
 /// A run of shapes of one kind drawn one after the other on one layer:

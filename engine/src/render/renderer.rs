@@ -89,8 +89,13 @@ pub struct Renderer {
     world_line_vertices: u32,
     /// The game's shapes in drawing order (by layer, then as drawn).
     shape_calls: Vec<ShapeCall>,
-    /// The worlds are drawn after the shapes of this layer.
+    /// The worlds are drawn after the shapes of this layer, but those with
+    /// their own.
     particle_layer: i32,
+    /// Each world of the frame: its layer, its instances and its lines.
+    world_draws: Vec<WorldDraw>,
+    /// The layers the worlds are drawn on, lowest first, each once.
+    world_layers: Vec<i32>,
     /// Where a letterboxed camera draws (`None`: the whole frame).
     letterbox: Option<FrameRect>,
     /// The game's sprites.
@@ -102,6 +107,12 @@ pub struct Renderer {
     frame_size: (u32, u32),
     /// The frame's texts in pixels, for the HUD.
     placed_texts: Vec<PlacedText>,
+    /// How many of the frame's texts before each (and all of them, last)
+    /// were placed: what maps a run of texts to its placed ones.
+    placed_before: Vec<usize>,
+    /// The frame's runs of texts, in the texts' indices until they are
+    /// placed, then in the placed texts': one text draw call each.
+    text_runs: Vec<Range<usize>>,
     instance_scratch: Vec<Instance>,
     /// The world states last uploaded: (world id, revision) of each world.
     uploaded: Vec<(u64, u64)>,
@@ -264,11 +275,15 @@ impl Renderer {
             world_line_vertices: 0,
             shape_calls: Vec::new(),
             particle_layer: 0,
+            world_draws: Vec::new(),
+            world_layers: Vec::new(),
             letterbox: None,
             sprites,
             frame_scissor: [0, 0, 1, 1],
             frame_size: (1, 1),
             placed_texts: Vec::new(),
+            placed_before: Vec::new(),
+            text_runs: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
             upload_key: Vec::new(),
@@ -326,6 +341,7 @@ impl Renderer {
         };
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
+        self.plan_worlds(view);
         let dt = match self.config.interpolation {
             Interpolation::Hermite { dt } => Some(dt),
             _ => None,
@@ -349,8 +365,10 @@ impl Renderer {
             && self.instance_count as usize >= self.splat_threshold
             && self.instance_count < 1 << 24
             && view.camera.is_2d()
-            // The splat covers the whole frame.
+            // The splat covers the whole frame, and composites every
+            // world's particles at once: on one layer.
             && self.letterbox.is_none()
+            && self.world_layers.len() <= 1
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
         if self.splat_active
             && let Some(splat) = &mut self.splat
@@ -394,6 +412,9 @@ impl Renderer {
         self.sprites.prepare(gpu, view.sprites)?;
         self.order_shapes(view)?;
         self.place_texts(view, buffers.width, buffers.height)?;
+        for run in &mut self.text_runs {
+            *run = self.placed_before[run.start]..self.placed_before[run.end];
+        }
         self.hud
             .prepare(
                 gpu,
@@ -402,6 +423,7 @@ impl Renderer {
                 view.hud,
                 view.hud_colours,
                 &self.placed_texts,
+                &self.text_runs,
                 self.splat_active,
             )
             .map_err(|error| RenderError::Device(format!("laying out the HUD: {error}")))?;
@@ -422,7 +444,7 @@ impl Renderer {
                 )
                 && (texture.width(), texture.height()) == (buffers.width, buffers.height)
                 // Nothing to draw under the particles.
-                && !self.shape_calls.iter().any(|c| c.layer <= self.particle_layer)
+                && !self.shape_calls.iter().any(|c| self.world_layers.iter().any(|&w| c.layer <= w))
         };
         if self.splat_active
             && let Some(splat) = &self.splat
@@ -456,47 +478,92 @@ impl Renderer {
             pass.set_viewport(r.x, r.y, r.width, r.height, 0.0, 1.0);
             pass.set_scissor_rect(r.x as u32, r.y as u32, r.width as u32, r.height as u32);
         }
-        for call in self.shape_calls.iter().filter(|c| c.layer <= self.particle_layer) {
-            self.draw_shapes(&mut pass, call, single);
-        }
-        if self.world_line_vertices > 0 {
-            let world_lines = ShapeCall {
-                shapes: Shapes::Lines,
-                layer: self.particle_layer,
-                vertices: 0..self.world_line_vertices,
-                scissor: None,
-            };
-            self.draw_shapes(&mut pass, &world_lines, single);
-        }
-        if self.splat_active {
-            if !resolved && let Some(splat) = &self.splat {
-                splat.encode_composite(&mut pass);
+        // Each layer a world is on: the shapes up to it, then its worlds.
+        let mut below: Option<i32> = None;
+        let above = |below: Option<i32>, layer: i32| below.is_none_or(|b| layer > b);
+        for &layer in &self.world_layers {
+            for call in self
+                .shape_calls
+                .iter()
+                .filter(|c| above(below, c.layer) && c.layer <= layer)
+            {
+                self.draw_shapes(&mut pass, call, single);
             }
-        } else if self.instance_count > 0 && self.hermite_active {
-            if let Some(hermite) = &self.hermite {
-                hermite.draw(
-                    &mut pass,
-                    &self.particle_bind_group,
-                    &self.instances,
-                    self.instance_count,
-                );
-            }
-        } else if self.instance_count > 0 {
-            pass.set_pipeline(&self.particle_pipeline);
-            pass.set_bind_group(0, &self.particle_bind_group, &[]);
-            pass.set_vertex_buffer(0, self.instances.slice(..));
-            pass.draw(0..4, 0..self.instance_count);
+            self.draw_worlds(&mut pass, layer, resolved, single);
+            below = Some(layer);
         }
-        for call in self.shape_calls.iter().filter(|c| c.layer > self.particle_layer) {
+        for call in self.shape_calls.iter().filter(|c| above(below, c.layer)) {
             self.draw_shapes(&mut pass, call, single);
         }
         if self.letterbox.is_some() {
-            // The HUD and text over the whole frame, bars included.
+            // The HUD over the whole frame, bars included.
             let (w, h) = (buffers.width.max(1), buffers.height.max(1));
             pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
             pass.set_scissor_rect(0, 0, w, h);
         }
         self.hud.render(&mut pass);
+    }
+
+    /// The worlds on `layer`: their lines (trails, outlines), then their
+    /// particles (the splat's composite, when it drew them all: `resolved`
+    /// when it already resolved them into the target).
+    fn draw_worlds(&self, pass: &mut wgpu::RenderPass<'_>, layer: i32, resolved: bool, single: bool) {
+        let on_layer = || self.world_draws.iter().filter(move |w| w.layer == layer);
+        for world in on_layer().filter(|w| !w.lines.is_empty()) {
+            let lines = ShapeCall {
+                shapes: Shapes::Lines,
+                layer,
+                vertices: world.lines.clone(),
+                scissor: None,
+            };
+            self.draw_shapes(pass, &lines, single);
+        }
+        if self.splat_active {
+            if !resolved && let Some(splat) = &self.splat {
+                splat.encode_composite(pass);
+            }
+            return;
+        }
+        for world in on_layer().filter(|w| !w.instances.is_empty()) {
+            match &self.hermite {
+                Some(hermite) if self.hermite_active => {
+                    hermite.draw(
+                        pass,
+                        &self.particle_bind_group,
+                        &self.instances,
+                        world.instances.clone(),
+                    );
+                }
+                _ => {
+                    pass.set_pipeline(&self.particle_pipeline);
+                    pass.set_bind_group(0, &self.particle_bind_group, &[]);
+                    pass.set_vertex_buffer(0, self.instances.slice(..));
+                    pass.draw(0..4, world.instances.clone());
+                }
+            }
+        }
+    }
+
+    /// Each world's layer and instances this frame, and the layers they
+    /// are on (lowest first). Their lines are set as they are built.
+    fn plan_worlds(&mut self, view: &FrameView<'_>) {
+        self.world_draws.clear();
+        self.world_layers.clear();
+        let mut first = 0u32;
+        for shown in view.worlds() {
+            let count = u32::try_from(shown.world.len()).unwrap_or(u32::MAX);
+            let layer = shown.layer.unwrap_or(view.particle_layer);
+            self.world_draws.push(WorldDraw {
+                layer,
+                instances: first..first.saturating_add(count),
+                lines: 0..0,
+            });
+            first = first.saturating_add(count);
+            if !self.world_layers.contains(&layer) {
+                self.world_layers.push(layer);
+            }
+        }
+        self.world_layers.sort_unstable();
     }
 
     /// One run of the frame's fills, lines or sprites, clipped as it asks.
@@ -531,6 +598,21 @@ impl Renderer {
     }
 
     fn draw_unclipped(&self, pass: &mut wgpu::RenderPass<'_>, call: &ShapeCall, single: bool) {
+        if call.shapes == Shapes::Texts {
+            // Text calls name their run, placed in the whole frame's
+            // pixels (the letterbox's scissor still clips them).
+            let run = call.vertices.start as usize;
+            match self.letterbox {
+                Some(r) => {
+                    let (w, h) = self.frame_size;
+                    pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
+                    self.hud.render_run(pass, run);
+                    pass.set_viewport(r.x, r.y, r.width, r.height, 0.0, 1.0);
+                }
+                None => self.hud.render_run(pass, run),
+            }
+            return;
+        }
         if call.shapes == Shapes::Sprites {
             pass.set_bind_group(0, &self.line_bind_group, &[]);
             self.sprites
@@ -540,9 +622,9 @@ impl Renderer {
         let (pipeline, buffer) = match (call.shapes, single) {
             (Shapes::Fills, true) => (&self.triangle_pipeline_single, &self.triangle_buffer),
             (Shapes::Fills, false) => (&self.triangle_pipeline, &self.triangle_buffer),
-            // Sprites returned above.
-            (Shapes::Lines | Shapes::Sprites, true) => (&self.line_pipeline_single, &self.line_buffer),
-            (Shapes::Lines | Shapes::Sprites, false) => (&self.line_pipeline, &self.line_buffer),
+            // Sprites and texts returned above.
+            (Shapes::Lines | Shapes::Sprites | Shapes::Texts, true) => (&self.line_pipeline_single, &self.line_buffer),
+            (Shapes::Lines | Shapes::Sprites | Shapes::Texts, false) => (&self.line_pipeline, &self.line_buffer),
         };
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.line_bind_group, &[]);
@@ -550,14 +632,17 @@ impl Renderer {
         pass.draw(call.vertices.clone(), 0..1);
     }
 
-    /// The frame's shapes as draw calls, by layer and then in the order
-    /// drawn (the batches'); what no batch covers comes after them on
-    /// layer 0, fills first.
+    /// The frame's shapes and texts as draw calls, by layer and then in
+    /// the order drawn (the batches'); shapes no batch covers come after
+    /// them on layer 0, fills first, and texts no batch covers over
+    /// everything (a view built without text batches).
     fn order_shapes(&mut self, view: &FrameView<'_>) -> Result<(), RenderError> {
         self.shape_calls.clear();
+        self.text_runs.clear();
         self.particle_layer = view.particle_layer;
         let (fills, lines, sprites) = (view.triangles.len(), view.lines.len(), view.sprites.len());
-        let (mut fills_drawn, mut lines_drawn, mut sprites_drawn) = (0, 0, 0);
+        let texts = view.texts.len();
+        let (mut fills_drawn, mut lines_drawn, mut sprites_drawn, mut texts_drawn) = (0, 0, 0, 0);
         let world = self.world_line_vertices as usize;
         let vertices = |range: Range<usize>| {
             u32::try_from(range.start).unwrap_or(u32::MAX)..u32::try_from(range.end).unwrap_or(u32::MAX)
@@ -567,6 +652,7 @@ impl Renderer {
                 Shapes::Fills => (fills, "triangles"),
                 Shapes::Lines => (lines, "lines"),
                 Shapes::Sprites => (sprites, "sprites"),
+                Shapes::Texts => (texts, "texts"),
             };
             if batch.start > batch.end || batch.end > len {
                 return Err(RenderError::Config(format!(
@@ -587,6 +673,12 @@ impl Renderer {
                 Shapes::Sprites => {
                     sprites_drawn = sprites_drawn.max(batch.end);
                     batch.start..batch.end
+                }
+                // A text call names its run.
+                Shapes::Texts => {
+                    texts_drawn = texts_drawn.max(batch.end);
+                    self.text_runs.push(batch.start..batch.end);
+                    self.text_runs.len() - 1..self.text_runs.len()
                 }
             };
             self.shape_calls.push(ShapeCall {
@@ -617,6 +709,15 @@ impl Renderer {
                 shapes: Shapes::Sprites,
                 layer: 0,
                 vertices: vertices(sprites_drawn..sprites),
+                scissor: None,
+            });
+        }
+        if texts_drawn < texts {
+            self.text_runs.push(texts_drawn..texts);
+            self.shape_calls.push(ShapeCall {
+                shapes: Shapes::Texts,
+                layer: i32::MAX,
+                vertices: vertices(self.text_runs.len() - 1..self.text_runs.len()),
                 scissor: None,
             });
         }
@@ -690,26 +791,28 @@ impl Renderer {
     }
 
     fn build_lines(&mut self, view: &FrameView<'_>, t: f32) {
-        let scratch = &mut self.line_scratch;
-        scratch.clear();
-        let mut push = |a: Vec3, b: Vec3, colour: [u8; 4]| {
-            scratch.push(LineVertex {
-                position: a.to_array(),
-                colour,
-            });
-            scratch.push(LineVertex {
-                position: b.to_array(),
-                colour,
-            });
-        };
-        for shown in view.worlds() {
-            super::world_lines::world_lines(&self.config, &shown, t, &mut push);
+        fn push(scratch: &mut Vec<LineVertex>, a: Vec3, b: Vec3, colour: [u8; 4]) {
+            for p in [a, b] {
+                scratch.push(LineVertex {
+                    position: p.to_array(),
+                    colour,
+                });
+            }
         }
+        self.line_scratch.clear();
+        let vertex = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        for (k, shown) in view.worlds().enumerate() {
+            let start = vertex(self.line_scratch.len());
+            let scratch = &mut self.line_scratch;
+            super::world_lines::world_lines(&self.config, &shown, t, &mut |a, b, c| push(scratch, a, b, c));
+            if let Some(world) = self.world_draws.get_mut(k) {
+                world.lines = start..vertex(self.line_scratch.len());
+            }
+        }
+        self.world_line_vertices = vertex(self.line_scratch.len());
         for line in view.lines {
-            push(line.a, line.b, line.colour);
+            push(&mut self.line_scratch, line.a, line.b, line.colour);
         }
-        let game = view.lines.len() * 2;
-        self.world_line_vertices = u32::try_from(self.line_scratch.len() - game).unwrap_or(u32::MAX);
     }
 
     /// The frame's triangles as vertices.
@@ -738,9 +841,11 @@ impl Renderer {
     /// camera (texts behind a 3D camera are left out).
     fn place_texts(&mut self, view: &FrameView<'_>, width: u32, height: u32) -> Result<(), RenderError> {
         self.placed_texts.clear();
+        self.placed_before.clear();
         let matrices = view.camera.matrices(width, height);
         let rect = view.camera.frame_rect(width, height);
         for (k, text) in view.texts.iter().enumerate() {
+            self.placed_before.push(self.placed_texts.len());
             let most = if text.unit == TextUnit::Pixels {
                 1000.0
             } else {
@@ -777,6 +882,7 @@ impl Renderer {
                 anchor: text.anchor,
             });
         }
+        self.placed_before.push(self.placed_texts.len());
         Ok(())
     }
 
@@ -802,6 +908,15 @@ fn check_interpolation(interpolation: Interpolation) -> Result<(), RenderError> 
         ))),
         _ => Ok(()),
     }
+}
+
+/// One world of a frame: the layer it is drawn on, its particles' range
+/// of the instance buffer and its lines' range of the line vertices.
+#[derive(Clone, Debug)]
+struct WorldDraw {
+    layer: i32,
+    instances: Range<u32>,
+    lines: Range<u32>,
 }
 
 /// One draw of a run of the frame's shapes: which kind, on which layer,
