@@ -373,6 +373,31 @@ fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
     // beside it.
     assert_eq!(white((-0.6, -0.6), (0.6, 0.6)), 0, "the particle over its layer's text");
     assert!(white((-3.0, -1.0), (-1.0, 1.0)) > 10, "the text beside the particle");
+    // Each text between two shapes is a run of its own: past the limit,
+    // the frame is an error that names it.
+    struct Runs;
+    impl Game for Runs {
+        fn title(&self) -> &str {
+            "runs"
+        }
+        fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+            black_stage(stage);
+            Ok(())
+        }
+        fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+            for _ in 0..=tickwork_engine::render::MAX_TEXT_RUNS {
+                draw.text("a", glam::Vec3::ZERO);
+                draw.rect(Vec2::ZERO, Vec2::ONE, RED);
+            }
+            Ok(())
+        }
+    }
+    let mut session = GameSession::new(Runs, SessionOptions::default()).expect("a session");
+    let error = run.frame(&mut session, 1.0 / 60.0, true).expect_err("too many runs");
+    assert!(
+        error.to_string().contains("1025 runs of text") && error.to_string().contains("render::MAX_TEXT_RUNS"),
+        "{error}"
+    );
 }
 
 /// A 16 x 9 m field, letterboxed, and a red block far larger than it.

@@ -68,7 +68,7 @@ pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff
 pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::{Rgba, RgbaImage};
 pub(crate) use overlay::extend_batches;
-pub use overlay::{Anchor, Batch, Line, Shapes, Text, TextUnit, Triangle};
+pub use overlay::{Anchor, Batch, Line, MAX_TEXT_RUNS, Shapes, Text, TextUnit, Triangle};
 pub use renderer::Renderer;
 pub use sprite::Sprite;
 pub use stroke::{Cap, Join, Stroke, Width};

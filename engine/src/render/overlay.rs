@@ -41,6 +41,13 @@ pub enum Shapes {
     Texts,
 }
 
+/// The most runs of text a frame may have (texts drawn together, with no
+/// other shape between them, on one layer and clip, are one run): each is
+/// a draw of its own with its own vertex buffer. A frame past it is an
+/// error naming this constant; draw a frame's texts together (or on one
+/// layer) to need fewer.
+pub const MAX_TEXT_RUNS: usize = 1024;
+
 /// A run of shapes of one kind drawn one after the other on one layer:
 /// items `start..end` of the frame's triangles, lines or sprites. A frame's batches,
 /// in the order they were drawn, are what makes a fill drawn after a line

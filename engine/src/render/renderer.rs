@@ -712,6 +712,14 @@ impl Renderer {
                 scissor: None,
             });
         }
+        if self.text_runs.len() + usize::from(texts_drawn < texts) > super::overlay::MAX_TEXT_RUNS {
+            return Err(RenderError::Config(format!(
+                "the frame has {} runs of text between other shapes, more than the limit of {} \
+                 (render::MAX_TEXT_RUNS): draw its texts together, or on one layer",
+                self.text_runs.len() + usize::from(texts_drawn < texts),
+                super::overlay::MAX_TEXT_RUNS
+            )));
+        }
         if texts_drawn < texts {
             self.text_runs.push(texts_drawn..texts);
             self.shape_calls.push(ShapeCall {
