@@ -346,7 +346,7 @@ fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
         image.save(path).expect("saved");
     }
     // Pixels that are text (bright, near white) in a world rectangle.
-    let white = |(x0, y0): (f32, f32), (x1, y1): (f32, f32)| {
+    let white_in = |image: &RgbaImage, (x0, y0): (f32, f32), (x1, y1): (f32, f32)| {
         let pixel = |x: f32, y: f32| (((x + 10.0) * 10.0) as u32, ((5.0 - y) * 10.0) as u32);
         let ((left, bottom), (right, top)) = (pixel(x0, y0), pixel(x1, y1));
         (left..right)
@@ -354,6 +354,7 @@ fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
             .filter(|&(x, y)| image.get_pixel(x, y).0[..3].iter().all(|&c| c > 200))
             .count()
     };
+    let white = |a, b| white_in(&image, a, b);
     assert_eq!(
         white((-9.0, 0.5), (-5.0, 3.5)),
         0,
@@ -392,6 +393,34 @@ fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
             Ok(())
         }
     }
+    // Labels on a layer of their own, each added after its shape on
+    // another: side by side once sorted, they are one run.
+    struct Labels;
+    impl Game for Labels {
+        fn title(&self) -> &str {
+            "labels"
+        }
+        fn setup(&mut self, stage: &mut Stage, _settings: &Settings) -> Result<(), GameError> {
+            black_stage(stage);
+            Ok(())
+        }
+        fn draw(&self, _stage: &Stage, _alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
+            for k in 0..2 * tickwork_engine::render::MAX_TEXT_RUNS {
+                let x = (k % 20) as f32 - 10.0;
+                draw.layer(0);
+                draw.rect(Vec2::new(x, 4.0), Vec2::new(x + 0.5, 4.5), RED);
+                draw.layer(1);
+                draw.text("a", glam::Vec3::new(x, -3.0, 0.0));
+            }
+            Ok(())
+        }
+    }
+    let mut session = GameSession::new(Labels, SessionOptions::default()).expect("a session");
+    let labels = run.frame(&mut session, 1.0 / 60.0, true).expect("labels are one run");
+    assert!(
+        white_in(&labels, (-9.0, -4.0), (9.0, -2.0)) > 20,
+        "the labels are drawn"
+    );
     let mut session = GameSession::new(Runs, SessionOptions::default()).expect("a session");
     let error = run.frame(&mut session, 1.0 / 60.0, true).expect_err("too many runs");
     assert!(

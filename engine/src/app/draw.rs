@@ -48,10 +48,10 @@ pub struct Draw {
     pub lines: Vec<Line>,
     /// Filled triangles.
     pub triangles: Vec<Triangle>,
-    /// The order of `triangles` and `lines`: runs of each on a layer, in
-    /// the order they were added (what the methods below keep). Items
-    /// pushed onto the vectors directly are drawn after those batches, on
-    /// layer 0.
+    /// The order of `triangles`, `lines`, `sprites` and `texts`: runs of
+    /// each on a layer, in the order they were added (what the methods
+    /// below keep). Shapes pushed onto the vectors directly are drawn
+    /// after those batches, on layer 0; texts over every shape.
     pub batches: Vec<Batch>,
     /// Sprites, ordered with the shapes by `batches`.
     pub sprites: Vec<Sprite>,

@@ -213,14 +213,18 @@ mod tests {
 
     #[test]
     fn an_asset_is_found_from_any_folder_of_the_workspace_and_a_missing_one_says_where_it_was_looked_for() {
-        // The tests run in engine/: the workspace's assets are one folder up.
+        use std::path::Path;
+        // The tests run in engine/: the workspace's assets are one folder up
+        // (TICKWORK_ASSETS unset, whatever this process's environment says).
         let here = std::env::current_dir().expect("a current folder");
-        let ball = read_asset(std::path::Path::new("assets/sprites/ball.png")).expect("found above");
+        let workspace = here.join("..");
+        let read = |path: &str, root: Option<&Path>| native::read_asset_in(Path::new(path), root, &here);
+        let ball = read("assets/sprites/ball.png", None).expect("found above");
         assert_eq!(
             ball,
-            std::fs::read(here.join("../assets/sprites/ball.png")).expect("the file")
+            std::fs::read(workspace.join("assets/sprites/ball.png")).expect("the file")
         );
-        let error = read_asset(std::path::Path::new("assets/no/such.png")).expect_err("missing");
+        let error = read("assets/no/such.png", None).expect_err("missing");
         assert_eq!(error.kind(), std::io::ErrorKind::NotFound);
         assert!(
             error
@@ -228,6 +232,11 @@ mod tests {
                 .contains(&format!("not found in {} or any folder above it", here.display())),
             "{error}"
         );
+        // TICKWORK_ASSETS: only its folder is looked in.
+        let assets = workspace.join("assets");
+        assert_eq!(read("sprites/ball.png", Some(&assets)).expect("in the root"), ball);
+        let error = read("assets/sprites/ball.png", Some(&assets)).expect_err("not above it");
+        assert!(error.to_string().contains("which TICKWORK_ASSETS names"), "{error}");
         // Past the limit: an error naming it (a sparse file, no disk used).
         let big = std::env::temp_dir().join(format!("tickwork-big-asset-{}", std::process::id()));
         std::fs::File::create(&big)

@@ -57,6 +57,18 @@ pub(super) fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<
 }
 
 pub(super) fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    let root = std::env::var_os("TICKWORK_ASSETS").map(std::path::PathBuf::from);
+    read_asset_in(path, root.as_deref(), &std::env::current_dir()?)
+}
+
+/// [`read_asset`] with the folder `TICKWORK_ASSETS` names (`root`) and the
+/// current folder (`here`) given: a relative `path` is read from `root`,
+/// else from `here` or the nearest folder above it that has it.
+pub(super) fn read_asset_in(
+    path: &std::path::Path,
+    root: Option<&std::path::Path>,
+    here: &std::path::Path,
+) -> std::io::Result<Vec<u8>> {
     use std::io::{Error, ErrorKind};
     let read = |file: &std::path::Path| {
         let bytes = std::fs::metadata(file)?.len();
@@ -68,8 +80,7 @@ pub(super) fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
     if path.is_absolute() {
         return read(path);
     }
-    if let Some(root) = std::env::var_os("TICKWORK_ASSETS") {
-        let root = std::path::PathBuf::from(root);
+    if let Some(root) = root {
         return read(&root.join(path)).map_err(|e| {
             Error::new(
                 e.kind(),
@@ -77,7 +88,6 @@ pub(super) fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
             )
         });
     }
-    let here = std::env::current_dir()?;
     match here.ancestors().map(|dir| dir.join(path)).find(|file| file.is_file()) {
         Some(file) => read(&file),
         None => Err(Error::new(

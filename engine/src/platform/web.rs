@@ -107,8 +107,9 @@ pub(super) fn spawn_local(future: impl Future<Output = ()> + 'static) {
 }
 
 /// Fetches `url` (relative to the page): the response, checked to be a
-/// success.
-async fn fetch(url: &str) -> Result<web_sys::Response, String> {
+/// success whose announced length (if any) is at most `limit` bytes, so
+/// that a body past it is refused before it is read.
+async fn fetch(url: &str, limit: u64, limit_name: &str) -> Result<web_sys::Response, String> {
     let window = web_sys::window().ok_or("no window (not a page)")?;
     let response = JsFuture::from(window.fetch_with_str(url))
         .await
@@ -122,6 +123,15 @@ async fn fetch(url: &str) -> Result<web_sys::Response, String> {
             response.status(),
             response.status_text()
         ));
+    }
+    let announced = response
+        .headers()
+        .get("content-length")
+        .ok()
+        .flatten()
+        .and_then(|length| length.trim().parse::<u64>().ok());
+    if let Some(bytes) = announced.filter(|&bytes| bytes > limit) {
+        return Err(too_large(url, bytes, limit, limit_name));
     }
     Ok(response)
 }
@@ -138,7 +148,7 @@ fn too_large(url: &str, bytes: u64, limit: u64, limit_name: &str) -> String {
 /// answered with an error status, the body is larger than `limit`
 /// (`limit_name` names the constant) or is not text.
 pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<String, String> {
-    let response = fetch(url).await?;
+    let response = fetch(url, limit, limit_name).await?;
     let text = JsFuture::from(
         response
             .text()
@@ -158,7 +168,7 @@ pub async fn fetch_text(url: &str, limit: u64, limit_name: &str) -> Result<Strin
 /// # Errors
 /// As [`fetch_text`], but for bytes.
 pub async fn fetch_bytes(url: &str, limit: u64, limit_name: &str) -> Result<Vec<u8>, String> {
-    let response = fetch(url).await?;
+    let response = fetch(url, limit, limit_name).await?;
     let buffer = JsFuture::from(
         response
             .array_buffer()
@@ -181,7 +191,8 @@ thread_local! {
 }
 
 /// The page's asset root: the `data-assets` attribute of its `tickwork`
-/// element (scripts/web's pages say `../assets/`), else the page's folder.
+/// element (scripts/web's pages say `../`, the site's root, where the
+/// `assets/` folder is), else the page's folder.
 fn asset_root() -> String {
     web_sys::window()
         .and_then(|w| w.document())

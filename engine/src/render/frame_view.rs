@@ -40,7 +40,8 @@ pub struct FrameView<'a> {
     /// but those with a layer of their own.
     pub particle_layer: i32,
     /// Text placed in the world, ordered by `batches` with the shapes
-    /// (those no batch covers are drawn over everything but the HUD).
+    /// (those no batch covers are drawn after every shape, on layer
+    /// `i32::MAX`, before the HUD).
     pub texts: &'a [Text],
     /// HUD text, drawn top-left; empty for none.
     pub hud: &'a str,

@@ -71,8 +71,8 @@ impl Hud {
         let cache = Cache::new(&gpu.device);
         let viewport = Viewport::new(&gpu.device, &cache);
         let mut atlas = TextAtlas::new(&gpu.device, &gpu.queue, &cache, format);
-        // The HUD is drawn last in the frame's pass, which has a depth
-        // buffer: test always, write never.
+        // Text is drawn in the frame's pass, which has a depth buffer:
+        // test always, write never (the order of the calls decides).
         let depth = wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
             depth_write_enabled: Some(false),

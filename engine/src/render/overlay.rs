@@ -45,20 +45,22 @@ pub enum Shapes {
 /// other shape between them, on one layer and clip, are one run): each is
 /// a draw of its own with its own vertex buffer. A frame past it is an
 /// error naming this constant; draw a frame's texts together (or on one
-/// layer) to need fewer.
+/// layer) to need fewer. Runs side by side once sorted by layer (labels on
+/// a layer of their own) count as one.
 pub const MAX_TEXT_RUNS: usize = 1024;
 
 /// A run of shapes of one kind drawn one after the other on one layer:
-/// items `start..end` of the frame's triangles, lines or sprites. A frame's batches,
+/// items `start..end` of the frame's triangles, lines, sprites or texts
+/// (a batch of texts is drawn as one run). A frame's batches,
 /// in the order they were drawn, are what makes a fill drawn after a line
 /// cover it (and the other way round), whatever their kinds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Batch {
-    /// Triangles or lines.
+    /// Which kind: triangles, lines, sprites or texts.
     pub shapes: Shapes,
     /// The layer: lower layers are drawn first (default 0).
     pub layer: i32,
-    /// The first item (an index into the frame's triangles or lines).
+    /// The first item (an index into the frame's items of its kind).
     pub start: usize,
     /// One past the last item.
     pub end: usize,

@@ -113,6 +113,8 @@ pub struct Renderer {
     /// The frame's runs of texts, in the texts' indices until they are
     /// placed, then in the placed texts': one text draw call each.
     text_runs: Vec<Range<usize>>,
+    /// The runs as merged (see `merge_text_runs`), reused.
+    merged_runs: Vec<Range<usize>>,
     instance_scratch: Vec<Instance>,
     /// The world states last uploaded: (world id, revision) of each world.
     uploaded: Vec<(u64, u64)>,
@@ -284,6 +286,7 @@ impl Renderer {
             placed_texts: Vec::new(),
             placed_before: Vec::new(),
             text_runs: Vec::new(),
+            merged_runs: Vec::new(),
             instance_scratch: Vec::new(),
             uploaded: Vec::new(),
             upload_key: Vec::new(),
@@ -712,14 +715,6 @@ impl Renderer {
                 scissor: None,
             });
         }
-        if self.text_runs.len() + usize::from(texts_drawn < texts) > super::overlay::MAX_TEXT_RUNS {
-            return Err(RenderError::Config(format!(
-                "the frame has {} runs of text between other shapes, more than the limit of {} \
-                 (render::MAX_TEXT_RUNS): draw its texts together, or on one layer",
-                self.text_runs.len() + usize::from(texts_drawn < texts),
-                super::overlay::MAX_TEXT_RUNS
-            )));
-        }
         if texts_drawn < texts {
             self.text_runs.push(texts_drawn..texts);
             self.shape_calls.push(ShapeCall {
@@ -731,7 +726,46 @@ impl Renderer {
         }
         // A stable sort: the order drawn is kept within a layer.
         self.shape_calls.sort_by_key(|c| c.layer);
+        self.merge_text_runs();
+        if self.text_runs.len() > super::overlay::MAX_TEXT_RUNS {
+            return Err(RenderError::Config(format!(
+                "the frame has {} runs of text between other shapes, more than the limit of {} \
+                 (render::MAX_TEXT_RUNS): draw its texts together",
+                self.text_runs.len(),
+                super::overlay::MAX_TEXT_RUNS
+            )));
+        }
         Ok(())
+    }
+
+    /// Runs of text side by side in the sorted calls (on one layer and
+    /// clip, of consecutive texts: labels on a layer of their own, each
+    /// added after a shape on another) become one run, drawn at once.
+    fn merge_text_runs(&mut self) {
+        let mut merged = std::mem::take(&mut self.merged_runs);
+        merged.clear();
+        let mut kept = 0usize;
+        for k in 0..self.shape_calls.len() {
+            let mut call = self.shape_calls[k].clone();
+            if call.shapes == Shapes::Texts {
+                let run = self.text_runs[call.vertices.start as usize].clone();
+                let previous = kept.checked_sub(1).map(|p| &self.shape_calls[p]);
+                let joins = previous
+                    .is_some_and(|p| p.shapes == Shapes::Texts && p.layer == call.layer && p.scissor == call.scissor);
+                if let Some(last) = merged.last_mut().filter(|last| joins && last.end == run.start) {
+                    last.end = run.end;
+                    continue;
+                }
+                merged.push(run);
+                let index = u32::try_from(merged.len() - 1).unwrap_or(u32::MAX);
+                call.vertices = index..index + 1;
+            }
+            self.shape_calls[kept] = call;
+            kept += 1;
+        }
+        self.shape_calls.truncate(kept);
+        std::mem::swap(&mut self.text_runs, &mut merged);
+        self.merged_runs = merged;
     }
 
     /// Whether the target stores blue first.
