@@ -157,7 +157,9 @@ pub fn read_asset(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
     imp::read_asset(path)
 }
 
-/// The error for an asset of `bytes` bytes, over [`MAX_ASSET_BYTES`].
+/// The error for an asset of `bytes` bytes, over [`MAX_ASSET_BYTES`]
+/// (natively; a page's fetch says so in its own words).
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 fn asset_too_large(bytes: u64) -> std::io::Error {
     std::io::Error::other(format!(
         "{bytes} bytes is larger than the limit of {MAX_ASSET_BYTES} bytes for an asset \
