@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, settle_plane, settled_axis4};
+use super::sweep::{StepPath, SweptHit, clear_axis4, resting4, settle_plane};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -317,7 +317,9 @@ impl Plane {
             1 => p.y,
             _ => p.z,
         } * s;
+        const ALL: u8 = 0b1111;
         let whole = c.rows / 4;
+        let mut resting_first = false;
         for b in 0..c.rows.div_ceil(4) {
             let (r, w) = if b < whole {
                 if c.movable && c.point {
@@ -334,15 +336,35 @@ impl Plane {
             };
             let (x, v) = (&mut c.position[b], &mut c.velocity[b]);
             let (d0, d1, dv) = (pick(&start[b]), pick(x), pick(v) * dt);
-            let mask = settled[b] & settled_axis4(d0, d1, dv, r, self.offset, 0.0, rest_dt);
-            settled[b] = mask;
             // The padding lanes of a short last block count as settled.
             let padding = if b < whole {
                 0
             } else {
                 0b1111 << (c.rows - b * 4) & 0b1111
             };
-            if mask | padding == 0b1111 {
+            // Neighbouring blocks are usually alike: the test that settled
+            // the last block whole goes first, and the other only where
+            // it did not settle this one (either order, the same lanes).
+            let clear_of = || clear_axis4(d0, d1, dv, r, self.offset, 0.0);
+            let resting_of = || resting4(d0, d1, dv, 0.0, rest_dt).bitmask() as u8;
+            let (clear, resting) = if resting_first {
+                let resting = resting_of();
+                (if resting | padding == ALL { 0 } else { clear_of() }, resting)
+            } else {
+                let clear = clear_of();
+                (clear, if clear | padding == ALL { 0 } else { resting_of() })
+            };
+            if clear | padding == ALL {
+                // Clear all along the step: the end-of-step rule would
+                // leave every lane as it is (the same bits).
+                settled[b] |= padding;
+                resting_first = false;
+                continue;
+            }
+            resting_first = resting | padding == ALL;
+            let mask = settled[b] & (clear | resting);
+            settled[b] = mask;
+            if mask | padding == ALL {
                 self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
             }
         }
