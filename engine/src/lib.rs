@@ -51,6 +51,8 @@ pub mod colliders;
 pub mod emitter;
 pub mod energy;
 pub mod forces;
+#[cfg(feature = "render")]
+pub mod gpu_step;
 pub mod headless;
 pub mod input;
 pub mod interpolation;

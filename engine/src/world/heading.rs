@@ -71,6 +71,11 @@ impl Heading {
 pub(crate) struct Hidden(pub bool);
 
 impl World {
+    /// Whether any entity has a heading (what the GPU step refuses).
+    pub(crate) fn has_headings(&self) -> bool {
+        self.columns.get::<Heading>().is_some()
+    }
+
     /// Sets `entity`'s heading (a ship's nose, a rock's spin), stepped from
     /// the next step on. The first call adds a heading column to the world
     /// (every other entity gets `Heading::default()`: angle 0, no spin).

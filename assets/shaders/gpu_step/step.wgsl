@@ -1,0 +1,81 @@
+// The fixed step on the GPU: one invocation a particle, the method's
+// `advance` (its own file, appended below) then the planes, in place.
+//
+//   a(x, v) = c - b v       the world's affine forces (gravity, wind, linear drag), summed
+//                           in force order on the CPU; 0 for an immovable particle
+//   plane (axis e, sign s, offset o, restitution e_r), end of step, frictionless:
+//     gap = s x_e - o - r;  if gap < 0 and w > 0:
+//       v_e = s (v_n + dv_n),  dv_n = (v_n >= 0 ? -1 : -(1 + e_r)) * min(v_n, 0),  v_n = s v_e
+//       x_e = x_e - s gap
+//
+// The same operations in the same order as the CPU's f32 step
+// (engine/src/colliders/plane.rs, contact_block; integrators/src/methods).
+
+struct Params {
+    c: vec3<f32>,
+    b: f32,
+    dt: f32,
+    n: u32,
+    // Workgroups along x: a dispatch past 65 535 of them folds into y.
+    groups_x: u32,
+    planes: u32,
+}
+
+struct Plane {
+    // 0, 1 or 2.
+    axis: u32,
+    sign: f32,
+    offset: f32,
+    restitution: f32,
+}
+
+struct Motion {
+    x: vec3<f32>,
+    v: vec3<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+// (x, y, z, radius) and (vx, vy, vz, inverse mass) of each particle.
+@group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> velocities: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> planes: array<Plane>;
+
+fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {
+    if (w > 0.0) {
+        return params.c - v * params.b;
+    }
+    return vec3<f32>(0.0);
+}
+
+fn resolve_planes(m: Motion, r: f32, w: f32) -> Motion {
+    var x = m.x;
+    var v = m.v;
+    for (var k = 0u; k < params.planes; k++) {
+        let p = planes[k];
+        let gap = x[p.axis] * p.sign - p.offset - r;
+        let vn = v[p.axis] * p.sign;
+        var factor = -(1.0 + p.restitution);
+        if (vn >= 0.0) {
+            factor = -1.0;
+        }
+        let dvn = factor * min(vn, 0.0);
+        if (gap < 0.0 && w > 0.0) {
+            v[p.axis] = (vn + dvn) * p.sign;
+            x[p.axis] = x[p.axis] - gap * p.sign;
+        }
+    }
+    return Motion(x, v);
+}
+
+@compute @workgroup_size(256)
+fn step(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x + id.y * params.groups_x * 256u;
+    if (i >= params.n) {
+        return;
+    }
+    let p = positions[i];
+    let q = velocities[i];
+    let moved = resolve_planes(advance(p.xyz, q.xyz, q.w, params.dt), p.w, q.w);
+    positions[i] = vec4<f32>(moved.x, p.w);
+    velocities[i] = vec4<f32>(moved.v, q.w);
+}

@@ -1,0 +1,121 @@
+//! The fixed step on the GPU against the adapter's own copy of the same
+//! bytes: semi-implicit Euler (gravity, linear drag, a floor) at 100k, 1M
+//! and 10M particles (`TICKWORK_GPU_BENCH_SIZES=100000,1000000` to choose),
+//! each step reading 32 bytes a particle and writing 32, and in the same
+//! run `copy_buffer_to_buffer` of the state's 32 bytes a particle (read
+//! once, written once). Both report their throughput in bytes moved a
+//! second, so the step's bandwidth as a fraction of the copy's is the
+//! ratio of the two (`scripts/gpu-bench` prints it). On lavapipe these are
+//! CPU figures and show only that it runs.
+
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::Vec3;
+use tickwork_engine::colliders::{Material, Plane};
+use tickwork_engine::forces::{Gravity, LinearDrag};
+use tickwork_engine::gpu_step::GpuWorld;
+use tickwork_engine::render::Gpu;
+use tickwork_engine::{Particle, World, WorldConfig};
+
+/// A world of `n` particles in a 100 m cube, falling onto a floor.
+fn world(n: usize) -> World {
+    let mut world = World::new(WorldConfig {
+        integrator: "semi_implicit_euler".into(),
+        max_particles: n.max(1),
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    world.add_force(Gravity::EARTH);
+    world.add_force(LinearDrag { rate: 0.1 });
+    world.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+    ));
+    for k in 0..n {
+        let h = (k as u32).wrapping_mul(2_654_435_761) as f32 / u32::MAX as f32;
+        world
+            .spawn(Particle {
+                position: Vec3::new((k % 1000) as f32 * 0.1, 1.0 + 100.0 * h, (k / 1000 % 1000) as f32 * 0.1),
+                velocity: Vec3::new(1.0, 0.0, -1.0),
+                radius: 0.02,
+                ..Particle::default()
+            })
+            .expect("a particle");
+    }
+    world
+}
+
+/// Waits until the GPU has done all it was given.
+fn finish(gpu: &Gpu) {
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("the GPU finishes");
+}
+
+fn sizes() -> Vec<usize> {
+    std::env::var("TICKWORK_GPU_BENCH_SIZES").map_or_else(
+        |_| vec![100_000, 1_000_000, 10_000_000],
+        |list| list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
+    )
+}
+
+fn gpu_step(c: &mut Criterion) {
+    let gpu = Gpu::headless().unwrap_or_else(|e| panic!("the GPU step bench needs an adapter: {e}"));
+    println!("adapter: {:?}", gpu.adapter.get_info());
+    for n in sizes() {
+        let cpu = world(n);
+        let mut on_gpu = match GpuWorld::new(&gpu, &cpu) {
+            Ok(world) => world,
+            Err(error) => {
+                println!("gpu_step_{n}: not run: {error}");
+                continue;
+            }
+        };
+        drop(cpu);
+        let mut group = c.benchmark_group(format!("gpu_step_{n}"));
+        group.throughput(Throughput::Bytes(on_gpu.bytes_per_step()));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        group.bench_function("semi_implicit_euler", |b| {
+            b.iter_custom(|iters| {
+                finish(&gpu);
+                let start = Instant::now();
+                on_gpu.step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX));
+                finish(&gpu);
+                start.elapsed()
+            });
+        });
+        // The same bytes copied: both state buffers into a scratch pair.
+        let (positions, velocities) = on_gpu.buffers();
+        let bytes = positions.size();
+        let scratch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("copy target"),
+            size: 2 * bytes,
+            usage: wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        group.bench_function("copy_same_bytes", |b| {
+            b.iter_custom(|iters| {
+                finish(&gpu);
+                let start = Instant::now();
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                for _ in 0..iters {
+                    encoder.copy_buffer_to_buffer(positions, 0, &scratch, 0, bytes);
+                    encoder.copy_buffer_to_buffer(velocities, 0, &scratch, bytes, bytes);
+                }
+                gpu.queue.submit([encoder.finish()]);
+                finish(&gpu);
+                start.elapsed()
+            });
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, gpu_step);
+criterion_main!(benches);

@@ -1,0 +1,72 @@
+//! What a GPU world refuses, and why.
+
+use core::fmt;
+
+/// A world the GPU step cannot take, or a GPU it cannot run on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GpuStepError {
+    /// The world's method has no GPU form (yet, or ever: implicit and
+    /// adaptive methods stay on the CPU).
+    Method {
+        /// The method's name.
+        method: String,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A force the GPU step does not evaluate.
+    Force {
+        /// The force's name.
+        force: &'static str,
+    },
+    /// A collider the GPU step does not resolve.
+    Collider {
+        /// The collider's name.
+        collider: &'static str,
+        /// What of it.
+        reason: &'static str,
+    },
+    /// Something else of the world the GPU step does not do.
+    Unsupported(&'static str),
+    /// The adapter cannot run compute shaders (WebGL2).
+    NoCompute,
+    /// The particles' buffers are past one of the device's limits.
+    Limit {
+        /// The limit's name in `wgpu::Limits`.
+        limit: &'static str,
+        /// Its value, bytes or workgroups.
+        value: u64,
+        /// What the world needs of it.
+        needed: u64,
+        /// How many particles fit.
+        fits: u64,
+    },
+    /// Reading the state back failed.
+    ReadBack(String),
+}
+
+impl fmt::Display for GpuStepError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Method { method, reason } => write!(f, "the GPU step has no method {method:?}: {reason}"),
+            Self::Force { force } => write!(
+                f,
+                "the GPU step does not evaluate the force {force:?}: it takes gravity, wind and linear drag"
+            ),
+            Self::Collider { collider, reason } => write!(f, "the GPU step does not resolve this {collider}: {reason}"),
+            Self::Unsupported(what) => write!(f, "the GPU step does not do {what}"),
+            Self::NoCompute => f.write_str("the GPU step needs compute shaders, which this adapter (WebGL2) lacks"),
+            Self::Limit {
+                limit,
+                value,
+                needed,
+                fits,
+            } => write!(
+                f,
+                "the particles need {needed} of the device's {limit} ({value}): at most {fits} particles fit"
+            ),
+            Self::ReadBack(message) => write!(f, "reading the GPU world back: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuStepError {}

@@ -1,0 +1,127 @@
+//! What a world asks of the GPU step, read from it once: the method's
+//! WGSL, the affine forces' sums and the planes, or the error that names
+//! what the GPU step does not do.
+
+use glam::Vec3A;
+
+use super::error::GpuStepError;
+use crate::colliders::{ContactRule, Plane};
+use crate::world::World;
+
+/// The step's shader: the common part, then the method's `advance`.
+const COMMON: &str = include_str!("../../../assets/shaders/gpu_step/step.wgsl");
+
+/// The methods with a GPU form: name and WGSL.
+const METHODS: &[(&str, &str)] = &[
+    (
+        "semi_implicit_euler",
+        include_str!("../../../assets/shaders/gpu_step/semi_implicit_euler.wgsl"),
+    ),
+    (
+        "explicit_euler",
+        include_str!("../../../assets/shaders/gpu_step/explicit_euler.wgsl"),
+    ),
+];
+
+/// A plane as the shader reads it (`Plane` in `step.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct PlaneRecord {
+    pub axis: u32,
+    pub sign: f32,
+    pub offset: f32,
+    pub restitution: f32,
+}
+
+/// A world's step as the GPU runs it.
+#[derive(Clone, Debug)]
+pub(super) struct Plan {
+    /// The method's name.
+    pub method: &'static str,
+    /// The shader's source.
+    pub source: String,
+    /// The affine forces' sums `(c, b)`: `a = c - b v`, in force order from
+    /// `(0, 0)` as the CPU's force field sums them.
+    pub affine: (Vec3A, f32),
+    pub planes: Vec<PlaneRecord>,
+}
+
+/// The plan of `world`'s step, or what the GPU step does not do of it.
+pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
+    let info = world.integrator().info();
+    let Some(&(method, wgsl)) = METHODS.iter().find(|(name, _)| *name == info.name) else {
+        let reason = if info.implicit || info.variable_cost {
+            "implicit and adaptive methods stay on the CPU"
+        } else {
+            "not on the GPU yet (semi_implicit_euler and explicit_euler are)"
+        };
+        return Err(GpuStepError::Method {
+            method: info.name.to_owned(),
+            reason,
+        });
+    };
+    let mut affine = (Vec3A::ZERO, 0.0f32);
+    for force in world.forces() {
+        let (c, b) = force
+            .affine_in_velocity()
+            .ok_or(GpuStepError::Force { force: force.name() })?;
+        affine = (affine.0 + c, affine.1 + b);
+    }
+    let mut planes = Vec::new();
+    for (id, collider) in world.colliders() {
+        let name = collider.name();
+        let plane = collider
+            .as_any()
+            .downcast_ref::<Plane>()
+            .ok_or(GpuStepError::Collider {
+                collider: name,
+                reason: "the GPU step resolves planes only",
+            })?;
+        let refuse = |reason| GpuStepError::Collider { collider: name, reason };
+        if world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]) {
+            return Err(refuse("its contact events are not read back yet"));
+        }
+        if plane.contact != ContactRule::EndOfStep {
+            return Err(refuse("contacts inside the step stay on the CPU"));
+        }
+        if plane.speed != 0.0 {
+            return Err(refuse("a moving plane is not on the GPU yet"));
+        }
+        if plane.material.friction != 0.0 {
+            return Err(refuse("friction is not on the GPU yet"));
+        }
+        let n = plane.normal;
+        let axis = [n.x, n.y, n.z]
+            .iter()
+            .position(|c| c.abs() == 1.0)
+            .filter(|&a| (0..3).all(|k| k == a || n[k] == 0.0))
+            .ok_or(refuse("its normal is not an axis"))?;
+        planes.push(PlaneRecord {
+            axis: axis as u32,
+            sign: n[axis],
+            offset: plane.offset,
+            restitution: plane.material.restitution,
+        });
+    }
+    if world.sensors().next().is_some() {
+        return Err(GpuStepError::Unsupported("sensors"));
+    }
+    if !world.emitters.is_empty() {
+        return Err(GpuStepError::Unsupported("emitters"));
+    }
+    if !world.rigid.is_empty() {
+        return Err(GpuStepError::Unsupported("rigid bodies"));
+    }
+    if world.has_headings() {
+        return Err(GpuStepError::Unsupported("2D headings"));
+    }
+    if world.particles().lifetime.iter().any(|l| l.is_finite()) {
+        return Err(GpuStepError::Unsupported("particle lifetimes"));
+    }
+    Ok(Plan {
+        method,
+        source: format!("{COMMON}\n{wgsl}"),
+        affine,
+        planes,
+    })
+}

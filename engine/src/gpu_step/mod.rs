@@ -1,0 +1,27 @@
+//! The fixed step on the GPU: a particle world's state in storage buffers,
+//! stepped by compute dispatches, each method's formula a WGSL file of its
+//! own (`assets/shaders/gpu_step/`), checked against the CPU's f32 step.
+//!
+//! A [`GpuWorld`] is made from a [`World`](crate::World): its particles are
+//! uploaded once, then [`GpuWorld::step`] records any number of fixed steps
+//! into one command buffer, one dispatch each, and nothing comes back
+//! unless asked for ([`GpuWorld::read_back`], which says what it costs).
+//! What the GPU step does not do (yet) is refused when the world is made,
+//! with an error naming it ([`GpuStepError`]): the methods are explicit
+//! and semi-implicit Euler; the forces those affine in velocity (gravity,
+//! wind, linear drag); the colliders planes at rest whose normal is an
+//! axis, frictionless, resolved at the end of the step.
+//!
+//! Bits: for semi-implicit and explicit Euler the GPU performs the CPU's
+//! operations in the CPU's order, so where the driver fuses no
+//! multiply-add (WGSL allows it to) the states are the CPU's bit for bit;
+//! the tests say what lavapipe gives. The GPU's states are the same on the
+//! same adapter and driver, run to run: no result depends on the order of
+//! atomic operations (there are none).
+
+mod error;
+mod kernel;
+mod world;
+
+pub use error::GpuStepError;
+pub use world::{GpuWorld, WORKGROUP};

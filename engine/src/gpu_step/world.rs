@@ -1,0 +1,348 @@
+//! A particle world on the GPU: its state in two storage buffers, stepped
+//! by one dispatch a fixed step.
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use super::error::GpuStepError;
+use super::kernel::{Plan, PlaneRecord, plan};
+use crate::render::Gpu;
+use crate::world::World;
+
+/// Invocations a workgroup (`@workgroup_size` in `step.wgsl`).
+pub const WORKGROUP: u32 = 256;
+
+/// The shader's `Params` (see `step.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    c: [f32; 3],
+    b: f32,
+    dt: f32,
+    n: u32,
+    groups_x: u32,
+    planes: u32,
+}
+
+/// A world's particles stepped on the GPU (see the [module](super)): made
+/// from a [`World`] (its state uploaded once), stepped with
+/// [`step`](Self::step), read back only when asked.
+#[derive(Debug)]
+pub struct GpuWorld {
+    plan: Plan,
+    n: u32,
+    groups: (u32, u32),
+    /// `(x, y, z, radius)` a particle.
+    positions: wgpu::Buffer,
+    /// `(vx, vy, vz, inverse mass)` a particle.
+    velocities: wgpu::Buffer,
+    params: wgpu::Buffer,
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    ticks: u64,
+}
+
+impl GpuWorld {
+    /// Uploads `world`'s particles to `gpu` and builds its step.
+    ///
+    /// # Errors
+    /// [`GpuStepError`]: what of the world the GPU step does not do (its
+    /// method, a force, a collider, ...), an adapter without compute
+    /// shaders, or buffers past the device's limits (naming the limit and
+    /// how many particles fit).
+    pub fn new(gpu: &Gpu, world: &World) -> Result<Self, GpuStepError> {
+        if !gpu
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+        {
+            return Err(GpuStepError::NoCompute);
+        }
+        let plan = plan(world)?;
+        let p = world.particles();
+        let count = p.len();
+        let (n, groups) = dispatch(count, &gpu.device.limits())?;
+        let mut positions = Vec::with_capacity(count.max(1));
+        let mut velocities = Vec::with_capacity(count.max(1));
+        for (k, (x, v)) in p.position.iter().zip(p.velocity.iter()).enumerate() {
+            positions.push([x.x, x.y, x.z, p.radius[k]]);
+            velocities.push([v.x, v.y, v.z, p.inverse_mass[k]]);
+        }
+        // A binding is never empty.
+        if count == 0 {
+            positions.push([0.0; 4]);
+            velocities.push([0.0; 4]);
+        }
+        let device = &gpu.device;
+        let storage = |label, data: &[[f32; 4]]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            })
+        };
+        let positions = storage("tickwork gpu step positions", &positions);
+        let velocities = storage("tickwork gpu step velocities", &velocities);
+        let mut records = plan.planes.clone();
+        if records.is_empty() {
+            records.push(PlaneRecord {
+                axis: 0,
+                sign: 1.0,
+                offset: 0.0,
+                restitution: 0.0,
+            });
+        }
+        let planes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("tickwork gpu step planes"),
+            contents: bytemuck::cast_slice(&records),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork gpu step params"),
+            size: std::mem::size_of::<Params>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(plan.method),
+            source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tickwork gpu step"),
+            layout: None,
+            module: &module,
+            entry_point: Some("step"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tickwork gpu step"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: positions.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: velocities.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: planes.as_entire_binding(),
+                },
+            ],
+        });
+        Ok(Self {
+            plan,
+            n,
+            groups,
+            positions,
+            velocities,
+            params,
+            pipeline,
+            bind_group,
+            ticks: 0,
+        })
+    }
+
+    /// The number of particles.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.n as usize
+    }
+
+    /// Whether it has no particles.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// The method it steps with.
+    #[must_use]
+    pub fn method(&self) -> &'static str {
+        self.plan.method
+    }
+
+    /// The fixed steps taken.
+    #[must_use]
+    pub fn ticks(&self) -> u64 {
+        self.ticks
+    }
+
+    /// The bytes a step reads and writes: 32 read and 32 written a
+    /// particle (the bandwidth figure a benchmark divides by).
+    #[must_use]
+    pub fn bytes_per_step(&self) -> u64 {
+        u64::from(self.n) * 64
+    }
+
+    /// The state's two buffers, `(x, y, z, radius)` and `(vx, vy, vz,
+    /// inverse mass)` a particle, for a renderer or a benchmark's copy.
+    #[must_use]
+    pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.positions, &self.velocities)
+    }
+
+    /// Records `steps` fixed steps of `dt` seconds into one command
+    /// buffer, one dispatch each in one compute pass (WebGPU orders their
+    /// storage writes), and submits it. Nothing is read back.
+    pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) {
+        let (c, b) = self.plan.affine;
+        let params = Params {
+            c: c.to_array(),
+            b,
+            dt,
+            n: self.n,
+            groups_x: self.groups.0,
+            planes: u32::try_from(self.plan.planes.len()).unwrap_or(u32::MAX),
+        };
+        gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("tickwork gpu step"),
+        });
+        if self.n > 0 {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tickwork gpu step"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            for _ in 0..steps {
+                pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+            }
+        }
+        gpu.queue.submit([encoder.finish()]);
+        self.ticks += u64::from(steps);
+    }
+
+    /// Copies the state back: every position and velocity, in the world's
+    /// row order. It costs a copy of both buffers (32 bytes a particle)
+    /// into a mappable one and a wait for the GPU to finish all it was
+    /// given: for tests, checksums and snapshots, not every frame.
+    ///
+    /// # Errors
+    /// [`GpuStepError::ReadBack`] if the buffer cannot be mapped.
+    pub fn read_back(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<Vec3>), GpuStepError> {
+        let bytes = self.positions.size();
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork gpu step read-back"),
+            size: 2 * bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("tickwork gpu step read-back"),
+        });
+        encoder.copy_buffer_to_buffer(&self.positions, 0, &staging, 0, bytes);
+        encoder.copy_buffer_to_buffer(&self.velocities, 0, &staging, bytes, bytes);
+        gpu.queue.submit([encoder.finish()]);
+        let slice = staging.slice(..);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |result| {
+            let _ = sender.send(result);
+        });
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+        receiver
+            .recv()
+            .map_err(|_| GpuStepError::ReadBack("the read-back was dropped".into()))?
+            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+        let mapped = slice
+            .get_mapped_range()
+            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+        let records: &[[f32; 4]] = bytemuck::cast_slice(&mapped);
+        let n = self.len();
+        let half = records.len() / 2;
+        let xyz = |r: &[f32; 4]| Vec3::new(r[0], r[1], r[2]);
+        let positions = records[..half].iter().take(n).map(xyz).collect();
+        let velocities = records[half..].iter().take(n).map(xyz).collect();
+        Ok((positions, velocities))
+    }
+}
+
+/// The particle count as the shader's `n`, and the workgroups of one
+/// dispatch `(x, y)` (past the per-dimension limit, the rest folds into
+/// y), or the limit the particles are past.
+fn dispatch(count: usize, limits: &wgpu::Limits) -> Result<(u32, (u32, u32)), GpuStepError> {
+    let bytes = count as u64 * 16;
+    for (limit, value) in [
+        (
+            "max_storage_buffer_binding_size",
+            limits.max_storage_buffer_binding_size,
+        ),
+        ("max_buffer_size", limits.max_buffer_size),
+    ] {
+        if bytes > value {
+            return Err(GpuStepError::Limit {
+                limit,
+                value,
+                needed: bytes,
+                fits: value / 16,
+            });
+        }
+    }
+    let per_dimension = u64::from(limits.max_compute_workgroups_per_dimension.max(1));
+    let groups = (count as u64).div_ceil(u64::from(WORKGROUP));
+    let x = groups.min(per_dimension);
+    let y = groups.div_ceil(x.max(1));
+    let n = u32::try_from(count)
+        .ok()
+        .filter(|_| y <= per_dimension)
+        .ok_or(GpuStepError::Limit {
+            limit: "max_compute_workgroups_per_dimension",
+            value: per_dimension,
+            needed: y,
+            fits: per_dimension * per_dimension * u64::from(WORKGROUP),
+        })?;
+    // Both fit in u32: x and y are at most the per-dimension limit.
+    Ok((n, (x as u32, y.max(1) as u32)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dispatch_folds_past_the_per_dimension_limit_and_buffers_past_their_limits_are_errors() {
+        let limits = wgpu::Limits {
+            max_compute_workgroups_per_dimension: 65_535,
+            max_storage_buffer_binding_size: 1 << 30,
+            max_buffer_size: 1 << 30,
+            ..wgpu::Limits::downlevel_defaults()
+        };
+        assert_eq!(dispatch(0, &limits), Ok((0, (0, 1))));
+        assert_eq!(dispatch(1000, &limits), Ok((1000, (4, 1))));
+        // 10 million: 39 063 workgroups, one row.
+        assert_eq!(dispatch(10_000_000, &limits), Ok((10_000_000, (39_063, 1))));
+        // 20 million: 78 125 workgroups, two rows of 65 535.
+        assert_eq!(dispatch(20_000_000, &limits), Ok((20_000_000, (65_535, 2))));
+        let small = wgpu::Limits {
+            max_storage_buffer_binding_size: 1 << 20,
+            ..limits
+        };
+        assert_eq!(
+            dispatch(100_000, &small),
+            Err(GpuStepError::Limit {
+                limit: "max_storage_buffer_binding_size",
+                value: 1 << 20,
+                needed: 1_600_000,
+                fits: 65_536,
+            })
+        );
+        assert_eq!(
+            dispatch(100_000, &small).map_err(|e| e.to_string()),
+            Err(
+                "the particles need 1600000 of the device's max_storage_buffer_binding_size (1048576): at most \
+                 65536 particles fit"
+                    .to_owned()
+            )
+        );
+    }
+}

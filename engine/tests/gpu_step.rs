@@ -1,0 +1,207 @@
+//! The fixed step on the GPU against the CPU's f32 step: the same world
+//! (gravity, linear drag, a floor and a wall, some immovable particles)
+//! stepped 120 times on each gives the same bits for semi-implicit and
+//! explicit Euler on this machine's adapter (lavapipe on CI: its compiler
+//! fuses no multiply-add); the GPU's state does not depend on how the
+//! steps are batched; and what the GPU step does not do is refused with
+//! its name.
+//!
+//! These need a graphics adapter with compute shaders; `scripts/test`
+//! installs Mesa's software Vulkan driver. Without one they fail with the
+//! error that names the packages; they never skip.
+#![cfg(feature = "render")]
+
+use glam::Vec3;
+use tickwork_engine::colliders::{Material, Plane};
+use tickwork_engine::forces::{Gravity, LinearDrag, QuadraticDrag};
+use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
+use tickwork_engine::render::Gpu;
+use tickwork_engine::{FixedStep, Particle, World, WorldConfig};
+
+const DT: f64 = 1.0 / 60.0;
+
+fn gpu() -> Gpu {
+    Gpu::headless().unwrap_or_else(|error| panic!("the GPU step tests need an adapter: {error}"))
+}
+
+/// 4 096 particles from a seeded generator over a 10 m box, moving up to
+/// 8 m/s, one in 16 immovable (no force or collider moves it; it keeps its
+/// velocity); gravity and drag; a floor (e = 0.5) at y = 0
+/// and a wall (e = 1) facing -x at x = 5.
+fn world(method: &str) -> World {
+    let mut world = World::new(WorldConfig {
+        integrator: method.into(),
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    world.add_force(Gravity::EARTH);
+    world.add_force(LinearDrag { rate: 0.3 });
+    world.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+    ));
+    world.add_collider(Plane {
+        normal: Vec3::NEG_X,
+        offset: -5.0,
+        ..Plane::floor(
+            0.0,
+            Material {
+                restitution: 1.0,
+                friction: 0.0,
+            },
+        )
+    });
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for k in 0..4096 {
+        let position = Vec3::new(10.0 * next() - 5.0, 10.0 * next(), 10.0 * next() - 5.0);
+        let velocity = 8.0 * Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
+        world
+            .spawn(Particle {
+                position,
+                velocity,
+                radius: 0.05 + 0.1 * next(),
+                immovable: k % 16 == 0,
+                ..Particle::default()
+            })
+            .expect("a particle");
+    }
+    world
+}
+
+fn cpu_steps(world: &mut World, steps: u64) {
+    for tick in 0..steps {
+        world
+            .step(FixedStep {
+                tick,
+                time: tick as f64 * DT,
+                dt: DT,
+            })
+            .expect("a step");
+    }
+}
+
+/// How many components of `a` and `b` differ in their bits, and the
+/// largest difference relative to the component's size.
+fn differences(a: &[Vec3], b: &[Vec3]) -> (usize, f32) {
+    let mut count = 0;
+    let mut largest = 0.0f32;
+    for (p, q) in a.iter().zip(b) {
+        for k in 0..3 {
+            if p[k].to_bits() != q[k].to_bits() {
+                count += 1;
+                largest = largest.max((p[k] - q[k]).abs() / p[k].abs().max(q[k].abs()).max(1e-30));
+            }
+        }
+    }
+    (count, largest)
+}
+
+fn matches_the_cpu(method: &str) {
+    let gpu = gpu();
+    let mut cpu = world(method);
+    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    assert_eq!((on_gpu.len(), on_gpu.method()), (4096, method));
+    cpu_steps(&mut cpu, 120);
+    on_gpu.step(&gpu, DT as f32, 120);
+    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    let p = cpu.particles();
+    let (cx, cv): (Vec<Vec3>, Vec<Vec3>) = (
+        p.position.iter().map(Vec3::from).collect(),
+        p.velocity.iter().map(Vec3::from).collect(),
+    );
+    // Something happened: particles met the floor and the wall.
+    // (Immovable particles keep their velocity and pass through.)
+    let outside: Vec<_> = (0..cx.len())
+        .filter(|k| k % 16 != 0 && !(cx[*k].y >= 0.0 && cx[*k].x <= 5.0))
+        .take(5)
+        .collect();
+    assert!(outside.is_empty(), "movable particles all inside: {outside:?}");
+    assert!(cv.iter().any(|v| v.y > 0.0), "some bounced off the floor");
+    let (dx, dv) = (differences(&x, &cx), differences(&v, &cv));
+    assert_eq!(
+        (dx.0, dv.0),
+        (0, 0),
+        "{method}: the GPU's state against the CPU's after 120 steps: positions {dx:?}, velocities {dv:?} \
+         (components that differ, largest relative difference)"
+    );
+}
+
+#[test]
+fn semi_implicit_euler_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("semi_implicit_euler");
+}
+
+#[test]
+fn explicit_euler_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("explicit_euler");
+}
+
+#[test]
+fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
+    let gpu = gpu();
+    let cpu = world("semi_implicit_euler");
+    let (mut once, mut singly) = (
+        GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
+        GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
+    );
+    once.step(&gpu, DT as f32, 90);
+    for _ in 0..90 {
+        singly.step(&gpu, DT as f32, 1);
+    }
+    assert_eq!(once.ticks(), 90);
+    let (a, b) = (
+        once.read_back(&gpu).expect("read"),
+        singly.read_back(&gpu).expect("read"),
+    );
+    assert_eq!(differences(&a.0, &b.0).0 + differences(&a.1, &b.1).0, 0);
+}
+
+#[test]
+fn what_the_gpu_step_does_not_do_is_refused_by_name() {
+    let gpu = gpu();
+    let refused = |world: &World| GpuWorld::new(&gpu, world).expect_err("refused").to_string();
+    assert_eq!(
+        refused(&world("rk4")),
+        "the GPU step has no method \"rk4\": not on the GPU yet (semi_implicit_euler and explicit_euler are)"
+    );
+    assert_eq!(
+        refused(&world("implicit_euler")),
+        "the GPU step has no method \"implicit_euler\": implicit and adaptive methods stay on the CPU"
+    );
+    let mut drag = world("semi_implicit_euler");
+    drag.add_force(QuadraticDrag { coefficient: 0.1 });
+    assert_eq!(
+        refused(&drag),
+        "the GPU step does not evaluate the force \"quadratic_drag\": it takes gravity, wind and linear drag"
+    );
+    let mut rough = world("semi_implicit_euler");
+    rough.add_collider(Plane::floor(
+        -1.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.3,
+        },
+    ));
+    assert_eq!(
+        refused(&rough),
+        "the GPU step does not resolve this plane: friction is not on the GPU yet"
+    );
+    let mut reporting = world("semi_implicit_euler");
+    let floor = reporting.colliders().next().map(|(id, _)| id).expect("a floor");
+    reporting.report_contacts(floor).expect("reports");
+    assert_eq!(
+        refused(&reporting),
+        "the GPU step does not resolve this plane: its contact events are not read back yet"
+    );
+    let error = GpuWorld::new(&gpu, &world("leapfrog")).expect_err("refused");
+    assert!(matches!(error, GpuStepError::Method { .. }), "{error}");
+}
