@@ -146,6 +146,26 @@ fn explicit_euler_on_the_gpu_is_the_cpus_bit_for_bit() {
 }
 
 #[test]
+fn midpoint_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("midpoint");
+}
+
+#[test]
+fn heun_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("heun");
+}
+
+#[test]
+fn rk4_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("rk4");
+}
+
+#[test]
+fn forest_ruth_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("forest_ruth");
+}
+
+#[test]
 fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
     let gpu = gpu();
     let cpu = world("semi_implicit_euler");
@@ -170,8 +190,9 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     let gpu = gpu();
     let refused = |world: &World| GpuWorld::new(&gpu, world).expect_err("refused").to_string();
     assert_eq!(
-        refused(&world("rk4")),
-        "the GPU step has no method \"rk4\": not on the GPU yet (semi_implicit_euler and explicit_euler are)"
+        refused(&world("leapfrog")),
+        "the GPU step has no method \"leapfrog\": not on the GPU yet (explicit and semi-implicit Euler, \
+         midpoint, Heun, RK4 and Forest-Ruth are)"
     );
     assert_eq!(
         refused(&world("implicit_euler")),

@@ -19,6 +19,10 @@ struct Params {
     // Workgroups along x: a dispatch past 65 535 of them folds into y.
     groups_x: u32,
     planes: u32,
+    // A method's step coefficients, computed on the CPU as the CPU's
+    // method computes them (Forest-Ruth's drifts and kicks times h).
+    drift: vec4<f32>,
+    kick: vec4<f32>,
 }
 
 struct Plane {

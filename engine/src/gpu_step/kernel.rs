@@ -21,7 +21,32 @@ const METHODS: &[(&str, &str)] = &[
         "explicit_euler",
         include_str!("../../../assets/shaders/gpu_step/explicit_euler.wgsl"),
     ),
+    (
+        "midpoint",
+        include_str!("../../../assets/shaders/gpu_step/midpoint.wgsl"),
+    ),
+    ("heun", include_str!("../../../assets/shaders/gpu_step/heun.wgsl")),
+    ("rk4", include_str!("../../../assets/shaders/gpu_step/rk4.wgsl")),
+    (
+        "forest_ruth",
+        include_str!("../../../assets/shaders/gpu_step/forest_ruth.wgsl"),
+    ),
 ];
+
+/// A method's step coefficients for a step of `h` seconds, `(drift,
+/// kick)` as `Params` carries them: Forest-Ruth's weights times `h`, in
+/// f64 then rounded, as `integrators/src/methods/forest_ruth.rs` does;
+/// unused (zero) for the others.
+pub(super) fn coefficients(method: &str, h: f32) -> ([f32; 4], [f32; 4]) {
+    if method != "forest_ruth" {
+        return ([0.0; 4], [0.0; 4]);
+    }
+    let theta = 1.0 / (2.0 - tickwork_integrators::math::powf(2f64, 1.0 / 3.0));
+    let h = f64::from(h);
+    let drifts = [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0];
+    let kicks = [theta, 1.0 - 2.0 * theta, theta, 0.0];
+    (drifts.map(|d| (d * h) as f32), kicks.map(|k| (k * h) as f32))
+}
 
 /// A plane as the shader reads it (`Plane` in `step.wgsl`).
 #[repr(C)]
@@ -53,7 +78,7 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
         let reason = if info.implicit || info.variable_cost {
             "implicit and adaptive methods stay on the CPU"
         } else {
-            "not on the GPU yet (semi_implicit_euler and explicit_euler are)"
+            "not on the GPU yet (explicit and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth are)"
         };
         return Err(GpuStepError::Method {
             method: info.name.to_owned(),

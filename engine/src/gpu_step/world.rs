@@ -5,7 +5,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::error::GpuStepError;
-use super::kernel::{Plan, PlaneRecord, plan};
+use super::kernel::{Plan, PlaneRecord, coefficients, plan};
 use crate::render::Gpu;
 use crate::world::World;
 
@@ -22,6 +22,8 @@ struct Params {
     n: u32,
     groups_x: u32,
     planes: u32,
+    drift: [f32; 4],
+    kick: [f32; 4],
 }
 
 /// A world's particles stepped on the GPU (see the [module](super)): made
@@ -194,6 +196,7 @@ impl GpuWorld {
     /// storage writes), and submits it. Nothing is read back.
     pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) {
         let (c, b) = self.plan.affine;
+        let (drift, kick) = coefficients(self.plan.method, dt);
         let params = Params {
             c: c.to_array(),
             b,
@@ -201,6 +204,8 @@ impl GpuWorld {
             n: self.n,
             groups_x: self.groups.0,
             planes: u32::try_from(self.plan.planes.len()).unwrap_or(u32::MAX),
+            drift,
+            kick,
         };
         gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
