@@ -12,7 +12,8 @@ use crate::world::World;
 /// Invocations a workgroup (`@workgroup_size` in `step.wgsl`).
 pub const WORKGROUP: u32 = 256;
 
-/// The shader's `Params` (see `step.wgsl`).
+/// The shader's `Params` (see `step.wgsl`): WGSL's uniform layout puts
+/// `drift` at byte 32 (a `vec4` aligns to 16), right after `planes`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
@@ -25,6 +26,8 @@ struct Params {
     drift: [f32; 4],
     kick: [f32; 4],
 }
+
+const _: () = assert!(std::mem::size_of::<Params>() == 64 && std::mem::offset_of!(Params, drift) == 32);
 
 /// A world's particles stepped on the GPU (see the [module](super)): made
 /// from a [`World`] (its state uploaded once), stepped with
