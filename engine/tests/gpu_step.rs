@@ -13,7 +13,7 @@
 
 use glam::Vec3;
 use tickwork_engine::colliders::{Material, Plane};
-use tickwork_engine::forces::{Gravity, LinearDrag, QuadraticDrag};
+use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag};
 use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
 use tickwork_engine::render::Gpu;
 use tickwork_engine::{FixedStep, Particle, World, WorldConfig};
@@ -26,7 +26,7 @@ fn gpu() -> Gpu {
 
 /// 4 096 particles from a seeded generator over a 10 m box, moving up to
 /// 8 m/s, one in 16 immovable (no force or collider moves it; it keeps its
-/// velocity); gravity and drag; a floor (e = 0.5) at y = 0
+/// velocity); gravity, quadratic and linear drag, an attractor above; a floor (e = 0.5) at y = 0
 /// and a wall (e = 1) facing -x at x = 5.
 fn world(method: &str) -> World {
     let mut world = World::new(WorldConfig {
@@ -35,7 +35,13 @@ fn world(method: &str) -> World {
     })
     .expect("a world");
     world.add_force(Gravity::EARTH);
+    world.add_force(QuadraticDrag { coefficient: 0.02 });
     world.add_force(LinearDrag { rate: 0.3 });
+    world.add_force(Attractor {
+        position: Vec3::new(1.0, 12.0, -2.0),
+        gm: 40.0,
+        softening: 0.5,
+    });
     world.add_collider(Plane::floor(
         0.0,
         Material {
@@ -198,11 +204,12 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         refused(&world("implicit_euler")),
         "the GPU step has no method \"implicit_euler\": implicit and adaptive methods stay on the CPU"
     );
-    let mut drag = world("semi_implicit_euler");
-    drag.add_force(QuadraticDrag { coefficient: 0.1 });
+    let mut stars = world("semi_implicit_euler");
+    stars.add_force(NBody::new(1.0, 0.1));
     assert_eq!(
-        refused(&drag),
-        "the GPU step does not evaluate the force \"quadratic_drag\": it takes gravity, wind and linear drag"
+        refused(&stars),
+        "the GPU step does not evaluate the force \"nbody\": it takes gravity, wind, linear and quadratic drag \
+         and attractors"
     );
     let mut rough = world("semi_implicit_euler");
     rough.add_collider(Plane::floor(

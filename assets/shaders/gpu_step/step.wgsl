@@ -2,7 +2,11 @@
 // `advance` (its own file, appended below) then the planes, in place.
 //
 //   a(x, v) = c - b v       the world's affine forces (gravity, wind, linear drag), summed
-//                           in force order on the CPU; 0 for an immovable particle
+//                           in force order on the CPU
+//             - k |v| v     each quadratic drag, in force order
+//             + GM d / (|d|^2 + eps^2)^(3/2), d = p - x     each attractor
+//                           (`acceleration`, written for the world and appended
+//                           below); 0 for an immovable particle
 //   plane (axis e, sign s, offset o, restitution e_r), end of step, frictionless:
 //     gap = s x_e - o - r;  if gap < 0 and w > 0:
 //       v_e = s (v_n + dv_n),  dv_n = (v_n >= 0 ? -1 : -(1 + e_r)) * min(v_n, 0),  v_n = s v_e
@@ -44,11 +48,9 @@ struct Motion {
 @group(0) @binding(2) var<storage, read_write> velocities: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> planes: array<Plane>;
 
-fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {
-    if (w > 0.0) {
-        return params.c - v * params.b;
-    }
-    return vec3<f32>(0.0);
+// x^2 + y^2 + z^2 summed as glam's dot product sums it.
+fn length_squared(d: vec3<f32>) -> f32 {
+    return (d.x * d.x + d.y * d.y) + d.z * d.z;
 }
 
 fn resolve_planes(m: Motion, r: f32, w: f32) -> Motion {

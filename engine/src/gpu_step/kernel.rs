@@ -6,6 +6,7 @@ use glam::Vec3A;
 
 use super::error::GpuStepError;
 use crate::colliders::{ContactRule, Plane};
+use crate::forces::{Attractor, Force, QuadraticDrag};
 use crate::world::World;
 
 /// The step's shader: the common part, then the method's `advance`.
@@ -32,6 +33,44 @@ const METHODS: &[(&str, &str)] = &[
         include_str!("../../../assets/shaders/gpu_step/forest_ruth.wgsl"),
     ),
 ];
+
+/// An f32 as WGSL reads back its exact bits.
+fn bits(value: f32) -> String {
+    format!("bitcast<f32>({:#010x}u)", value.to_bits())
+}
+
+/// The WGSL `acceleration(x, v, w)` of `forces`: the affine sum from the
+/// uniform, then each other force in force order, with its values written
+/// in (their exact bits), as the CPU's force field adds them.
+fn acceleration(forces: &[Box<dyn Force>]) -> Result<String, GpuStepError> {
+    let mut body = String::from("    var a = params.c - v * params.b;\n");
+    for force in forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
+        let any = force.as_any();
+        if let Some(drag) = any.downcast_ref::<QuadraticDrag>() {
+            body += &format!(
+                "    a = a - v * ({} * sqrt(length_squared(v)));\n",
+                bits(drag.coefficient)
+            );
+        } else if let Some(attractor) = any.downcast_ref::<Attractor>() {
+            let p = attractor.position;
+            body += &format!(
+                "    {{\n        let d = vec3<f32>({}, {}, {}) - x;\n        let r2 = length_squared(d) + {};\n        \
+                 a = a + d * ({} / (r2 * sqrt(r2)));\n    }}\n",
+                bits(p.x),
+                bits(p.y),
+                bits(p.z),
+                bits(attractor.softening * attractor.softening),
+                bits(attractor.gm)
+            );
+        } else {
+            return Err(GpuStepError::Force { force: force.name() });
+        }
+    }
+    Ok(format!(
+        "fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {{\n    if (!(w > 0.0)) {{\n        \
+         return vec3<f32>(0.0);\n    }}\n{body}    return a;\n}}\n"
+    ))
+}
 
 /// A method's step coefficients for a step of `h` seconds, `(drift,
 /// kick)` as `Params` carries them: Forest-Ruth's weights times `h`, in
@@ -87,11 +126,11 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
     };
     let mut affine = (Vec3A::ZERO, 0.0f32);
     for force in world.forces() {
-        let (c, b) = force
-            .affine_in_velocity()
-            .ok_or(GpuStepError::Force { force: force.name() })?;
-        affine = (affine.0 + c, affine.1 + b);
+        if let Some((c, b)) = force.affine_in_velocity() {
+            affine = (affine.0 + c, affine.1 + b);
+        }
     }
+    let acceleration = acceleration(world.forces())?;
     let mut planes = Vec::new();
     for (id, collider) in world.colliders() {
         let name = collider.name();
@@ -145,7 +184,7 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
     }
     Ok(Plan {
         method,
-        source: format!("{COMMON}\n{wgsl}"),
+        source: format!("{COMMON}\n{acceleration}\n{wgsl}"),
         affine,
         planes,
     })

@@ -9,15 +9,16 @@
 //! What the GPU step does not do (yet) is refused when the world is made,
 //! with an error naming it ([`GpuStepError`]): the methods are explicit
 //! and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth; the
-//! forces those affine in velocity (gravity, wind, linear drag); the
+//! forces gravity, wind, linear and quadratic drag and attractors (their
+//! values written into the world's shader as exact bits); the
 //! colliders planes at rest whose normal is an axis, frictionless,
 //! resolved at the end of the step.
 //!
 //! Bits: for every method the GPU performs the CPU's operations in the
 //! CPU's order (coefficients the CPU computes in f64, Forest-Ruth's, come
-//! computed), so where the driver fuses no
-//! multiply-add (WGSL allows it to) the states are the CPU's bit for bit;
-//! the tests say what lavapipe gives. The GPU's states are the same on the
+//! computed; dot products summed as glam sums them), so where the driver
+//! fuses no multiply-add and rounds `sqrt` correctly (WGSL requires
+//! neither) the states are the CPU's bit for bit, as on lavapipe (tested). The GPU's states are the same on the
 //! same adapter and driver, run to run: no result depends on the order of
 //! atomic operations (there are none).
 
