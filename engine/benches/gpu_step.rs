@@ -5,15 +5,18 @@
 //! run `copy_buffer_to_buffer` of the state's 32 bytes a particle (read
 //! once, written once). Both report their throughput in bytes moved a
 //! second, so the step's bandwidth as a fraction of the copy's is the
-//! ratio of the two (`scripts/gpu-bench` prints it). On lavapipe these are
-//! CPU figures and show only that it runs.
+//! ratio of the two (`scripts/gpu-bench` prints it). Then the all-pairs
+//! n-body kernel (workgroup tiles of 256) at 4k, 16k and 64k particles
+//! (`TICKWORK_GPU_NBODY_SIZES`), its throughput in pair interactions a
+//! second (n^2 a step: each particle sums every other). On lavapipe these
+//! are CPU figures and show only that it runs.
 
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
 use tickwork_engine::colliders::{Material, Plane};
-use tickwork_engine::forces::{Gravity, LinearDrag};
+use tickwork_engine::forces::{Gravity, LinearDrag, NBody};
 use tickwork_engine::gpu_step::GpuWorld;
 use tickwork_engine::render::Gpu;
 use tickwork_engine::{Particle, World, WorldConfig};
@@ -117,5 +120,59 @@ fn gpu_step(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, gpu_step);
+/// `n` particles of a 100 m cube pulling on one another.
+fn cloud(n: usize) -> World {
+    let mut world = World::new(WorldConfig {
+        integrator: "semi_implicit_euler".into(),
+        max_particles: n.max(1),
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    world.add_force(NBody::new(1.0, 0.5));
+    for k in 0..n {
+        let h = |s: u32| (k as u32).wrapping_mul(s) as f32 / u32::MAX as f32;
+        world
+            .spawn(Particle {
+                position: 100.0 * Vec3::new(h(2_654_435_761), h(2_246_822_519), h(3_266_489_917)),
+                radius: 0.1,
+                ..Particle::default()
+            })
+            .expect("a particle");
+    }
+    world
+}
+
+fn gpu_nbody(c: &mut Criterion) {
+    let gpu = Gpu::headless().unwrap_or_else(|e| panic!("the GPU step bench needs an adapter: {e}"));
+    let sizes: Vec<usize> = std::env::var("TICKWORK_GPU_NBODY_SIZES").map_or_else(
+        |_| vec![4_096, 16_384, 65_536],
+        |list| list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
+    );
+    for n in sizes {
+        let mut on_gpu = match GpuWorld::new(&gpu, &cloud(n)) {
+            Ok(world) => world,
+            Err(error) => {
+                println!("gpu_nbody_{n}: not run: {error}");
+                continue;
+            }
+        };
+        let mut group = c.benchmark_group(format!("gpu_nbody_{n}"));
+        group.throughput(Throughput::Elements((n as u64) * (n as u64)));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        group.bench_function("pairs", |b| {
+            b.iter_custom(|iters| {
+                finish(&gpu);
+                let start = Instant::now();
+                on_gpu.step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX));
+                finish(&gpu);
+                start.elapsed()
+            });
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, gpu_step, gpu_nbody);
 criterion_main!(benches);

@@ -171,6 +171,68 @@ fn forest_ruth_on_the_gpu_is_the_cpus_bit_for_bit() {
     matches_the_cpu("forest_ruth");
 }
 
+/// 1 024 particles of the seeded cloud pulling on one another (and a
+/// floor), `method` stepping them: the GPU's tiled all-pairs sum against
+/// the CPU's, bit for bit after 60 steps.
+fn nbody_matches_the_cpu(method: &str) {
+    let gpu = gpu();
+    let mut cpu = World::new(WorldConfig {
+        integrator: method.into(),
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    cpu.add_force(NBody::new(2.0, 0.2));
+    cpu.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+    ));
+    let source = world(method);
+    let p = source.particles();
+    // 1 024 rows: four workgroups' tiles, and one in 16 immovable (no
+    // mass: they pull on nothing).
+    for k in 0..1024 {
+        cpu.spawn(Particle {
+            position: p.position.get(k).map(Vec3::from).expect("a row"),
+            velocity: p.velocity.get(k).map(Vec3::from).expect("a row") * 0.1,
+            mass: 1.0 + (k % 7) as f32,
+            immovable: k % 16 == 0,
+            radius: 0.05,
+            ..Particle::default()
+        })
+        .expect("a particle");
+    }
+    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    cpu_steps(&mut cpu, 60);
+    on_gpu.step(&gpu, DT as f32, 60);
+    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
+    let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
+    let start: Vec<Vec3> = (0..1024).filter_map(|k| p.position.get(k).map(Vec3::from)).collect();
+    assert!(
+        (1..1024).any(|k| k % 16 != 0 && (cpu_x[k] - start[k]).length() > 0.5),
+        "the cloud pulled itself together"
+    );
+    let (dx, dv) = (differences(&x, &cpu_x), differences(&v, &cpu_v));
+    assert_eq!(
+        (dx.0, dv.0),
+        (0, 0),
+        "{method} with n-body: positions {dx:?}, velocities {dv:?}"
+    );
+}
+
+#[test]
+fn nbody_under_semi_implicit_euler_on_the_gpu_is_the_cpus_bit_for_bit() {
+    nbody_matches_the_cpu("semi_implicit_euler");
+}
+
+#[test]
+fn nbody_under_explicit_euler_on_the_gpu_is_the_cpus_bit_for_bit() {
+    nbody_matches_the_cpu("explicit_euler");
+}
+
 #[test]
 fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
     let gpu = gpu();
@@ -204,12 +266,19 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         refused(&world("implicit_euler")),
         "the GPU step has no method \"implicit_euler\": implicit and adaptive methods stay on the CPU"
     );
-    let mut stars = world("semi_implicit_euler");
+    let mut stars = world("rk4");
     stars.add_force(NBody::new(1.0, 0.1));
     assert_eq!(
         refused(&stars),
-        "the GPU step does not evaluate the force \"nbody\": it takes gravity, wind, linear and quadratic drag \
-         and attractors"
+        "the GPU step has no method \"rk4\": with an n-body force the GPU step takes explicit and \
+         semi-implicit Euler only (one evaluation, at the step's start)"
+    );
+    let mut springs = world("semi_implicit_euler");
+    springs.add_force(tickwork_engine::forces::Springs::default());
+    assert_eq!(
+        refused(&springs),
+        "the GPU step does not evaluate the force \"springs\": it takes gravity, wind, linear and quadratic \
+         drag, attractors and n-body"
     );
     let mut rough = world("semi_implicit_euler");
     rough.add_collider(Plane::floor(

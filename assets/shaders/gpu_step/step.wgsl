@@ -5,11 +5,14 @@
 //                           in force order on the CPU
 //             - k |v| v     each quadratic drag, in force order
 //             + GM d / (|d|^2 + eps^2)^(3/2), d = p - x     each attractor
+//             + G sum_j m_j d_j / (|d_j|^2 + eps^2)^(3/2)    n-body, d_j = x_j - x, from
+//                           `nbody_accel`, which the `nbody` entry point fills at the
+//                           step's start (one evaluation there: Euler's methods only)
 //                           (`acceleration`, written for the world and appended
 //                           below); 0 for an immovable particle
 //   plane (axis e, sign s, offset o, restitution e_r), end of step, frictionless:
 //     gap = s x_e - o - r;  if gap < 0 and w > 0:
-//       v_e = s (v_n + dv_n),  dv_n = (v_n >= 0 ? -1 : -(1 + e_r)) * min(v_n, 0),  v_n = s v_e
+//       v_e = s (v_n + dv_n),  dv_n = (v_n >= 0 ? -1 : -(1 + e_r)) * (v_n < 0 ? v_n : 0),  v_n = s v_e
 //       x_e = x_e - s gap
 //
 // The same operations in the same order as the CPU's f32 step
@@ -27,6 +30,9 @@ struct Params {
     // method computes them (Forest-Ruth's drifts and kicks times h).
     drift: vec4<f32>,
     kick: vec4<f32>,
+    // The n-body force's G and softening squared (unused without one).
+    nbody_g: f32,
+    nbody_eps2: f32,
 }
 
 struct Plane {
@@ -47,6 +53,12 @@ struct Motion {
 @group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> velocities: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> planes: array<Plane>;
+// G sum_j m_j d_j / (...)^(3/2) of each particle at the step's start (xyz).
+@group(0) @binding(4) var<storage, read_write> nbody_accel: array<vec4<f32>>;
+
+// The particle this invocation steps (for `acceleration` to read its
+// n-body term).
+var<private> row: u32;
 
 // x^2 + y^2 + z^2 summed as glam's dot product sums it.
 fn length_squared(d: vec3<f32>) -> f32 {
@@ -64,7 +76,8 @@ fn resolve_planes(m: Motion, r: f32, w: f32) -> Motion {
         if (vn >= 0.0) {
             factor = -1.0;
         }
-        let dvn = factor * min(vn, 0.0);
+        // A select, as the CPU's: -0 and NaN give 0.
+        let dvn = factor * select(0.0, vn, vn < 0.0);
         if (gap < 0.0 && w > 0.0) {
             v[p.axis] = (vn + dvn) * p.sign;
             x[p.axis] = x[p.axis] - gap * p.sign;
@@ -79,9 +92,49 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     if (i >= params.n) {
         return;
     }
+    row = i;
     let p = positions[i];
     let q = velocities[i];
     let moved = resolve_planes(advance(p.xyz, q.xyz, q.w, params.dt), p.w, q.w);
     positions[i] = vec4<f32>(moved.x, p.w);
     velocities[i] = vec4<f32>(moved.v, q.w);
+}
+
+// The n-body sums of the tile loaded into workgroup memory: positions and
+// masses (1 / w, 0 for an immovable particle).
+var<workgroup> tile: array<vec4<f32>, 256>;
+
+// Each particle's n-body acceleration at the step's start: every other
+// particle in row order, 256 at a time through workgroup memory, summed
+// as the CPU's `NBody::row` sums them (then times G).
+@compute @workgroup_size(256)
+fn nbody(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let i = id.x + id.y * params.groups_x * 256u;
+    let n = params.n;
+    let xi = positions[min(i, n - 1u)].xyz;
+    var sum = vec3<f32>(0.0);
+    for (var base = 0u; base < n; base += 256u) {
+        let j = base + lane;
+        if (j < n) {
+            let w = velocities[j].w;
+            tile[lane] = vec4<f32>(positions[j].xyz, select(0.0, 1.0 / w, w > 0.0));
+        }
+        workgroupBarrier();
+        let count = min(256u, n - base);
+        for (var k = 0u; k < count; k++) {
+            let d = tile[k].xyz - xi;
+            let r2 = length_squared(d) + params.nbody_eps2;
+            let m = select(tile[k].w, 0.0, base + k == i);
+            if (r2 > 0.0) {
+                sum = sum + d * (m / (r2 * sqrt(r2)));
+            }
+        }
+        workgroupBarrier();
+    }
+    if (i < n) {
+        nbody_accel[i] = vec4<f32>(sum * params.nbody_g, 0.0);
+    }
 }

@@ -50,8 +50,8 @@ impl fmt::Display for GpuStepError {
             Self::Method { method, reason } => write!(f, "the GPU step has no method {method:?}: {reason}"),
             Self::Force { force } => write!(
                 f,
-                "the GPU step does not evaluate the force {force:?}: it takes gravity, wind, linear and quadratic drag \
-                 and attractors"
+                "the GPU step does not evaluate the force {force:?}: it takes gravity, wind, linear and quadratic drag, \
+                 attractors and n-body"
             ),
             Self::Collider { collider, reason } => write!(f, "the GPU step does not resolve this {collider}: {reason}"),
             Self::Unsupported(what) => write!(f, "the GPU step does not do {what}"),

@@ -6,7 +6,7 @@ use glam::Vec3A;
 
 use super::error::GpuStepError;
 use crate::colliders::{ContactRule, Plane};
-use crate::forces::{Attractor, Force, QuadraticDrag};
+use crate::forces::{Attractor, Force, NBody, QuadraticDrag};
 use crate::world::World;
 
 /// The step's shader: the common part, then the method's `advance`.
@@ -62,6 +62,9 @@ fn acceleration(forces: &[Box<dyn Force>]) -> Result<String, GpuStepError> {
                 bits(attractor.softening * attractor.softening),
                 bits(attractor.gm)
             );
+        } else if any.downcast_ref::<NBody>().is_some() {
+            // Filled by the `nbody` entry point before the step.
+            body += "    a = a + nbody_accel[row].xyz;\n";
         } else {
             return Err(GpuStepError::Force { force: force.name() });
         }
@@ -107,6 +110,8 @@ pub(super) struct Plan {
     /// The affine forces' sums `(c, b)`: `a = c - b v`, in force order from
     /// `(0, 0)` as the CPU's force field sums them.
     pub affine: (Vec3A, f32),
+    /// The n-body force's `G` and softening squared, if the world has one.
+    pub nbody: Option<(f32, f32)>,
     pub planes: Vec<PlaneRecord>,
 }
 
@@ -131,6 +136,18 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
         }
     }
     let acceleration = acceleration(world.forces())?;
+    let mut nbodies = world.forces().iter().filter_map(|f| f.as_any().downcast_ref::<NBody>());
+    let nbody = nbodies.next().map(|n| (n.g, n.softening * n.softening));
+    if nbodies.next().is_some() {
+        return Err(GpuStepError::Unsupported("more than one n-body force"));
+    }
+    if nbody.is_some() && !matches!(method, "semi_implicit_euler" | "explicit_euler") {
+        return Err(GpuStepError::Method {
+            method: method.to_owned(),
+            reason: "with an n-body force the GPU step takes explicit and semi-implicit Euler only (one \
+                     evaluation, at the step's start)",
+        });
+    }
     let mut planes = Vec::new();
     for (id, collider) in world.colliders() {
         let name = collider.name();
@@ -186,6 +203,7 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
         method,
         source: format!("{COMMON}\n{acceleration}\n{wgsl}"),
         affine,
+        nbody,
         planes,
     })
 }

@@ -10,7 +10,8 @@
 //! with an error naming it ([`GpuStepError`]): the methods are explicit
 //! and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth; the
 //! forces gravity, wind, linear and quadratic drag and attractors (their
-//! values written into the world's shader as exact bits); the
+//! values written into the world's shader as exact bits) and n-body (a
+//! tiled all-pairs kernel before each step, under the Euler methods); the
 //! colliders planes at rest whose normal is an axis, frictionless,
 //! resolved at the end of the step.
 //!

@@ -25,9 +25,13 @@ struct Params {
     planes: u32,
     drift: [f32; 4],
     kick: [f32; 4],
+    nbody_g: f32,
+    nbody_eps2: f32,
+    /// WGSL rounds a uniform struct's size up to 16 bytes.
+    _pad: [f32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<Params>() == 64 && std::mem::offset_of!(Params, drift) == 32);
+const _: () = assert!(std::mem::size_of::<Params>() == 80 && std::mem::offset_of!(Params, drift) == 32);
 
 /// A world's particles stepped on the GPU (see the [module](super)): made
 /// from a [`World`] (its state uploaded once), stepped with
@@ -43,6 +47,9 @@ pub struct GpuWorld {
     velocities: wgpu::Buffer,
     params: wgpu::Buffer,
     pipeline: wgpu::ComputePipeline,
+    /// Each particle's n-body acceleration at the step's start, where the
+    /// world has an n-body force.
+    nbody: Option<wgpu::ComputePipeline>,
     bind_group: wgpu::BindGroup,
     ticks: u64,
 }
@@ -109,21 +116,70 @@ impl GpuWorld {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        // A vec4 a particle where the world has an n-body force; one
+        // otherwise (a binding is never empty).
+        let nbody_accel = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork gpu step n-body"),
+            size: if plan.nbody.is_some() {
+                16 * count.max(1) as u64
+            } else {
+                16
+            },
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(plan.method),
             source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty,
+            count: None,
+        };
+        let storage = |read_only| wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu step"),
-            layout: None,
-            module: &module,
-            entry_point: Some("step"),
-            compilation_options: Default::default(),
-            cache: None,
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(1, storage(false)),
+                entry(2, storage(false)),
+                entry(3, storage(true)),
+                entry(4, storage(false)),
+            ],
         });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tickwork gpu step"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline_of = |entry_point| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_of("step");
+        let nbody = plan.nbody.map(|_| pipeline_of("nbody"));
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tickwork gpu step"),
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -141,6 +197,10 @@ impl GpuWorld {
                     binding: 3,
                     resource: planes.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: nbody_accel.as_entire_binding(),
+                },
             ],
         });
         Ok(Self {
@@ -151,6 +211,7 @@ impl GpuWorld {
             velocities,
             params,
             pipeline,
+            nbody,
             bind_group,
             ticks: 0,
         })
@@ -200,6 +261,7 @@ impl GpuWorld {
     pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) {
         let (c, b) = self.plan.affine;
         let (drift, kick) = coefficients(self.plan.method, dt);
+        let (nbody_g, nbody_eps2) = self.plan.nbody.unwrap_or_default();
         let params = Params {
             c: c.to_array(),
             b,
@@ -209,6 +271,9 @@ impl GpuWorld {
             planes: u32::try_from(self.plan.planes.len()).unwrap_or(u32::MAX),
             drift,
             kick,
+            nbody_g,
+            nbody_eps2,
+            _pad: [0.0; 2],
         };
         gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -219,9 +284,13 @@ impl GpuWorld {
                 label: Some("tickwork gpu step"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind_group, &[]);
             for _ in 0..steps {
+                if let Some(nbody) = &self.nbody {
+                    pass.set_pipeline(nbody);
+                    pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+                }
+                pass.set_pipeline(&self.pipeline);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             }
         }
