@@ -10,10 +10,12 @@
 //                           step's start (one evaluation there: Euler's methods only)
 //                           (`acceleration`, written for the world and appended
 //                           below); 0 for an immovable particle
-//   plane (axis e, sign s, offset o, restitution e_r), end of step, frictionless:
+//   plane (axis e, sign s, offset o, restitution e_r, friction mu), end of step:
 //     gap = s x_e - o - r;  if gap < 0 and w > 0:
 //       v_e = s (v_n + dv_n),  dv_n = (v_n >= 0 ? -1 : -(1 + e_r)) * (v_n < 0 ? v_n : 0),  v_n = s v_e
 //       x_e = x_e - s gap
+//       v_t = v_t * keep,  keep = 0 if (mu dv_n)^2 >= |v_t|^2, else max(1 - mu dv_n / |v_t|, 0)
+//                          (the two tangential axes; only with friction)
 //
 // The same operations in the same order as the CPU's f32 step
 // (engine/src/colliders/plane.rs, contact_block; integrators/src/methods).
@@ -41,6 +43,7 @@ struct Plane {
     sign: f32,
     offset: f32,
     restitution: f32,
+    friction: f32,
 }
 
 struct Motion {
@@ -79,6 +82,20 @@ fn resolve_planes(m: Motion, r: f32, w: f32) -> Motion {
         // A select, as the CPU's: -0 and NaN give 0.
         let dvn = factor * select(0.0, vn, vn < 0.0);
         if (gap < 0.0 && w > 0.0) {
+            if (p.friction != 0.0) {
+                let t1 = (p.axis + 1u) % 3u;
+                let t2 = (p.axis + 2u) % 3u;
+                let speed2 = v[t1] * v[t1] + v[t2] * v[t2];
+                let brake = p.friction * dvn;
+                var keep = 0.0;
+                if (!(brake * brake >= speed2)) {
+                    // f32::MIN_POSITIVE: no division by 0.
+                    let speed = max(sqrt(speed2), bitcast<f32>(0x00800000u));
+                    keep = max(1.0 - brake / speed, 0.0);
+                }
+                v[t1] = v[t1] * keep;
+                v[t2] = v[t2] * keep;
+            }
             v[p.axis] = (vn + dvn) * p.sign;
             x[p.axis] = x[p.axis] - gap * p.sign;
         }
@@ -137,4 +154,23 @@ fn nbody(
     if (i < n) {
         nbody_accel[i] = vec4<f32>(sum * params.nbody_g, 0.0);
     }
+}
+
+// Subnormal velocity components become 0 (but -0 stays), as the CPU's
+// step does after every 64th tick (`flush_subnormals`): a decaying
+// velocity never lingers in the slow subnormal range there, and the GPU
+// flushes at the same ticks so that the two stay equal.
+@compute @workgroup_size(256)
+fn flush(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x + id.y * params.groups_x * 256u;
+    if (i >= params.n) {
+        return;
+    }
+    var q = velocities[i];
+    for (var k = 0u; k < 3u; k++) {
+        if (abs(q[k]) < bitcast<f32>(0x00800000u) && q[k] != 0.0) {
+            q[k] = 0.0;
+        }
+    }
+    velocities[i] = q;
 }

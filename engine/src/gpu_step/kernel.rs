@@ -98,6 +98,7 @@ pub(super) struct PlaneRecord {
     pub sign: f32,
     pub offset: f32,
     pub restitution: f32,
+    pub friction: f32,
 }
 
 /// A world's step as the GPU runs it.
@@ -168,9 +169,6 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
         if plane.speed != 0.0 {
             return Err(refuse("a moving plane is not on the GPU yet"));
         }
-        if plane.material.friction != 0.0 {
-            return Err(refuse("friction is not on the GPU yet"));
-        }
         let n = plane.normal;
         let axis = [n.x, n.y, n.z]
             .iter()
@@ -182,6 +180,7 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
             sign: n[axis],
             offset: plane.offset,
             restitution: plane.material.restitution,
+            friction: plane.material.friction,
         });
     }
     if world.sensors().next().is_some() {

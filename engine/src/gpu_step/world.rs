@@ -50,6 +50,10 @@ pub struct GpuWorld {
     /// Each particle's n-body acceleration at the step's start, where the
     /// world has an n-body force.
     nbody: Option<wgpu::ComputePipeline>,
+    /// Subnormal velocities to 0, after the ticks the CPU's step flushes.
+    flush: wgpu::ComputePipeline,
+    /// The world's tick at the next step (the flush's schedule follows it).
+    next_tick: u64,
     bind_group: wgpu::BindGroup,
     ticks: u64,
 }
@@ -103,6 +107,7 @@ impl GpuWorld {
                 sign: 1.0,
                 offset: 0.0,
                 restitution: 0.0,
+                friction: 0.0,
             });
         }
         let planes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -177,6 +182,7 @@ impl GpuWorld {
         };
         let pipeline = pipeline_of("step");
         let nbody = plan.nbody.map(|_| pipeline_of("nbody"));
+        let flush = pipeline_of("flush");
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("tickwork gpu step"),
             layout: &layout,
@@ -212,6 +218,8 @@ impl GpuWorld {
             params,
             pipeline,
             nbody,
+            flush,
+            next_tick: world.tick(),
             bind_group,
             ticks: 0,
         })
@@ -285,15 +293,20 @@ impl GpuWorld {
                 timestamp_writes: None,
             });
             pass.set_bind_group(0, &self.bind_group, &[]);
-            for _ in 0..steps {
+            for k in 0..u64::from(steps) {
                 if let Some(nbody) = &self.nbody {
                     pass.set_pipeline(nbody);
                     pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
                 }
                 pass.set_pipeline(&self.pipeline);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+                if (self.next_tick + k).is_multiple_of(crate::step::SUBNORMAL_FLUSH_EVERY) {
+                    pass.set_pipeline(&self.flush);
+                    pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+                }
             }
         }
+        self.next_tick += u64::from(steps);
         gpu.queue.submit([encoder.finish()]);
         self.ticks += u64::from(steps);
     }
