@@ -88,7 +88,9 @@ fn gpu_step(c: &mut Criterion) {
             b.iter_custom(|iters| {
                 finish(&gpu);
                 let start = Instant::now();
-                on_gpu.step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX));
+                on_gpu
+                    .step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX))
+                    .expect("steps");
                 finish(&gpu);
                 start.elapsed()
             });
@@ -165,7 +167,9 @@ fn gpu_nbody(c: &mut Criterion) {
             b.iter_custom(|iters| {
                 finish(&gpu);
                 let start = Instant::now();
-                on_gpu.step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX));
+                on_gpu
+                    .step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX))
+                    .expect("steps");
                 finish(&gpu);
                 start.elapsed()
             });

@@ -1,10 +1,12 @@
 //! The fixed step on the GPU against the CPU's f32 step: the same world
-//! (gravity, linear drag, a floor and a wall, some immovable particles)
-//! stepped 120 times on each gives the same bits for semi-implicit and
-//! explicit Euler on this machine's adapter (lavapipe on CI: its compiler
-//! fuses no multiply-add); the GPU's state does not depend on how the
-//! steps are batched; and what the GPU step does not do is refused with
-//! its name.
+//! (gravity, wind, quadratic and linear drag, an attractor, a floor with
+//! friction and two walls, some immovable particles, a subnormal velocity;
+//! and an n-body cloud) stepped on each gives the same bits for every
+//! method the GPU step has on this machine's adapter (lavapipe on CI: its
+//! compiler fuses no multiply-add and rounds `sqrt` and division
+//! correctly), and the same checksum once stored back into the world; the
+//! GPU's state does not depend on how the steps are batched; and what the
+//! GPU step does not do is refused with its name.
 //!
 //! These need a graphics adapter with compute shaders; `scripts/test`
 //! installs Mesa's software Vulkan driver. Without one they fail with the
@@ -13,12 +15,16 @@
 
 use glam::Vec3;
 use tickwork_engine::colliders::{Material, Plane};
-use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag};
+use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag, Wind};
 use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
 use tickwork_engine::render::Gpu;
 use tickwork_engine::{FixedStep, Particle, World, WorldConfig};
 
 const DT: f64 = 1.0 / 60.0;
+const PARTICLES: usize = 4133;
+/// The ticks the CPU runs alone before the GPU's copy is made: the GPU's
+/// flush schedule must follow the world's tick, not its own count.
+const BEFORE: u64 = 5;
 
 fn gpu() -> Gpu {
     Gpu::headless().unwrap_or_else(|error| panic!("the GPU step tests need an adapter: {error}"))
@@ -36,6 +42,10 @@ fn world(method: &str) -> World {
     })
     .expect("a world");
     world.add_force(Gravity::EARTH);
+    world.add_force(Wind {
+        velocity: Vec3::new(1.0, 0.0, 2.0),
+        rate: 0.1,
+    });
     world.add_force(QuadraticDrag { coefficient: 0.02 });
     world.add_force(LinearDrag { rate: 0.3 });
     world.add_force(Attractor {
@@ -61,6 +71,18 @@ fn world(method: &str) -> World {
             },
         )
     });
+    // A wall facing +z at z = -5.
+    world.add_collider(Plane {
+        normal: Vec3::Z,
+        offset: -5.0,
+        ..Plane::floor(
+            0.0,
+            Material {
+                restitution: 0.9,
+                friction: 0.0,
+            },
+        )
+    });
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = move || {
         state ^= state << 13;
@@ -68,15 +90,10 @@ fn world(method: &str) -> World {
         state ^= state << 17;
         (state >> 40) as f32 / (1u64 << 24) as f32
     };
-    for k in 0..4096 {
+    // Not a multiple of the workgroup's 256: the last group is partly idle.
+    for k in 0..PARTICLES {
         let position = Vec3::new(10.0 * next() - 5.0, 10.0 * next(), 10.0 * next() - 5.0);
-        let mut velocity = 8.0 * Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
-        if k == 16 {
-            // Subnormal, on an immovable particle (nothing else changes
-            // it): the CPU's step flushes it to 0 after tick 0 (and every
-            // 64th); so must the GPU's.
-            velocity.x = 1e-40;
-        }
+        let velocity = 8.0 * Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
         world
             .spawn(Particle {
                 position,
@@ -90,8 +107,8 @@ fn world(method: &str) -> World {
     world
 }
 
-fn cpu_steps(world: &mut World, steps: u64) {
-    for tick in 0..steps {
+fn cpu_steps(world: &mut World, ticks: std::ops::Range<u64>) {
+    for tick in ticks {
         world
             .step(FixedStep {
                 tick,
@@ -121,24 +138,58 @@ fn differences(a: &[Vec3], b: &[Vec3]) -> (usize, f32) {
 fn matches_the_cpu(method: &str) {
     let gpu = gpu();
     let mut cpu = world(method);
+    cpu_steps(&mut cpu, 0..BEFORE);
+    // A subnormal velocity on an immovable particle (nothing else changes
+    // it): the CPU's step flushes it to 0 after tick 64 (every 64th); so
+    // must the GPU's.
+    let still = cpu.entities().rows()[16];
+    cpu.set_velocity(still, Vec3::new(1e-40, 0.0, 0.0)).expect("set");
+    let mut stored = cpu.clone();
     let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
-    assert_eq!((on_gpu.len(), on_gpu.method()), (4096, method));
-    cpu_steps(&mut cpu, 120);
-    on_gpu.step(&gpu, DT as f32, 120);
+    assert_eq!((on_gpu.len(), on_gpu.method()), (PARTICLES, method));
+    cpu_steps(&mut cpu, BEFORE..BEFORE + 120);
+    // In uneven batches: the same 120 steps.
+    for steps in [1, 63, 56] {
+        on_gpu.step(&gpu, DT as f32, steps).expect("steps");
+    }
+    // Stored into the world it came from, the GPU's run has the CPU run's
+    // checksum: positions, velocities, previous positions, tick, time,
+    // lived time.
+    let last = FixedStep {
+        tick: BEFORE + 119,
+        time: (BEFORE + 119) as f64 * DT,
+        dt: DT,
+    };
+    on_gpu.store_into(&gpu, &mut stored, last).expect("stored");
+    assert_eq!(stored.tick(), cpu.tick());
+    assert_eq!(
+        format!("{:016x}", stored.state_hash()),
+        format!("{:016x}", cpu.state_hash()),
+        "{method}: the checksum of the GPU's run against the CPU's"
+    );
+    assert!(
+        on_gpu.store_into(&gpu, &mut stored, last).is_err(),
+        "a world already past the GPU's start is refused"
+    );
     let (x, v) = on_gpu.read_back(&gpu).expect("read back");
     let p = cpu.particles();
     let (cx, cv): (Vec<Vec3>, Vec<Vec3>) = (
         p.position.iter().map(Vec3::from).collect(),
         p.velocity.iter().map(Vec3::from).collect(),
     );
-    // Something happened: particles met the floor and the wall.
+    // Something happened: particles met the floor and the walls.
     // (Immovable particles keep their velocity and pass through.)
-    let outside: Vec<_> = (0..cx.len())
-        .filter(|k| k % 16 != 0 && !(cx[*k].y >= 0.0 && cx[*k].x <= 5.0))
+    let movable = || (0..cx.len()).filter(|k| k % 16 != 0);
+    let outside: Vec<_> = movable()
+        .filter(|&k| !(cx[k].y >= 0.0 && cx[k].x <= 5.0 && cx[k].z >= -5.0))
         .take(5)
         .collect();
     assert!(outside.is_empty(), "movable particles all inside: {outside:?}");
-    assert!(cv.iter().any(|v| v.y > 0.0), "some bounced off the floor");
+    assert!(
+        movable().any(|k| cv[k].y > 0.0 && cx[k].y < 1.0),
+        "some bounced off the floor"
+    );
+    assert_eq!(cv[16].x.to_bits(), 0, "the subnormal velocity was flushed");
     let (dx, dv) = (differences(&x, &cx), differences(&v, &cv));
     assert_eq!(
         (dx.0, dv.0),
@@ -178,7 +229,7 @@ fn forest_ruth_on_the_gpu_is_the_cpus_bit_for_bit() {
     matches_the_cpu("forest_ruth");
 }
 
-/// 1 024 particles of the seeded cloud pulling on one another (and a
+/// 1 000 particles of the seeded cloud pulling on one another (and a
 /// floor), `method` stepping them: the GPU's tiled all-pairs sum against
 /// the CPU's, bit for bit after 60 steps.
 fn nbody_matches_the_cpu(method: &str) {
@@ -198,9 +249,9 @@ fn nbody_matches_the_cpu(method: &str) {
     ));
     let source = world(method);
     let p = source.particles();
-    // 1 024 rows: four workgroups' tiles, and one in 16 immovable (no
-    // mass: they pull on nothing).
-    for k in 0..1024 {
+    // 1 000 rows: four workgroups' tiles, the last partly full, and one in
+    // 16 immovable (no mass: they pull on nothing).
+    for k in 0..1000 {
         cpu.spawn(Particle {
             position: p.position.get(k).map(Vec3::from).expect("a row"),
             velocity: p.velocity.get(k).map(Vec3::from).expect("a row") * 0.1,
@@ -212,14 +263,14 @@ fn nbody_matches_the_cpu(method: &str) {
         .expect("a particle");
     }
     let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
-    cpu_steps(&mut cpu, 60);
-    on_gpu.step(&gpu, DT as f32, 60);
+    cpu_steps(&mut cpu, 0..60);
+    on_gpu.step(&gpu, DT as f32, 60).expect("steps");
     let (x, v) = on_gpu.read_back(&gpu).expect("read back");
     let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
     let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
-    let start: Vec<Vec3> = (0..1024).filter_map(|k| p.position.get(k).map(Vec3::from)).collect();
+    let start: Vec<Vec3> = (0..1000).filter_map(|k| p.position.get(k).map(Vec3::from)).collect();
     assert!(
-        (1..1024).any(|k| k % 16 != 0 && (cpu_x[k] - start[k]).length() > 0.5),
+        (1..1000).any(|k| k % 16 != 0 && (cpu_x[k] - start[k]).length() > 0.5),
         "the cloud pulled itself together"
     );
     let (dx, dv) = (differences(&x, &cpu_x), differences(&v, &cpu_v));
@@ -248,9 +299,9 @@ fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
         GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
         GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
     );
-    once.step(&gpu, DT as f32, 90);
+    once.step(&gpu, DT as f32, 90).expect("steps");
     for _ in 0..90 {
-        singly.step(&gpu, DT as f32, 1);
+        singly.step(&gpu, DT as f32, 1).expect("steps");
     }
     assert_eq!(once.ticks(), 90);
     let (a, b) = (
@@ -305,4 +356,84 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     );
     let error = GpuWorld::new(&gpu, &world("leapfrog")).expect_err("refused");
     assert!(matches!(error, GpuStepError::Method { .. }), "{error}");
+    // The rest of what the CPU's step does that the GPU's does not.
+    let with = |change: &dyn Fn(&mut World)| {
+        let mut w = world("semi_implicit_euler");
+        change(&mut w);
+        refused(&w)
+    };
+    assert_eq!(
+        with(&|w| {
+            w.add_collider(Plane {
+                normal: Vec3::new(0.6, 0.8, 0.0),
+                ..Plane::floor(-3.0, Material::default())
+            });
+        }),
+        "the GPU step does not resolve this plane: its normal is not an axis"
+    );
+    assert_eq!(
+        with(&|w| {
+            w.add_collider(Plane {
+                contact: tickwork_engine::colliders::ContactRule::InStep,
+                ..Plane::floor(-3.0, Material::default())
+            });
+        }),
+        "the GPU step does not resolve this plane: contacts inside the step stay on the CPU"
+    );
+    assert_eq!(
+        with(&|w| {
+            w.add_sensor(tickwork_engine::Sensor::sphere(Vec3::ZERO, 1.0))
+                .expect("a sensor");
+        }),
+        "the GPU step does not do sensors"
+    );
+    assert_eq!(
+        with(&|w| w.add_emitter(tickwork_engine::Emitter::default()).expect("an emitter")),
+        "the GPU step does not do emitters"
+    );
+    assert_eq!(
+        with(&|w| {
+            w.spawn(Particle {
+                lifetime: Some(2.0),
+                ..Particle::default()
+            })
+            .expect("a particle");
+        }),
+        "the GPU step does not do particle lifetimes"
+    );
+    assert_eq!(
+        with(&|w| {
+            w.queue_spawn(Particle::default()).expect("queued");
+        }),
+        "the GPU step does not do spawns and despawns queued for the next step (step the world first)"
+    );
+    // Pairs past the world's limit, refused as the CPU's step refuses them.
+    let mut crowded = World::new(WorldConfig {
+        max_pairs: 1000,
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    crowded.add_force(NBody::new(1.0, 0.1));
+    for k in 0..100 {
+        crowded
+            .spawn(Particle {
+                position: Vec3::new(k as f32, 0.0, 0.0),
+                ..Particle::default()
+            })
+            .expect("a particle");
+    }
+    assert_eq!(
+        refused(&crowded),
+        "the force \"nbody\" would take 4950 pairs a step, past WorldConfig::max_pairs (1000): raise it to allow \
+         more"
+    );
+    // A step that is not finite and positive.
+    let mut fine = GpuWorld::new(&gpu, &world("semi_implicit_euler")).expect("a GPU world");
+    for dt in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+        assert_eq!(
+            fine.step(&gpu, dt, 1).map_err(|e| e.to_string()),
+            Err(format!("a GPU step of {dt} s: the step must be finite and positive"))
+        );
+    }
+    assert_eq!(fine.ticks(), 0, "nothing was stepped");
 }

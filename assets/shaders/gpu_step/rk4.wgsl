@@ -30,6 +30,7 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     }
     sx = sx + tv;
     sv = sv + acceleration(tx, tv, w);
-    let h6 = h * (1.0 / 6.0);
+    // 1/6 rounded to f32 (0x3e2aaaab), as the CPU's `c(1.0 / 6.0)`.
+    let h6 = h * bitcast<f32>(0x3e2aaaabu);
     return Motion(x0 + sx * h6, v0 + sv * h6);
 }

@@ -40,6 +40,18 @@ pub enum GpuStepError {
         /// How many particles fit.
         fits: u64,
     },
+    /// A force's pairs are past the world's `max_pairs`, as the CPU's step
+    /// refuses them.
+    Pairs {
+        /// The force's name.
+        force: &'static str,
+        /// Its pairs.
+        pairs: u64,
+        /// `WorldConfig::max_pairs`.
+        limit: u64,
+    },
+    /// A step's length that is not finite and positive.
+    Step(f32),
     /// Reading the state back failed.
     ReadBack(String),
 }
@@ -65,6 +77,12 @@ impl fmt::Display for GpuStepError {
                 f,
                 "the particles need {needed} of the device's {limit} ({value}): at most {fits} particles fit"
             ),
+            Self::Pairs { force, pairs, limit } => write!(
+                f,
+                "the force {force:?} would take {pairs} pairs a step, past WorldConfig::max_pairs ({limit}): raise \
+                 it to allow more"
+            ),
+            Self::Step(dt) => write!(f, "a GPU step of {dt} s: the step must be finite and positive"),
             Self::ReadBack(message) => write!(f, "reading the GPU world back: {message}"),
         }
     }

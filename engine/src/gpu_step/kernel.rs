@@ -195,8 +195,30 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
     if world.has_headings() {
         return Err(GpuStepError::Unsupported("2D headings"));
     }
-    if world.particles().lifetime.iter().any(|l| l.is_finite()) {
+    // (NaN never expires, as on the CPU.)
+    if world
+        .particles()
+        .lifetime
+        .iter()
+        .any(|&l| l != f32::INFINITY && !l.is_nan())
+    {
         return Err(GpuStepError::Unsupported("particle lifetimes"));
+    }
+    if !world.queue.is_empty() {
+        return Err(GpuStepError::Unsupported(
+            "spawns and despawns queued for the next step (step the world first)",
+        ));
+    }
+    let particles = world.len();
+    for force in world.forces() {
+        let pairs = force.pairs(particles);
+        if pairs > world.config.max_pairs {
+            return Err(GpuStepError::Pairs {
+                force: force.name(),
+                pairs,
+                limit: world.config.max_pairs,
+            });
+        }
     }
     Ok(Plan {
         method,

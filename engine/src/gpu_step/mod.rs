@@ -19,8 +19,11 @@
 //! Bits: for every method the GPU performs the CPU's operations in the
 //! CPU's order (coefficients the CPU computes in f64, Forest-Ruth's, come
 //! computed; dot products summed as glam sums them), so where the driver
-//! fuses no multiply-add and rounds `sqrt` correctly (WGSL requires
-//! neither) the states are the CPU's bit for bit, as on lavapipe (tested). The GPU's states are the same on the
+//! fuses no multiply-add, rounds `sqrt` and division correctly and keeps
+//! subnormal numbers (WGSL requires none of these) the states are the
+//! CPU's bit for bit, as on lavapipe (tested). What the CPU's step checks
+//! every step, the GPU's does not: a position or velocity that becomes
+//! infinite or NaN is not reported (read the state back to look). The GPU's states are the same on the
 //! same adapter and driver, run to run: no result depends on the order of
 //! atomic operations (there are none).
 

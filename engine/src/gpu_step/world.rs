@@ -1,11 +1,12 @@
 //! A particle world on the GPU: its state in two storage buffers, stepped
 //! by one dispatch a fixed step.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use wgpu::util::DeviceExt;
 
 use super::error::GpuStepError;
 use super::kernel::{Plan, PlaneRecord, coefficients, plan};
+use crate::clock::FixedStep;
 use crate::render::Gpu;
 use crate::world::World;
 
@@ -45,6 +46,9 @@ pub struct GpuWorld {
     positions: wgpu::Buffer,
     /// `(vx, vy, vz, inverse mass)` a particle.
     velocities: wgpu::Buffer,
+    /// The positions at the start of the last step (a copy before its
+    /// dispatch): the world's previous positions, for interpolation.
+    previous: wgpu::Buffer,
     params: wgpu::Buffer,
     pipeline: wgpu::ComputePipeline,
     /// Each particle's n-body acceleration at the step's start, where the
@@ -98,6 +102,7 @@ impl GpuWorld {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             })
         };
+        let previous = storage("tickwork gpu step previous positions", &positions);
         let positions = storage("tickwork gpu step positions", &positions);
         let velocities = storage("tickwork gpu step velocities", &velocities);
         let mut records = plan.planes.clone();
@@ -215,6 +220,7 @@ impl GpuWorld {
             groups,
             positions,
             velocities,
+            previous,
             params,
             pipeline,
             nbody,
@@ -266,7 +272,13 @@ impl GpuWorld {
     /// Records `steps` fixed steps of `dt` seconds into one command
     /// buffer, one dispatch each in one compute pass (WebGPU orders their
     /// storage writes), and submits it. Nothing is read back.
-    pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) {
+    ///
+    /// # Errors
+    /// [`GpuStepError::Step`] for a `dt` that is not finite and positive.
+    pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) -> Result<(), GpuStepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GpuStepError::Step(dt));
+        }
         let (c, b) = self.plan.affine;
         let (drift, kick) = coefficients(self.plan.method, dt);
         let (nbody_g, nbody_eps2) = self.plan.nbody.unwrap_or_default();
@@ -287,28 +299,44 @@ impl GpuWorld {
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step"),
         });
-        if self.n > 0 {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("tickwork gpu step"),
-                timestamp_writes: None,
-            });
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            for k in 0..u64::from(steps) {
-                if let Some(nbody) = &self.nbody {
-                    pass.set_pipeline(nbody);
-                    pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
-                }
-                pass.set_pipeline(&self.pipeline);
-                pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
-                if (self.next_tick + k).is_multiple_of(crate::step::SUBNORMAL_FLUSH_EVERY) {
-                    pass.set_pipeline(&self.flush);
-                    pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
-                }
-            }
+        if self.n > 0 && steps > 0 {
+            // All steps but the last, then the positions kept as the
+            // previous ones, then the last.
+            self.encode_steps(&mut encoder, self.next_tick, steps - 1);
+            let bytes = self.positions.size();
+            encoder.copy_buffer_to_buffer(&self.positions, 0, &self.previous, 0, bytes);
+            self.encode_steps(&mut encoder, self.next_tick + u64::from(steps - 1), 1);
         }
         self.next_tick += u64::from(steps);
         gpu.queue.submit([encoder.finish()]);
         self.ticks += u64::from(steps);
+        Ok(())
+    }
+
+    /// Records `steps` steps from the world's tick `first` into one compute
+    /// pass of `encoder`: each the n-body pull (if any), the step, and the
+    /// subnormal flush after the ticks the CPU flushes.
+    fn encode_steps(&self, encoder: &mut wgpu::CommandEncoder, first: u64, steps: u32) {
+        if steps == 0 {
+            return;
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("tickwork gpu step"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        for tick in first..first + u64::from(steps) {
+            if let Some(nbody) = &self.nbody {
+                pass.set_pipeline(nbody);
+                pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+            }
+            pass.set_pipeline(&self.pipeline);
+            pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+            if tick.is_multiple_of(crate::step::SUBNORMAL_FLUSH_EVERY) {
+                pass.set_pipeline(&self.flush);
+                pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+            }
+        }
     }
 
     /// Copies the state back: every position and velocity, in the world's
@@ -319,18 +347,61 @@ impl GpuWorld {
     /// # Errors
     /// [`GpuStepError::ReadBack`] if the buffer cannot be mapped.
     pub fn read_back(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<Vec3>), GpuStepError> {
+        let [positions, velocities] = self.read(gpu, [&self.positions, &self.velocities])?;
+        Ok((positions, velocities))
+    }
+
+    /// Writes the GPU's state into `world`, the world this was made from,
+    /// as the CPU's steps would have left it: positions, velocities and
+    /// the previous positions, the tick and time after `last` (the last
+    /// step taken, as the clock gave it), the lived time (each step's `dt`
+    /// added, as the CPU adds it). Its checksum is then the CPU run's where
+    /// the GPU's states are the CPU's (on lavapipe, tested), and the
+    /// adapter's own elsewhere. Costs a read-back of three buffers (48
+    /// bytes a particle) and a wait.
+    ///
+    /// # Errors
+    /// [`GpuStepError::ReadBack`] if the buffers cannot be mapped;
+    /// [`GpuStepError::Unsupported`] for a world that is not this one's
+    /// origin (another particle count, or a tick that `last` does not
+    /// follow from).
+    pub fn store_into(&self, gpu: &Gpu, world: &mut World, last: FixedStep) -> Result<(), GpuStepError> {
+        if world.len() != self.len() || world.tick() + self.ticks != last.tick + 1 {
+            return Err(GpuStepError::Unsupported(
+                "storing into a world other than the one it was made from, at the tick it was made",
+            ));
+        }
+        let [x, v, previous] = self.read(gpu, [&self.positions, &self.velocities, &self.previous])?;
+        let p = &mut world.particles;
+        for (row, ((x, v), previous)) in x.iter().zip(&v).zip(&previous).enumerate() {
+            p.position.set(row, Vec3A::from(*x));
+            p.velocity.set(row, Vec3A::from(*v));
+            p.previous_position.set(row, Vec3A::from(*previous));
+        }
+        for _ in 0..self.ticks {
+            p.lifetimes.lived += last.dt;
+        }
+        world.tick = last.tick + 1;
+        world.time = last.time + last.dt;
+        world.revision += 1;
+        Ok(())
+    }
+
+    /// Copies `buffers` out and waits: their `xyz`, a particle each.
+    fn read<const N: usize>(&self, gpu: &Gpu, buffers: [&wgpu::Buffer; N]) -> Result<[Vec<Vec3>; N], GpuStepError> {
         let bytes = self.positions.size();
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu step read-back"),
-            size: 2 * bytes,
+            size: N as u64 * bytes,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step read-back"),
         });
-        encoder.copy_buffer_to_buffer(&self.positions, 0, &staging, 0, bytes);
-        encoder.copy_buffer_to_buffer(&self.velocities, 0, &staging, bytes, bytes);
+        for (k, buffer) in buffers.iter().enumerate() {
+            encoder.copy_buffer_to_buffer(buffer, 0, &staging, k as u64 * bytes, bytes);
+        }
         gpu.queue.submit([encoder.finish()]);
         let slice = staging.slice(..);
         let (sender, receiver) = std::sync::mpsc::channel();
@@ -348,12 +419,15 @@ impl GpuWorld {
             .get_mapped_range()
             .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
         let records: &[[f32; 4]] = bytemuck::cast_slice(&mapped);
+        let each = records.len() / N;
         let n = self.len();
-        let half = records.len() / 2;
-        let xyz = |r: &[f32; 4]| Vec3::new(r[0], r[1], r[2]);
-        let positions = records[..half].iter().take(n).map(xyz).collect();
-        let velocities = records[half..].iter().take(n).map(xyz).collect();
-        Ok((positions, velocities))
+        Ok(std::array::from_fn(|k| {
+            records[k * each..(k + 1) * each]
+                .iter()
+                .take(n)
+                .map(|r| Vec3::new(r[0], r[1], r[2]))
+                .collect()
+        }))
     }
 }
 
