@@ -530,3 +530,59 @@ fn a_cause_that_repeats_the_line_above_is_printed_once() {
         "tickwork: a.ron:3:7: rate: invalid rate in Hz: 0"
     );
 }
+
+#[test]
+fn sim_on_the_gpu_ends_in_the_cpus_checksum_and_refuses_what_it_does_not_do_by_name() {
+    let line = |stdout: &str, name: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no {name} line:\n{stdout}"))
+            .to_owned()
+    };
+    for (file, extra) in [
+        // 100k particles, drag, a floor with friction.
+        ("rain.ron", vec!["--steps", "150"]),
+        // An attractor and an immovable sun, under RK4.
+        ("kepler.ron", vec!["--steps", "700", "--integrator", "rk4"]),
+        // A bouncing ball, 240 Hz, under midpoint.
+        ("bouncing_ball.ron", vec!["--integrator", "midpoint"]),
+    ] {
+        let path = scene(file);
+        let mut args = vec!["sim", path.as_str()];
+        args.extend(extra.iter().copied());
+        let cpu = tickwork(&args);
+        args.push("--gpu");
+        let gpu = tickwork(&args);
+        for output in [&cpu, &gpu] {
+            assert!(
+                output.status.success(),
+                "{file}: {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        let (cpu, gpu) = (
+            String::from_utf8_lossy(&cpu.stdout).into_owned(),
+            String::from_utf8_lossy(&gpu.stdout).into_owned(),
+        );
+        assert_eq!(line(&cpu, "backend"), "backend     cpu");
+        assert!(line(&gpu, "backend").starts_with("backend     gpu: "), "{gpu}");
+        for name in ["checksum", "energy", "steps"] {
+            assert_eq!(
+                line(&gpu, name),
+                line(&cpu, name),
+                "{file}: the GPU's {name} against the CPU's"
+            );
+        }
+    }
+    let projectile = scene("projectile.ron");
+    let refused = tickwork(&["sim", &projectile, "--gpu"]);
+    assert!(!refused.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&refused.stderr).lines().next(),
+        Some(
+            "tickwork: --gpu: the GPU step has no method \"velocity_verlet\": not on the GPU yet (explicit and \
+             semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth are)"
+        )
+    );
+}

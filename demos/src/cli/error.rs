@@ -114,6 +114,8 @@ pub enum CliError {
     },
     /// No graphics device to render on.
     Gpu(RenderError),
+    /// The GPU step cannot take the scene (or failed).
+    GpuStep(tickwork_engine::gpu_step::GpuStepError),
     /// The off-screen frames could not be set up (size, GPU memory).
     RenderSetup {
         /// Width in pixels.
@@ -192,6 +194,7 @@ impl fmt::Display for CliError {
             Self::TraceWrite { path, .. } => write!(f, "cannot write the trace file {}", path.display()),
             Self::Simulation { path, .. } => write!(f, "the simulation of {} stopped", path.display()),
             Self::Gpu(_) => f.write_str("no graphics device to render on"),
+            Self::GpuStep(e) => write!(f, "--gpu: {e}"),
             Self::RenderSetup { width, height, .. } => {
                 write!(f, "cannot set up {width}x{height} off-screen frames")
             }
@@ -226,7 +229,8 @@ impl Error for CliError {
             | Self::NoFrames
             | Self::IsDirectory { .. }
             | Self::MissingDirectory { .. }
-            | Self::Exists(_) => None,
+            | Self::Exists(_)
+            | Self::GpuStep(_) => None,
         }
     }
 }

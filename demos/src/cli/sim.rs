@@ -1,4 +1,5 @@
-//! `tickwork sim`: run a scene headless, with no window and no GPU.
+//! `tickwork sim`: run a scene headless, with no window: on the CPU, or
+//! with `--gpu` on the GPU step (the state read back once, at the end).
 
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
@@ -6,8 +7,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use tickwork_engine::clock::Rate;
-use tickwork_engine::{HeadlessError, Scene, TraceWriter, run_headless};
+use tickwork_engine::clock::{FixedClock, Rate};
+use tickwork_engine::gpu_step::GpuWorld;
+use tickwork_engine::render::Gpu;
+use tickwork_engine::{HeadlessError, HeadlessSummary, Scene, TraceWriter, World, run_headless};
 
 use super::error::CliError;
 
@@ -41,7 +44,17 @@ pub struct SimArgs {
     /// Overwrite the trace file if it exists.
     #[arg(long)]
     pub force: bool,
+    /// Step the scene on the GPU (the explicit methods, gravity, wind,
+    /// drag, attractors, n-body, axis-aligned planes; anything else is
+    /// refused by name). The state is read back once, at the end: the
+    /// checksum is then the CPU's where the adapter computes as the CPU
+    /// does (lavapipe does), the adapter's own elsewhere.
+    #[arg(long, conflicts_with = "trace")]
+    pub gpu: bool,
 }
+
+/// The most fixed steps recorded into one GPU submission.
+const GPU_BATCH: u32 = 1024;
 
 /// The most steps `--steps` or `--until` may ask for: ten billion (about five years at
 /// 60 Hz); `--until 1e300` once became `u64::MAX` steps in silence.
@@ -111,19 +124,26 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
     } else {
         ProgressBar::hidden()
     };
-    let summary = run_headless(&mut world, rate, steps, trace.as_mut(), args.every, |done| {
-        bar.set_position(done)
-    })
-    .map_err(|e| match e {
-        HeadlessError::Simulation(source) => CliError::Simulation {
-            path: args.scene.clone(),
-            source,
-        },
-        HeadlessError::Trace(source) => CliError::TraceWrite {
-            path: args.trace.clone().unwrap_or_default(),
-            source,
-        },
-    })?;
+    let mut backend = "cpu".to_owned();
+    let summary = if args.gpu {
+        let (summary, adapter) = run_on_gpu(&mut world, rate, steps, |done| bar.set_position(done))?;
+        backend = format!("gpu: {adapter} (read back once, at the end)");
+        summary
+    } else {
+        run_headless(&mut world, rate, steps, trace.as_mut(), args.every, |done| {
+            bar.set_position(done)
+        })
+        .map_err(|e| match e {
+            HeadlessError::Simulation(source) => CliError::Simulation {
+                path: args.scene.clone(),
+                source,
+            },
+            HeadlessError::Trace(source) => CliError::TraceWrite {
+                path: args.trace.clone().unwrap_or_default(),
+                source,
+            },
+        })?
+    };
     bar.finish_and_clear();
     if let (Some(trace), Some(path)) = (trace, &args.trace) {
         trace.finish().map_err(|source| CliError::TraceWrite {
@@ -135,6 +155,7 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let write = |out: &mut dyn Write| -> std::io::Result<()> {
         writeln!(out, "scene       {} ({})", scene.name(), args.scene.display())?;
         writeln!(out, "integrator  {}", world.integrator().info().name)?;
+        writeln!(out, "backend     {backend}")?;
         writeln!(out, "rate        {rate}")?;
         writeln!(out, "steps       {} (t = {:.6} s)", summary.steps, summary.time)?;
         writeln!(out, "particles   {start} at start, {end} at end, {peak} at most")?;
@@ -148,12 +169,63 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
         )?;
         writeln!(out, "wall time   {:.3} s", summary.wall_seconds)?;
         writeln!(out, "throughput  {:.3e} particle-steps/s", summary.throughput())?;
+        writeln!(out, "checksum    {:016x}", world.state_hash())?;
         if let Some(path) = &args.trace {
             writeln!(out, "trace       {} (every {} steps)", path.display(), args.every)?;
         }
         Ok(())
     };
     write(out).map_err(CliError::Output)
+}
+
+/// Runs `steps` frames of one fixed step each, as [`run_headless`] does, on
+/// the GPU step, and stores the final state into `world`: the summary
+/// and the adapter's name.
+fn run_on_gpu(
+    world: &mut World,
+    rate: Rate,
+    steps: u64,
+    mut progress: impl FnMut(u64),
+) -> Result<(HeadlessSummary, String), CliError> {
+    let gpu = Gpu::headless().map_err(CliError::Gpu)?;
+    let info = gpu.adapter.get_info();
+    let adapter = format!("{} ({:?})", info.name, info.backend);
+    let mut on_gpu = GpuWorld::new(&gpu, world).map_err(CliError::GpuStep)?;
+    let mut clock = FixedClock::default();
+    clock.set_rate(rate);
+    let particles = world.len();
+    let start_energy = world.energy().total();
+    let started = std::time::Instant::now();
+    let (mut pending, mut last) = (0u32, None);
+    let report_every = (steps / 100).max(1);
+    for done in 0..steps {
+        for step in clock.step(1).fixed_steps() {
+            pending += 1;
+            last = Some(step);
+            if pending == GPU_BATCH {
+                on_gpu.step(&gpu, step.dt as f32, pending).map_err(CliError::GpuStep)?;
+                pending = 0;
+            }
+        }
+        if (done + 1) % report_every == 0 {
+            progress(done + 1);
+        }
+    }
+    if let Some(last) = last {
+        if pending > 0 {
+            on_gpu.step(&gpu, last.dt as f32, pending).map_err(CliError::GpuStep)?;
+        }
+        on_gpu.store_into(&gpu, world, last).map_err(CliError::GpuStep)?;
+    }
+    let summary = HeadlessSummary {
+        steps,
+        time: clock.time(),
+        particles: (particles, world.len(), particles),
+        energy: (start_energy, world.energy().total()),
+        wall_seconds: started.elapsed().as_secs_f64(),
+        particle_steps: particles as u64 * steps,
+    };
+    Ok((summary, adapter))
 }
 
 /// Opens the trace file at `path`, refusing a directory, a missing
