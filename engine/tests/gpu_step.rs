@@ -437,3 +437,41 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     }
     assert_eq!(fine.ticks(), 0, "nothing was stepped");
 }
+
+#[test]
+fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
+    use tickwork_engine::render::{Camera, FrameView, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
+    let gpu = gpu();
+    let mut cpu = world("semi_implicit_euler");
+    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    cpu_steps(&mut cpu, 0..45);
+    on_gpu.step(&gpu, DT as f32, 45).expect("steps");
+    // Quads for both (no splat), between the last two steps.
+    let config = RendererConfig {
+        splat_threshold: Some(usize::MAX),
+        ..RendererConfig::default()
+    };
+    let camera = Camera::TwoD {
+        center: glam::Vec2::new(0.0, 5.0),
+        height: 12.0,
+    };
+    let draw = |view: &FrameView<'_>| {
+        let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config.clone()).expect("a renderer");
+        let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
+        target.render(&gpu, &mut renderer, view).expect("a frame")
+    };
+    let from_cpu = draw(&FrameView::new(&cpu, 0.5, camera));
+    let empty = World::default();
+    let particles = [on_gpu.particles()];
+    let from_gpu = draw(&FrameView {
+        gpu_particles: &particles,
+        ..FrameView::new(&empty, 0.5, camera)
+    });
+    let lit = from_cpu.pixels().filter(|p| p.0[..3].iter().any(|&c| c > 40)).count();
+    assert!(lit > 2000, "the particles are drawn: {lit} pixels");
+    let differing = from_cpu.pixels().zip(from_gpu.pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(
+        differing, 0,
+        "the GPU world's frame against its CPU twin's, pixel for pixel"
+    );
+}

@@ -49,6 +49,8 @@ pub struct GpuWorld {
     /// The positions at the start of the last step (a copy before its
     /// dispatch): the world's previous positions, for interpolation.
     previous: wgpu::Buffer,
+    /// Each particle's colour, for drawing.
+    colours: wgpu::Buffer,
     params: wgpu::Buffer,
     pipeline: wgpu::ComputePipeline,
     /// Each particle's n-body acceleration at the step's start, where the
@@ -99,7 +101,10 @@ impl GpuWorld {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents: bytemuck::cast_slice(data),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::VERTEX
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
             })
         };
         let previous = storage("tickwork gpu step previous positions", &positions);
@@ -115,6 +120,23 @@ impl GpuWorld {
                 friction: 0.0,
             });
         }
+        // Colours for drawing: sRGB RGBA as little-endian words, hidden
+        // particles transparent (as the renderer's own records).
+        let hidden = world.hidden_rows();
+        let mut colours: Vec<u32> = (0..count)
+            .map(|k| {
+                let shown = hidden.is_none_or(|h| !h[k].0);
+                if shown { u32::from_le_bytes(p.colour[k]) } else { 0 }
+            })
+            .collect();
+        if colours.is_empty() {
+            colours.push(0);
+        }
+        let colours = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("tickwork gpu step colours"),
+            contents: bytemuck::cast_slice(&colours),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
         let planes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("tickwork gpu step planes"),
             contents: bytemuck::cast_slice(&records),
@@ -221,6 +243,7 @@ impl GpuWorld {
             positions,
             velocities,
             previous,
+            colours,
             params,
             pipeline,
             nbody,
@@ -260,6 +283,20 @@ impl GpuWorld {
     #[must_use]
     pub fn bytes_per_step(&self) -> u64 {
         u64::from(self.n) * 64
+    }
+
+    /// Its particles as the renderer draws them, straight from these
+    /// buffers (a [`FrameView`](crate::render::FrameView)'s
+    /// `gpu_particles`): interpolated between the positions before and
+    /// after the last step, nothing uploaded or read back.
+    #[must_use]
+    pub fn particles(&self) -> crate::render::GpuParticles<'_> {
+        crate::render::GpuParticles {
+            previous: &self.previous,
+            current: &self.positions,
+            colours: &self.colours,
+            count: self.n,
+        }
     }
 
     /// The state's two buffers, `(x, y, z, radius)` and `(vx, vy, vz,

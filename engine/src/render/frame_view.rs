@@ -48,6 +48,25 @@ pub struct FrameView<'a> {
     /// Colour changes in the HUD text: from each byte offset on, the text
     /// is drawn in that sRGB colour (default: none, all light grey).
     pub hud_colours: &'a [(usize, [u8; 4])],
+    /// Particles stepped on the GPU, drawn from their own buffers with the
+    /// worlds' discs (on `particle_layer`), interpolated between their
+    /// previous and current positions: nothing is uploaded.
+    pub gpu_particles: &'a [GpuParticles<'a>],
+}
+
+/// A GPU world's particles as the renderer reads them
+/// ([`GpuWorld::particles`](crate::gpu_step::GpuWorld::particles)): each
+/// buffer one record a particle, in row order.
+#[derive(Clone, Copy, Debug)]
+pub struct GpuParticles<'a> {
+    /// `(x, y, z, radius)` at the start of the last step.
+    pub previous: &'a wgpu::Buffer,
+    /// `(x, y, z, radius)` now.
+    pub current: &'a wgpu::Buffer,
+    /// sRGB RGBA colours, one `u32` (little-endian bytes) a particle.
+    pub colours: &'a wgpu::Buffer,
+    /// How many particles.
+    pub count: u32,
 }
 
 impl<'a> FrameView<'a> {
@@ -71,6 +90,7 @@ impl<'a> FrameView<'a> {
             texts: &[],
             hud: "",
             hud_colours: &[],
+            gpu_particles: &[],
         }
     }
 

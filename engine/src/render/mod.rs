@@ -63,7 +63,7 @@ pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices, Fit, FrameRect};
 pub use config::{Blend, RendererConfig};
 pub use error::RenderError;
-pub use frame_view::{FrameView, WorldView};
+pub use frame_view::{FrameView, GpuParticles, WorldView};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use gpu::{Gpu, quiet_device_select_layer};
 pub use image::{Rgba, RgbaImage};

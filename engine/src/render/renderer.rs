@@ -96,6 +96,12 @@ pub struct Renderer {
     world_draws: Vec<WorldDraw>,
     /// The layers the worlds are drawn on, lowest first, each once.
     world_layers: Vec<i32>,
+    /// The frame's particles stepped on the GPU: previous, current and
+    /// colour buffers (shared handles) and counts, drawn with the worlds.
+    gpu_draws: Vec<(wgpu::Buffer, wgpu::Buffer, wgpu::Buffer, u32)>,
+    /// The particle shader over a GPU world's own buffers, made at the
+    /// first frame that has one.
+    gpu_particle_pipeline: Option<wgpu::RenderPipeline>,
     /// Where a letterboxed camera draws (`None`: the whole frame).
     letterbox: Option<FrameRect>,
     /// The game's sprites.
@@ -279,6 +285,8 @@ impl Renderer {
             particle_layer: 0,
             world_draws: Vec::new(),
             world_layers: Vec::new(),
+            gpu_draws: Vec::new(),
+            gpu_particle_pipeline: None,
             letterbox: None,
             sprites,
             frame_scissor: [0, 0, 1, 1],
@@ -345,6 +353,29 @@ impl Renderer {
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
         self.plan_worlds(view);
+        self.gpu_draws.clear();
+        self.gpu_draws.extend(
+            view.gpu_particles
+                .iter()
+                .filter(|g| g.count > 0)
+                .map(|g| (g.previous.clone(), g.current.clone(), g.colours.clone(), g.count)),
+        );
+        if !self.gpu_draws.is_empty() && self.gpu_particle_pipeline.is_none() {
+            self.gpu_particle_pipeline = Some(particle_pipeline(
+                &gpu.device,
+                &self.particle_layout,
+                &self.particle_shader,
+                "vs_main",
+                &super::records::gpu_particle_buffer_layouts(),
+                self.format,
+                &self.config,
+            ));
+        }
+        // GPU particles are drawn with the worlds of the particle layer.
+        if !self.gpu_draws.is_empty() && !self.world_layers.contains(&view.particle_layer) {
+            self.world_layers.push(view.particle_layer);
+            self.world_layers.sort_unstable();
+        }
         let dt = match self.config.interpolation {
             Interpolation::Hermite { dt } => Some(dt),
             _ => None,
@@ -369,9 +400,12 @@ impl Renderer {
             && self.instance_count < 1 << 24
             && view.camera.is_2d()
             // The splat covers the whole frame, and composites every
-            // world's particles at once: on one layer.
+            // world's particles at once: on one layer, none of them drawn
+            // from a GPU world's buffers (which the multisampled pipeline
+            // draws).
             && self.letterbox.is_none()
             && self.world_layers.len() <= 1
+            && self.gpu_draws.is_empty()
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
         if self.splat_active
             && let Some(splat) = &mut self.splat
@@ -526,6 +560,18 @@ impl Renderer {
                 splat.encode_composite(pass);
             }
             return;
+        }
+        if layer == self.particle_layer
+            && let Some(pipeline) = &self.gpu_particle_pipeline
+        {
+            for (previous, current, colours, count) in &self.gpu_draws {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &self.particle_bind_group, &[]);
+                pass.set_vertex_buffer(0, previous.slice(..));
+                pass.set_vertex_buffer(1, current.slice(..));
+                pass.set_vertex_buffer(2, colours.slice(..));
+                pass.draw(0..4, 0..*count);
+            }
         }
         for world in on_layer().filter(|w| !w.instances.is_empty()) {
             match &self.hermite {
