@@ -59,6 +59,18 @@ fn finish(gpu: &Gpu) {
         .expect("the GPU finishes");
 }
 
+/// The time `iters` steps take, from a GPU that has finished all it was
+/// given to one that has finished them.
+fn timed_steps(gpu: &Gpu, world: &mut GpuWorld, iters: u64) -> Duration {
+    finish(gpu);
+    let start = Instant::now();
+    world
+        .step(gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX))
+        .expect("steps");
+    finish(gpu);
+    start.elapsed()
+}
+
 fn sizes() -> Vec<usize> {
     std::env::var("TICKWORK_GPU_BENCH_SIZES").map_or_else(
         |_| vec![100_000, 1_000_000, 10_000_000],
@@ -85,15 +97,7 @@ fn gpu_step(c: &mut Criterion) {
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(3));
         group.bench_function("semi_implicit_euler", |b| {
-            b.iter_custom(|iters| {
-                finish(&gpu);
-                let start = Instant::now();
-                on_gpu
-                    .step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX))
-                    .expect("steps");
-                finish(&gpu);
-                start.elapsed()
-            });
+            b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu, iters));
         });
         // The same bytes copied: both state buffers into a scratch pair.
         let (positions, velocities) = on_gpu.buffers();
@@ -164,15 +168,7 @@ fn gpu_nbody(c: &mut Criterion) {
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(3));
         group.bench_function("pairs", |b| {
-            b.iter_custom(|iters| {
-                finish(&gpu);
-                let start = Instant::now();
-                on_gpu
-                    .step(&gpu, 1.0 / 60.0, u32::try_from(iters).unwrap_or(u32::MAX))
-                    .expect("steps");
-                finish(&gpu);
-                start.elapsed()
-            });
+            b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu, iters));
         });
         group.finish();
     }
