@@ -14,7 +14,7 @@
 #![cfg(feature = "render")]
 
 use glam::Vec3;
-use tickwork_engine::colliders::{Material, Plane};
+use tickwork_engine::colliders::{BoxCollider, Material, Plane};
 use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag, Wind};
 use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
 use tickwork_engine::render::Gpu;
@@ -33,8 +33,8 @@ fn gpu() -> Gpu {
 /// 4 096 particles from a seeded generator over a 10 m box, moving up to
 /// 8 m/s, one in 16 immovable (no force or collider moves it; it keeps its
 /// velocity); gravity, quadratic and linear drag, an attractor above; a
-/// floor (e = 0.5, friction 0.2) at y = 0 and a frictionless wall (e = 1)
-/// facing -x at x = 5.
+/// floor (e = 0.5, friction 0.2) at y = 0, frictionless walls facing -x at
+/// x = 5 and +z at z = -5, a solid block and a container box.
 fn world(method: &str) -> World {
     let mut world = World::new(WorldConfig {
         integrator: method.into(),
@@ -83,6 +83,23 @@ fn world(method: &str) -> World {
             },
         )
     });
+    // A solid block floating in the middle, and a container around it all.
+    world.add_collider(BoxCollider::solid(
+        Vec3::new(-2.0, 1.0, -2.0),
+        Vec3::new(0.5, 3.0, 0.5),
+        Material {
+            restitution: 0.5,
+            friction: 0.3,
+        },
+    ));
+    world.add_collider(BoxCollider::container(
+        Vec3::new(-6.0, -1.0, -6.0),
+        Vec3::new(6.0, 14.0, 6.0),
+        Material {
+            restitution: 0.7,
+            friction: 0.1,
+        },
+    ));
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = move || {
         state ^= state << 13;

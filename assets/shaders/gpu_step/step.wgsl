@@ -1,5 +1,6 @@
 // The fixed step on the GPU: one invocation a particle, the method's
-// `advance` (its own file, appended below) then the planes, in place.
+// `advance` (its own file, appended below) then the colliders in their
+// order, in place.
 //
 //   a(x, v) = c - b v       the world's affine forces (gravity, wind, linear drag), summed
 //                           in force order on the CPU
@@ -16,6 +17,10 @@
 //       x_e = x_e - s gap
 //       v_t = v_t * keep,  keep = 0 if (mu dv_n)^2 >= |v_t|^2, else max(1 - mu dv_n / |v_t|, 0)
 //                          (the two tangential axes; only with friction)
+//   box (min, max), end of step, at rest: a container is six planes facing in,
+//     each resolved in turn (x: min then max; then y; then z) by `resolve`, the
+//     CPU's general contact (engine/src/colliders/contact.rs); a solid box
+//     pushes a particle inside it (grown by r) out through its shallowest face.
 //
 // The same operations in the same order as the CPU's f32 step
 // (engine/src/colliders/plane.rs, contact_block; integrators/src/methods).
@@ -27,7 +32,7 @@ struct Params {
     n: u32,
     // Workgroups along x: a dispatch past 65 535 of them folds into y.
     groups_x: u32,
-    planes: u32,
+    colliders: u32,
     // A method's step coefficients, computed on the CPU as the CPU's
     // method computes them (Forest-Ruth's drifts and kicks times h).
     drift: vec4<f32>,
@@ -37,13 +42,21 @@ struct Params {
     nbody_eps2: f32,
 }
 
-struct Plane {
-    // 0, 1 or 2.
+// A plane (kind 0: axis, sign, offset) or a box (1 a container, 2 solid:
+// min, max), with its material.
+struct Collider {
+    kind: u32,
     axis: u32,
     sign: f32,
     offset: f32,
     restitution: f32,
     friction: f32,
+    min_x: f32,
+    min_y: f32,
+    min_z: f32,
+    max_x: f32,
+    max_y: f32,
+    max_z: f32,
 }
 
 struct Motion {
@@ -55,7 +68,7 @@ struct Motion {
 // (x, y, z, radius) and (vx, vy, vz, inverse mass) of each particle.
 @group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> velocities: array<vec4<f32>>;
-@group(0) @binding(3) var<storage, read> planes: array<Plane>;
+@group(0) @binding(3) var<storage, read> colliders: array<Collider>;
 // G sum_j m_j d_j / (...)^(3/2) of each particle at the step's start (xyz).
 @group(0) @binding(4) var<storage, read_write> nbody_accel: array<vec4<f32>>;
 
@@ -68,39 +81,114 @@ fn length_squared(d: vec3<f32>) -> f32 {
     return (d.x * d.x + d.y * d.y) + d.z * d.z;
 }
 
-fn resolve_planes(m: Motion, r: f32, w: f32) -> Motion {
-    var x = m.x;
-    var v = m.v;
-    for (var k = 0u; k < params.planes; k++) {
-        let p = planes[k];
-        let gap = x[p.axis] * p.sign - p.offset - r;
-        let vn = v[p.axis] * p.sign;
-        var factor = -(1.0 + p.restitution);
-        if (vn >= 0.0) {
-            factor = -1.0;
-        }
-        // A select, as the CPU's: -0 and NaN give 0.
-        let dvn = factor * select(0.0, vn, vn < 0.0);
-        if (gap < 0.0 && w > 0.0) {
-            if (p.friction != 0.0) {
-                let t1 = (p.axis + 1u) % 3u;
-                let t2 = (p.axis + 2u) % 3u;
-                let speed2 = v[t1] * v[t1] + v[t2] * v[t2];
-                let brake = p.friction * dvn;
-                var keep = 0.0;
-                if (!(brake * brake >= speed2)) {
-                    // f32::MIN_POSITIVE: no division by 0.
-                    let speed = max(sqrt(speed2), bitcast<f32>(0x00800000u));
-                    keep = max(1.0 - brake / speed, 0.0);
-                }
-                v[t1] = v[t1] * keep;
-                v[t2] = v[t2] * keep;
+// The CPU's general contact against a surface of normal `n` at `gap`:
+// restitution (none for a separating velocity) and friction, applied only
+// to a movable particle inside (`gap < 0`), in the CPU's operations.
+fn resolve(m: ptr<function, Motion>, n: vec3<f32>, gap: f32, movable: bool, c: Collider) {
+    let x = (*m).x;
+    let v = (*m).v;
+    let vn = (v.x * n.x + v.y * n.y) + v.z * n.z;
+    let vt = v - n * vn;
+    var e = c.restitution;
+    if (vn >= 0.0) {
+        e = 0.0;
+    }
+    let dvn = -(1.0 + e) * min(vn, 0.0);
+    let speed2 = length_squared(vt);
+    let brake = c.friction * dvn;
+    var keep = 0.0;
+    if (!(brake * brake >= speed2)) {
+        keep = max(1.0 - brake / max(sqrt(speed2), bitcast<f32>(0x00800000u)), 0.0);
+    }
+    if (gap < 0.0 && movable) {
+        (*m).v = vt * keep + n * (vn + dvn);
+        (*m).x = x - n * gap;
+    }
+}
+
+// A plane whose normal is an axis (the CPU's `contact_block` and
+// `contact_lanes`).
+fn resolve_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
+    var x = (*m).x;
+    var v = (*m).v;
+    let gap = x[p.axis] * p.sign - p.offset - r;
+    let vn = v[p.axis] * p.sign;
+    var factor = -(1.0 + p.restitution);
+    if (vn >= 0.0) {
+        factor = -1.0;
+    }
+    // A select, as the CPU's: -0 and NaN give 0.
+    let dvn = factor * select(0.0, vn, vn < 0.0);
+    if (gap < 0.0 && w > 0.0) {
+        if (p.friction != 0.0) {
+            let t1 = (p.axis + 1u) % 3u;
+            let t2 = (p.axis + 2u) % 3u;
+            let speed2 = v[t1] * v[t1] + v[t2] * v[t2];
+            let brake = p.friction * dvn;
+            var keep = 0.0;
+            if (!(brake * brake >= speed2)) {
+                // f32::MIN_POSITIVE: no division by 0.
+                let speed = max(sqrt(speed2), bitcast<f32>(0x00800000u));
+                keep = max(1.0 - brake / speed, 0.0);
             }
-            v[p.axis] = (vn + dvn) * p.sign;
-            x[p.axis] = x[p.axis] - gap * p.sign;
+            v[t1] = v[t1] * keep;
+            v[t2] = v[t2] * keep;
+        }
+        v[p.axis] = (vn + dvn) * p.sign;
+        x[p.axis] = x[p.axis] - gap * p.sign;
+    }
+    (*m).x = x;
+    (*m).v = v;
+}
+
+// A box at rest: a container's six walls, or a solid box's shallowest face
+// (`BoxCollider::walls` and `exclude`).
+fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
+    let lo = vec3<f32>(b.min_x, b.min_y, b.min_z);
+    let hi = vec3<f32>(b.max_x, b.max_y, b.max_z);
+    let movable = w > 0.0;
+    if (b.kind == 1u) {
+        for (var axis = 0u; axis < 3u; axis++) {
+            var n = vec3<f32>(0.0);
+            n[axis] = 1.0;
+            resolve(m, n, (*m).x[axis] - lo[axis] - r, movable, b);
+            resolve(m, -n, hi[axis] - (*m).x[axis] - r, movable, b);
+        }
+        return;
+    }
+    let below = (*m).x - (lo - vec3<f32>(r));
+    let above = (hi + vec3<f32>(r)) - (*m).x;
+    var best = bitcast<f32>(0x7f800000u);
+    var n = vec3<f32>(0.0);
+    for (var axis = 0u; axis < 3u; axis++) {
+        if (below[axis] < best) {
+            best = below[axis];
+            n = vec3<f32>(0.0);
+            n[axis] = -1.0;
+        }
+        if (above[axis] < best) {
+            best = above[axis];
+            n = vec3<f32>(0.0);
+            n[axis] = 1.0;
         }
     }
-    return Motion(x, v);
+    let inside = min(min(below.x, below.y), below.z) > 0.0 && min(min(above.x, above.y), above.z) > 0.0;
+    if (inside) {
+        resolve(m, n, -best, movable, b);
+    }
+}
+
+fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
+    var m = moved;
+    for (var k = 0u; k < params.colliders; k++) {
+        let c = colliders[k];
+        if (c.kind == 0u) {
+            resolve_plane(&m, c, r, w);
+        } else {
+            resolve_box(&m, c, r, w);
+        }
+    }
+    return m;
 }
 
 @compute @workgroup_size(256)
@@ -112,7 +200,7 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     row = i;
     let p = positions[i];
     let q = velocities[i];
-    let moved = resolve_planes(advance(p.xyz, q.xyz, q.w, params.dt), p.w, q.w);
+    let moved = resolve_colliders(advance(p.xyz, q.xyz, q.w, params.dt), p.w, q.w);
     positions[i] = vec4<f32>(moved.x, p.w);
     velocities[i] = vec4<f32>(moved.v, q.w);
 }

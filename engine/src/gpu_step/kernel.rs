@@ -1,11 +1,11 @@
 //! What a world asks of the GPU step, read from it once: the method's
-//! WGSL, the affine forces' sums and the planes, or the error that names
+//! WGSL, the affine forces' sums and the colliders, or the error that names
 //! what the GPU step does not do.
 
 use glam::Vec3A;
 
 use super::error::GpuStepError;
-use crate::colliders::{ContactRule, Plane};
+use crate::colliders::{BoxCollider, ContactRule, Plane};
 use crate::forces::{Attractor, Force, NBody, QuadraticDrag};
 use crate::world::World;
 
@@ -90,15 +90,26 @@ pub(super) fn coefficients(method: &str, h: f32) -> ([f32; 4], [f32; 4]) {
     (drifts.map(|d| (d * h) as f32), kicks.map(|k| (k * h) as f32))
 }
 
-/// A plane as the shader reads it (`Plane` in `step.wgsl`).
+/// What a collider record is (`ColliderRecord::kind`).
+pub(super) const PLANE: u32 = 0;
+/// A box that keeps particles inside.
+pub(super) const CONTAINER: u32 = 1;
+/// A box that keeps particles out.
+pub(super) const SOLID: u32 = 2;
+
+/// A collider as the shader reads it (`Collider` in `step.wgsl`): a plane
+/// (`axis`, `sign`, `offset`) or a box (`min`, `max`), with its material.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct PlaneRecord {
+pub(super) struct ColliderRecord {
+    pub kind: u32,
     pub axis: u32,
     pub sign: f32,
     pub offset: f32,
     pub restitution: f32,
     pub friction: f32,
+    pub min: [f32; 3],
+    pub max: [f32; 3],
 }
 
 /// A world's step as the GPU runs it.
@@ -113,7 +124,8 @@ pub(super) struct Plan {
     pub affine: (Vec3A, f32),
     /// The n-body force's `G` and softening squared, if the world has one.
     pub nbody: Option<(f32, f32)>,
-    pub planes: Vec<PlaneRecord>,
+    /// The colliders, in the order they act.
+    pub colliders: Vec<ColliderRecord>,
 }
 
 /// The plan of `world`'s step, or what the GPU step does not do of it.
@@ -149,20 +161,39 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
                      evaluation, at the step's start)",
         });
     }
-    let mut planes = Vec::new();
+    let mut colliders = Vec::new();
     for (id, collider) in world.colliders() {
         let name = collider.name();
+        let refuse = |reason| GpuStepError::Collider { collider: name, reason };
+        if world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]) {
+            return Err(refuse("its contact events are not read back yet"));
+        }
+        if collider.in_step() {
+            return Err(refuse("contacts inside the step stay on the CPU"));
+        }
+        if let Some(b) = collider.as_any().downcast_ref::<BoxCollider>() {
+            if b.velocity != glam::Vec3::ZERO {
+                return Err(refuse("a moving box is not on the GPU yet"));
+            }
+            colliders.push(ColliderRecord {
+                kind: if b.inside { CONTAINER } else { SOLID },
+                axis: 0,
+                sign: 0.0,
+                offset: 0.0,
+                restitution: b.material.restitution,
+                friction: b.material.friction,
+                min: b.min.to_array(),
+                max: b.max.to_array(),
+            });
+            continue;
+        }
         let plane = collider
             .as_any()
             .downcast_ref::<Plane>()
             .ok_or(GpuStepError::Collider {
                 collider: name,
-                reason: "the GPU step resolves planes only",
+                reason: "the GPU step resolves planes and boxes only",
             })?;
-        let refuse = |reason| GpuStepError::Collider { collider: name, reason };
-        if world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]) {
-            return Err(refuse("its contact events are not read back yet"));
-        }
         if plane.contact != ContactRule::EndOfStep {
             return Err(refuse("contacts inside the step stay on the CPU"));
         }
@@ -175,12 +206,15 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
             .position(|c| c.abs() == 1.0)
             .filter(|&a| (0..3).all(|k| k == a || n[k] == 0.0))
             .ok_or(refuse("its normal is not an axis"))?;
-        planes.push(PlaneRecord {
+        colliders.push(ColliderRecord {
+            kind: PLANE,
             axis: axis as u32,
             sign: n[axis],
             offset: plane.offset,
             restitution: plane.material.restitution,
             friction: plane.material.friction,
+            min: [0.0; 3],
+            max: [0.0; 3],
         });
     }
     if world.sensors().next().is_some() {
@@ -225,6 +259,6 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
         source: format!("{COMMON}\n{acceleration}\n{wgsl}"),
         affine,
         nbody,
-        planes,
+        colliders,
     })
 }

@@ -12,8 +12,9 @@
 //! forces gravity, wind, linear and quadratic drag and attractors (their
 //! values written into the world's shader as exact bits) and n-body (a
 //! tiled all-pairs kernel before each step, under the Euler methods); the
-//! colliders planes at rest whose normal is an axis, with restitution and
-//! friction, resolved at the end of the step. Subnormal velocities are
+//! colliders planes at rest whose normal is an axis and boxes at rest
+//! (containers and solid), with restitution and friction, resolved at the
+//! end of the step in their order. Subnormal velocities are
 //! flushed to 0 after the same ticks as on the CPU (every 64th).
 //!
 //! Bits: for every method the GPU performs the CPU's operations in the

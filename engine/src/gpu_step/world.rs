@@ -5,7 +5,7 @@ use glam::{Vec3, Vec3A};
 use wgpu::util::DeviceExt;
 
 use super::error::GpuStepError;
-use super::kernel::{Plan, PlaneRecord, coefficients, plan};
+use super::kernel::{ColliderRecord, Plan, coefficients, plan};
 use crate::clock::FixedStep;
 use crate::render::Gpu;
 use crate::world::World;
@@ -14,7 +14,7 @@ use crate::world::World;
 pub const WORKGROUP: u32 = 256;
 
 /// The shader's `Params` (see `step.wgsl`): WGSL's uniform layout puts
-/// `drift` at byte 32 (a `vec4` aligns to 16), right after `planes`.
+/// `drift` at byte 32 (a `vec4` aligns to 16), right after `colliders`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
@@ -23,7 +23,7 @@ struct Params {
     dt: f32,
     n: u32,
     groups_x: u32,
-    planes: u32,
+    colliders: u32,
     drift: [f32; 4],
     kick: [f32; 4],
     nbody_g: f32,
@@ -110,15 +110,10 @@ impl GpuWorld {
         let previous = storage("tickwork gpu step previous positions", &positions);
         let positions = storage("tickwork gpu step positions", &positions);
         let velocities = storage("tickwork gpu step velocities", &velocities);
-        let mut records = plan.planes.clone();
+        let mut records: Vec<ColliderRecord> = plan.colliders.clone();
         if records.is_empty() {
-            records.push(PlaneRecord {
-                axis: 0,
-                sign: 1.0,
-                offset: 0.0,
-                restitution: 0.0,
-                friction: 0.0,
-            });
+            // A binding is never empty; `colliders: 0` reads none.
+            records.push(bytemuck::Zeroable::zeroed());
         }
         // Colours for drawing: sRGB RGBA as little-endian words, hidden
         // particles transparent (as the renderer's own records).
@@ -137,8 +132,8 @@ impl GpuWorld {
             contents: bytemuck::cast_slice(&colours),
             usage: wgpu::BufferUsages::VERTEX,
         });
-        let planes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("tickwork gpu step planes"),
+        let colliders = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("tickwork gpu step colliders"),
             contents: bytemuck::cast_slice(&records),
             usage: wgpu::BufferUsages::STORAGE,
         });
@@ -228,7 +223,7 @@ impl GpuWorld {
                 },
                 wgpu::BindGroupEntry {
                     binding: 3,
-                    resource: planes.as_entire_binding(),
+                    resource: colliders.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
                     binding: 4,
@@ -325,7 +320,7 @@ impl GpuWorld {
             dt,
             n: self.n,
             groups_x: self.groups.0,
-            planes: u32::try_from(self.plan.planes.len()).unwrap_or(u32::MAX),
+            colliders: u32::try_from(self.plan.colliders.len()).unwrap_or(u32::MAX),
             drift,
             kick,
             nbody_g,
