@@ -453,6 +453,46 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         );
     }
     assert_eq!(fine.ticks(), 0, "nothing was stepped");
+    // Storing no steps changes nothing; steps of another length than the
+    // last step's are refused; a state that became infinite is an error
+    // naming its row, as the CPU's step makes it.
+    let mut source = world("semi_implicit_euler");
+    cpu_steps(&mut source, 0..3);
+    let before = source.state_hash();
+    let step = |tick: u64| FixedStep {
+        tick,
+        time: tick as f64 * DT,
+        dt: DT,
+    };
+    let mut copy = GpuWorld::new(&gpu, &source).expect("a GPU world");
+    copy.store_into(&gpu, &mut source, step(2)).expect("nothing to store");
+    assert_eq!(source.state_hash(), before, "a GPU world of no steps stores nothing");
+    copy.step(&gpu, 0.01, 1).expect("steps");
+    assert_eq!(
+        copy.store_into(&gpu, &mut source, step(3)).map_err(|e| e.to_string()),
+        Err(
+            "the GPU step does not do storing steps of different lengths, or of another length than the last \
+             step's"
+                .to_owned()
+        )
+    );
+    let mut wild = World::default();
+    wild.spawn(Particle::default()).expect("a particle");
+    wild.spawn(Particle {
+        position: Vec3::new(3.39e38, 0.0, 0.0),
+        velocity: Vec3::new(3e38, 0.0, 0.0),
+        ..Particle::default()
+    })
+    .expect("a particle");
+    let mut escaping = GpuWorld::new(&gpu, &wild).expect("a GPU world");
+    escaping.step(&gpu, DT as f32, 2).expect("steps");
+    let error = escaping.store_into(&gpu, &mut wild, step(1)).expect_err("infinite");
+    assert!(
+        error
+            .to_string()
+            .starts_with("the GPU's state of row 1 is not finite: position [inf"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -40,6 +40,8 @@ struct Params {
     // The n-body force's G and softening squared (unused without one).
     nbody_g: f32,
     nbody_eps2: f32,
+    // +inf (WGSL has no infinite constant).
+    infinity: f32,
 }
 
 // A plane (kind 0: axis, sign, offset) or a box (1 a container, 2 solid:
@@ -93,7 +95,8 @@ fn resolve(m: ptr<function, Motion>, n: vec3<f32>, gap: f32, movable: bool, c: C
     if (vn >= 0.0) {
         e = 0.0;
     }
-    let dvn = -(1.0 + e) * min(vn, 0.0);
+    // Rust's `vn.min(0.0)`: -0 stays -0, NaN gives 0.
+    let dvn = -(1.0 + e) * select(0.0, vn, vn <= 0.0);
     let speed2 = length_squared(vt);
     let brake = c.friction * dvn;
     var keep = 0.0;
@@ -158,7 +161,7 @@ fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
     }
     let below = (*m).x - (lo - vec3<f32>(r));
     let above = (hi + vec3<f32>(r)) - (*m).x;
-    var best = bitcast<f32>(0x7f800000u);
+    var best = params.infinity;
     var n = vec3<f32>(0.0);
     for (var axis = 0u; axis < 3u; axis++) {
         if (below[axis] < best) {

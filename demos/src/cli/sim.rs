@@ -44,8 +44,9 @@ pub struct SimArgs {
     /// Overwrite the trace file if it exists.
     #[arg(long)]
     pub force: bool,
-    /// Step the scene on the GPU (the explicit methods, gravity, wind,
-    /// drag, attractors, n-body, axis-aligned planes; anything else is
+    /// Step the scene on the GPU (explicit and semi-implicit Euler,
+    /// midpoint, Heun, RK4, Forest-Ruth; gravity, wind, drag, attractors,
+    /// n-body; axis-aligned planes and boxes at rest; anything else is
     /// refused by name). The state is read back once, at the end: the
     /// checksum is then the CPU's where the adapter computes as the CPU
     /// does (lavapipe does), the adapter's own elsewhere.
@@ -205,6 +206,9 @@ fn run_on_gpu(
             if pending == GPU_BATCH {
                 on_gpu.step(&gpu, step.dt as f32, pending).map_err(CliError::GpuStep)?;
                 pending = 0;
+                // The GPU finishes each batch before the next is recorded:
+                // the queue stays bounded and the progress is true.
+                on_gpu.finish(&gpu).map_err(CliError::GpuStep)?;
             }
         }
         if (done + 1) % report_every == 0 {

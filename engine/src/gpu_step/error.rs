@@ -52,6 +52,15 @@ pub enum GpuStepError {
     },
     /// A step's length that is not finite and positive.
     Step(f32),
+    /// A particle whose state became infinite or NaN on the GPU.
+    NonFinite {
+        /// Its row.
+        row: usize,
+        /// Its position.
+        position: glam::Vec3,
+        /// Its velocity.
+        velocity: glam::Vec3,
+    },
     /// Reading the state back failed.
     ReadBack(String),
 }
@@ -81,6 +90,14 @@ impl fmt::Display for GpuStepError {
                 f,
                 "the force {force:?} would take {pairs} pairs a step, past WorldConfig::max_pairs ({limit}): raise \
                  it to allow more"
+            ),
+            Self::NonFinite {
+                row,
+                position,
+                velocity,
+            } => write!(
+                f,
+                "the GPU's state of row {row} is not finite: position {position}, velocity {velocity}"
             ),
             Self::Step(dt) => write!(f, "a GPU step of {dt} s: the step must be finite and positive"),
             Self::ReadBack(message) => write!(f, "reading the GPU world back: {message}"),

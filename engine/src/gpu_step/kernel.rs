@@ -112,6 +112,8 @@ pub(super) struct ColliderRecord {
     pub max: [f32; 3],
 }
 
+const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 48);
+
 /// A world's step as the GPU runs it.
 #[derive(Clone, Debug)]
 pub(super) struct Plan {

@@ -28,8 +28,10 @@ struct Params {
     kick: [f32; 4],
     nbody_g: f32,
     nbody_eps2: f32,
+    /// `+inf`: WGSL has no infinite constant.
+    infinity: f32,
     /// WGSL rounds a uniform struct's size up to 16 bytes.
-    _pad: [f32; 2],
+    _pad: f32,
 }
 
 const _: () = assert!(std::mem::size_of::<Params>() == 80 && std::mem::offset_of!(Params, drift) == 32);
@@ -62,6 +64,9 @@ pub struct GpuWorld {
     next_tick: u64,
     bind_group: wgpu::BindGroup,
     ticks: u64,
+    /// The length of every step taken, while they were all the same
+    /// (`Err` once two differed): what `store_into` ages the world by.
+    dt: Result<Option<f32>, ()>,
 }
 
 impl GpuWorld {
@@ -86,14 +91,23 @@ impl GpuWorld {
         let count = p.len();
         let (n, groups) = dispatch(count, &gpu.device.limits())?;
         let mut positions = Vec::with_capacity(count.max(1));
+        let mut previous = Vec::with_capacity(count.max(1));
         let mut velocities = Vec::with_capacity(count.max(1));
-        for (k, (x, v)) in p.position.iter().zip(p.velocity.iter()).enumerate() {
+        for (k, ((x, x0), v)) in p
+            .position
+            .iter()
+            .zip(p.previous_position.iter())
+            .zip(p.velocity.iter())
+            .enumerate()
+        {
             positions.push([x.x, x.y, x.z, p.radius[k]]);
+            previous.push([x0.x, x0.y, x0.z, p.radius[k]]);
             velocities.push([v.x, v.y, v.z, p.inverse_mass[k]]);
         }
         // A binding is never empty.
         if count == 0 {
             positions.push([0.0; 4]);
+            previous.push([0.0; 4]);
             velocities.push([0.0; 4]);
         }
         let device = &gpu.device;
@@ -107,7 +121,7 @@ impl GpuWorld {
                     | wgpu::BufferUsages::COPY_DST,
             })
         };
-        let previous = storage("tickwork gpu step previous positions", &positions);
+        let previous = storage("tickwork gpu step previous positions", &previous);
         let positions = storage("tickwork gpu step positions", &positions);
         let velocities = storage("tickwork gpu step velocities", &velocities);
         let mut records: Vec<ColliderRecord> = plan.colliders.clone();
@@ -246,6 +260,7 @@ impl GpuWorld {
             next_tick: world.tick(),
             bind_group,
             ticks: 0,
+            dt: Ok(None),
         })
     }
 
@@ -311,6 +326,13 @@ impl GpuWorld {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(GpuStepError::Step(dt));
         }
+        if steps > 0 {
+            self.dt = match self.dt {
+                Ok(None) => Ok(Some(dt)),
+                Ok(Some(same)) if same.to_bits() == dt.to_bits() => Ok(Some(dt)),
+                _ => Err(()),
+            };
+        }
         let (c, b) = self.plan.affine;
         let (drift, kick) = coefficients(self.plan.method, dt);
         let (nbody_g, nbody_eps2) = self.plan.nbody.unwrap_or_default();
@@ -325,7 +347,8 @@ impl GpuWorld {
             kick,
             nbody_g,
             nbody_eps2,
-            _pad: [0.0; 2],
+            infinity: f32::INFINITY,
+            _pad: 0.0,
         };
         gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -343,6 +366,18 @@ impl GpuWorld {
         gpu.queue.submit([encoder.finish()]);
         self.ticks += u64::from(steps);
         Ok(())
+    }
+
+    /// Waits until the GPU has done every step it was given (a tool's
+    /// progress, a bounded queue; a game's frame needs no wait).
+    ///
+    /// # Errors
+    /// [`GpuStepError::ReadBack`] with the device's message if it is lost.
+    pub fn finish(&self, gpu: &Gpu) -> Result<(), GpuStepError> {
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuStepError::ReadBack(e.to_string()))
     }
 
     /// Records `steps` steps from the world's tick `first` into one compute
@@ -403,7 +438,25 @@ impl GpuWorld {
                 "storing into a world other than the one it was made from, at the tick it was made",
             ));
         }
+        if self.ticks == 0 {
+            return Ok(());
+        }
+        if self.dt != Ok(Some(last.dt as f32)) {
+            return Err(GpuStepError::Unsupported(
+                "storing steps of different lengths, or of another length than the last step's",
+            ));
+        }
         let [x, v, previous] = self.read(gpu, [&self.positions, &self.velocities, &self.previous])?;
+        // As the CPU's step refuses a state it made non-finite.
+        if let Some(row) = x.iter().zip(&v).position(|(x, v)| !(x.is_finite() && v.is_finite())) {
+            return Err(GpuStepError::NonFinite {
+                row,
+                position: x[row],
+                velocity: v[row],
+            });
+        }
+        world.contacts.clear();
+        world.removed.clear();
         let p = &mut world.particles;
         for (row, ((x, v), previous)) in x.iter().zip(&v).zip(&previous).enumerate() {
             p.position.set(row, Vec3A::from(*x));

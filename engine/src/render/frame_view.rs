@@ -49,8 +49,10 @@ pub struct FrameView<'a> {
     /// is drawn in that sRGB colour (default: none, all light grey).
     pub hud_colours: &'a [(usize, [u8; 4])],
     /// Particles stepped on the GPU, drawn from their own buffers with the
-    /// worlds' discs (on `particle_layer`), interpolated between their
-    /// previous and current positions: nothing is uploaded.
+    /// worlds' discs (on `particle_layer`), interpolated linearly between
+    /// their previous and current positions (Hermite interpolation is not
+    /// theirs yet), as quads (the splat stands aside): nothing is
+    /// uploaded.
     pub gpu_particles: &'a [GpuParticles<'a>],
 }
 

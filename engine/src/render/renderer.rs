@@ -353,6 +353,15 @@ impl Renderer {
         let t = self.config.interpolation.parameter(view.alpha);
         self.upload_particles(gpu, view);
         self.plan_worlds(view);
+        for (k, g) in view.gpu_particles.iter().enumerate() {
+            let count = u64::from(g.count);
+            let held = (g.previous.size().min(g.current.size()) / 16).min(g.colours.size() / 4);
+            if count > held {
+                return Err(RenderError::Config(format!(
+                    "gpu_particles[{k}] counts {count} particles, but its buffers hold {held}"
+                )));
+            }
+        }
         self.gpu_draws.clear();
         self.gpu_draws.extend(
             view.gpu_particles
