@@ -184,9 +184,12 @@ fn matches_the_cpu(method: &str) {
         format!("{:016x}", cpu.state_hash()),
         "{method}: the checksum of the GPU's run against the CPU's"
     );
+    // Stored again, nothing changes; a world at another tick is refused.
+    on_gpu.store_into(&gpu, &mut stored, last).expect("stored again");
+    assert_eq!(stored.state_hash(), cpu.state_hash());
     assert!(
-        on_gpu.store_into(&gpu, &mut stored, last).is_err(),
-        "a world already past the GPU's start is refused"
+        on_gpu.store_into(&gpu, &mut world(method), last).is_err(),
+        "a world at another tick is refused"
     );
     let (x, v) = on_gpu.read_back(&gpu).expect("read back");
     let p = cpu.particles();
@@ -404,26 +407,6 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         }),
         "the GPU step does not do sensors"
     );
-    assert_eq!(
-        with(&|w| w.add_emitter(tickwork_engine::Emitter::default()).expect("an emitter")),
-        "the GPU step does not do emitters"
-    );
-    assert_eq!(
-        with(&|w| {
-            w.spawn(Particle {
-                lifetime: Some(2.0),
-                ..Particle::default()
-            })
-            .expect("a particle");
-        }),
-        "the GPU step does not do particle lifetimes"
-    );
-    assert_eq!(
-        with(&|w| {
-            w.queue_spawn(Particle::default()).expect("queued");
-        }),
-        "the GPU step does not do spawns and despawns queued for the next step (step the world first)"
-    );
     // Pairs past the world's limit, refused as the CPU's step refuses them.
     let mut crowded = World::new(WorldConfig {
         max_pairs: 1000,
@@ -530,5 +513,188 @@ fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
     assert_eq!(
         differing, 0,
         "the GPU world's frame against its CPU twin's, pixel for pixel"
+    );
+}
+
+/// A fountain's world: two jets of particles living 0.3 s and 0.55 s (so
+/// expiry removes rows all through the columns), 300 particles of a
+/// lattice, a third of them living 1 s, under gravity, wind and
+/// quadratic drag, on a floor.
+fn fountain(method: &str) -> World {
+    let mut world = World::new(WorldConfig {
+        integrator: method.into(),
+        seed: 11,
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    world.add_force(Gravity::EARTH);
+    world.add_force(Wind {
+        velocity: Vec3::ZERO,
+        rate: 0.0,
+    });
+    world.add_force(QuadraticDrag { coefficient: 0.02 });
+    world.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.45,
+            friction: 0.15,
+        },
+    ));
+    for (x, rate, lifetime) in [(-1.0, 600.0, 0.3), (1.0, 450.0, 0.55)] {
+        world
+            .add_emitter(tickwork_engine::Emitter {
+                position: Vec3::new(x, 0.1, 0.0),
+                rate,
+                lifetime,
+                speed: 6.0,
+                ..Default::default()
+            })
+            .expect("an emitter");
+    }
+    for k in 0..300 {
+        world
+            .spawn(Particle {
+                position: Vec3::new((k % 20) as f32 * 0.2, 1.0 + (k / 20) as f32 * 0.2, 0.0),
+                lifetime: (k % 3 == 0).then_some(1.0),
+                ..Particle::default()
+            })
+            .expect("a particle");
+    }
+    world
+}
+
+/// What a game does to its fountain between steps, on either copy: a
+/// wind from tick 20, a spawn and a despawn now (tick 30) and queued
+/// (tick 45), a stronger jet from tick 50 (the GPU's buffers grow), the
+/// floor removed at tick 70.
+fn play(world: &mut World, tick: u64) {
+    match tick {
+        20 => {
+            if let Some(wind) = world.force_mut::<Wind>() {
+                *wind = Wind {
+                    velocity: Vec3::new(4.0, 0.0, 0.0),
+                    rate: 0.5,
+                };
+            }
+        }
+        30 | 45 => {
+            let entity = world.entities().rows()[7];
+            let particle = Particle {
+                position: Vec3::new(0.0, 3.0, 0.0),
+                velocity: Vec3::new(1.0, 2.0, 0.0),
+                ..Particle::default()
+            };
+            if tick == 30 {
+                world.despawn(entity).expect("a despawn");
+                world.spawn(particle).expect("a spawn");
+            } else {
+                world.queue_despawn(entity).expect("a despawn");
+                world.queue_spawn(particle).expect("a spawn");
+            }
+        }
+        50 => world.emitters_mut()[1].rate = 6000.0,
+        70 => {
+            let floor = world.colliders().next().map(|(id, _)| id).expect("a floor");
+            world.remove_collider(floor).expect("removed");
+        }
+        _ => {}
+    }
+}
+
+fn a_fountain_matches_the_cpu(method: &str) {
+    let gpu = gpu();
+    let mut cpu = fountain(method);
+    let mut on_gpu_world = cpu.clone();
+    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    assert_eq!(
+        on_gpu.step(&gpu, DT as f32, 1).expect_err("refused").to_string(),
+        "the GPU step does not do steps in a batch of a world whose rows change (emitters, lifetimes, queued \
+         spawns or despawns): step it with GpuWorld::advance, which follows them"
+    );
+    let (mut expired, mut spawned) = (0, 0);
+    for tick in 0..90 {
+        let step = FixedStep {
+            tick,
+            time: tick as f64 * DT,
+            dt: DT,
+        };
+        play(&mut cpu, tick);
+        play(&mut on_gpu_world, tick);
+        let report = cpu.step(step).expect("a step");
+        let on_gpu_report = on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        assert_eq!(
+            (report.expired, report.spawned),
+            (on_gpu_report.expired, on_gpu_report.spawned)
+        );
+        (expired, spawned) = (expired + report.expired, spawned + report.spawned);
+        assert_eq!(on_gpu.len(), cpu.len(), "tick {tick}");
+    }
+    // Rows removed all through the columns and added at the end, and
+    // the buffers grown past what they were made with.
+    assert!(expired > 1000 && spawned > 2000, "{expired} expired, {spawned} spawned");
+    assert!(cpu.len() > 2 * 300, "{} particles", cpu.len());
+    let last = FixedStep {
+        tick: 89,
+        time: 89.0 * DT,
+        dt: DT,
+    };
+    on_gpu.store_into(&gpu, &mut on_gpu_world, last).expect("stored");
+    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
+    let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
+    assert_eq!(differences(&x, &cpu_x), (0, 0.0), "{method}: positions");
+    assert_eq!(differences(&v, &cpu_v), (0, 0.0), "{method}: velocities");
+    assert_eq!(on_gpu_world.state_hash(), cpu.state_hash(), "{method}: checksum");
+    // Stored, it steps on, the world still followed.
+    let step = FixedStep {
+        tick: 90,
+        time: 90.0 * DT,
+        dt: DT,
+    };
+    cpu.step(step).expect("a step");
+    on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+    on_gpu.store_into(&gpu, &mut on_gpu_world, step).expect("stored");
+    assert_eq!(
+        on_gpu_world.state_hash(),
+        cpu.state_hash(),
+        "{method}: checksum after one more step"
+    );
+}
+
+#[test]
+fn a_fountain_under_semi_implicit_euler_follows_the_cpus_rows_bit_for_bit() {
+    a_fountain_matches_the_cpu("semi_implicit_euler");
+}
+
+#[test]
+fn a_fountain_under_rk4_follows_the_cpus_rows_bit_for_bit() {
+    a_fountain_matches_the_cpu("rk4");
+}
+
+#[test]
+fn a_gpu_worlds_particles_changed_between_steps_are_refused() {
+    let gpu = gpu();
+    let mut world = fountain("semi_implicit_euler");
+    let mut on_gpu = GpuWorld::new(&gpu, &world).expect("a GPU world");
+    let step = |tick: u64| FixedStep {
+        tick,
+        time: tick as f64 * DT,
+        dt: DT,
+    };
+    on_gpu.advance(&gpu, &mut world, step(0)).expect("a step");
+    let entity = world.entities().rows()[0];
+    world.set_velocity(entity, Vec3::X).expect("set");
+    assert_eq!(on_gpu.advance(&gpu, &mut world, step(1)), Err(GpuStepError::Edited));
+    assert!(
+        GpuStepError::Edited
+            .to_string()
+            .starts_with("the particles of a GPU world were changed outside its steps (particles_mut, set_velocity")
+    );
+    // Made again from the world as it is, it goes on.
+    let mut on_gpu = GpuWorld::new(&gpu, &world).expect("a GPU world");
+    on_gpu.advance(&gpu, &mut world, step(1)).expect("a step");
+    assert!(
+        on_gpu.advance(&gpu, &mut world, step(5)).is_err(),
+        "a step from another tick"
     );
 }

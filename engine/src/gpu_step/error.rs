@@ -63,6 +63,12 @@ pub enum GpuStepError {
     },
     /// Reading the state back failed.
     ReadBack(String),
+    /// What the world's own step refuses ([`GpuWorld::advance`](super::GpuWorld::advance)
+    /// runs its lifetimes, emitters and queued commands).
+    Simulation(crate::step::SimulationError),
+    /// The world's particles were changed between steps other than by
+    /// spawns and despawns, which its GPU copy cannot see.
+    Edited,
 }
 
 impl fmt::Display for GpuStepError {
@@ -101,6 +107,13 @@ impl fmt::Display for GpuStepError {
             ),
             Self::Step(dt) => write!(f, "a GPU step of {dt} s: the step must be finite and positive"),
             Self::ReadBack(message) => write!(f, "reading the GPU world back: {message}"),
+            Self::Simulation(error) => error.fmt(f),
+            Self::Edited => f.write_str(
+                "the particles of a GPU world were changed outside its steps (particles_mut, set_velocity, \
+                 teleport, set_visible, a restored snapshot): their state lives on the GPU, which does not see \
+                 such a change; spawn and despawn instead, or store the state into the world and make a new \
+                 GpuWorld from it",
+            ),
         }
     }
 }

@@ -34,28 +34,44 @@ const METHODS: &[(&str, &str)] = &[
     ),
 ];
 
-/// An f32 as WGSL reads back its exact bits.
-fn bits(value: f32) -> String {
-    format!("bitcast<f32>({:#010x}u)", value.to_bits())
+/// An f32 as WGSL reads back its exact bits (written without allocating).
+struct Bits(f32);
+
+impl core::fmt::Display for Bits {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "bitcast<f32>({:#010x}u)", self.0.to_bits())
+    }
 }
 
-/// The WGSL `acceleration(x, v, w)` of `forces`: the affine sum from the
-/// uniform, then each other force in force order, with its values written
-/// in (their exact bits), as the CPU's force field adds them.
-fn acceleration(forces: &[Box<dyn Force>]) -> Result<String, GpuStepError> {
-    let mut body = String::from("    var a = params.c - v * params.b;\n");
+fn bits(value: f32) -> Bits {
+    Bits(value)
+}
+
+/// Writes the WGSL `acceleration(x, v, w)` of `forces` into `out`: the
+/// affine sum from the uniform, then each other force in force order, with
+/// its values written in (their exact bits), as the CPU's force field adds
+/// them.
+fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), GpuStepError> {
+    use core::fmt::Write;
+    // Writing into a String cannot fail.
+    let _ = out.write_str(
+        "fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {\n    if (!(w > 0.0)) {\n        \
+         return vec3<f32>(0.0);\n    }\n    var a = params.c - v * params.b;\n",
+    );
     for force in forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
         let any = force.as_any();
         if let Some(drag) = any.downcast_ref::<QuadraticDrag>() {
-            body += &format!(
-                "    a = a - v * ({} * sqrt(length_squared(v)));\n",
+            let _ = writeln!(
+                out,
+                "    a = a - v * ({} * sqrt(length_squared(v)));",
                 bits(drag.coefficient)
             );
         } else if let Some(attractor) = any.downcast_ref::<Attractor>() {
             let p = attractor.position;
-            body += &format!(
+            let _ = writeln!(
+                out,
                 "    {{\n        let d = vec3<f32>({}, {}, {}) - x;\n        let r2 = length_squared(d) + {};\n        \
-                 a = a + d * ({} / (r2 * sqrt(r2)));\n    }}\n",
+                 a = a + d * ({} / (r2 * sqrt(r2)));\n    }}",
                 bits(p.x),
                 bits(p.y),
                 bits(p.z),
@@ -64,15 +80,13 @@ fn acceleration(forces: &[Box<dyn Force>]) -> Result<String, GpuStepError> {
             );
         } else if any.downcast_ref::<NBody>().is_some() {
             // Filled by the `nbody` entry point before the step.
-            body += "    a = a + nbody_accel[row].xyz;\n";
+            out.push_str("    a = a + nbody_accel[row].xyz;\n");
         } else {
             return Err(GpuStepError::Force { force: force.name() });
         }
     }
-    Ok(format!(
-        "fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {{\n    if (!(w > 0.0)) {{\n        \
-         return vec3<f32>(0.0);\n    }}\n{body}    return a;\n}}\n"
-    ))
+    out.push_str("    return a;\n}\n");
+    Ok(())
 }
 
 /// A method's step coefficients for a step of `h` seconds, `(drift,
@@ -130,8 +144,44 @@ pub(super) struct Plan {
     pub colliders: Vec<ColliderRecord>,
 }
 
+impl Plan {
+    /// A plan of nothing, to [`refresh`](Self::refresh).
+    pub(super) fn empty() -> Self {
+        Self {
+            method: "",
+            source: String::new(),
+            affine: (Vec3A::ZERO, 0.0),
+            nbody: None,
+            colliders: Vec::new(),
+        }
+    }
+}
+
 /// The plan of `world`'s step, or what the GPU step does not do of it.
 pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
+    let mut plan = Plan::empty();
+    refresh(world, &mut plan)?;
+    Ok(plan)
+}
+
+/// Whether `world` changes its rows in its steps, so that a GPU world
+/// follows it step by step ([`GpuWorld::advance`](super::GpuWorld::advance)):
+/// emitters, particles that expire, queued spawns or despawns.
+pub(super) fn changes_rows(world: &World) -> bool {
+    // (NaN never expires, as on the CPU.)
+    !world.emitters.is_empty()
+        || !world.queue.is_empty()
+        || world
+            .particles()
+            .lifetime
+            .iter()
+            .any(|&l| l != f32::INFINITY && !l.is_nan())
+}
+
+/// Writes the plan of `world`'s step into `plan`, reusing its buffers (a
+/// step re-reads the world's forces and colliders without allocating), or
+/// the error naming what the GPU step does not do of it.
+pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError> {
     let info = world.integrator().info();
     let Some(&(method, wgsl)) = METHODS.iter().find(|(name, _)| *name == info.name) else {
         let reason = if info.implicit || info.variable_cost {
@@ -150,7 +200,12 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
             affine = (affine.0 + c, affine.1 + b);
         }
     }
-    let acceleration = acceleration(world.forces())?;
+    plan.source.clear();
+    plan.source.push_str(COMMON);
+    plan.source.push('\n');
+    acceleration_into(world.forces(), &mut plan.source)?;
+    plan.source.push('\n');
+    plan.source.push_str(wgsl);
     let mut nbodies = world.forces().iter().filter_map(|f| f.as_any().downcast_ref::<NBody>());
     let nbody = nbodies.next().map(|n| (n.g, n.softening * n.softening));
     if nbodies.next().is_some() {
@@ -163,7 +218,8 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
                      evaluation, at the step's start)",
         });
     }
-    let mut colliders = Vec::new();
+    let colliders = &mut plan.colliders;
+    colliders.clear();
     for (id, collider) in world.colliders() {
         let name = collider.name();
         let refuse = |reason| GpuStepError::Collider { collider: name, reason };
@@ -222,28 +278,11 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
     if world.sensors().next().is_some() {
         return Err(GpuStepError::Unsupported("sensors"));
     }
-    if !world.emitters.is_empty() {
-        return Err(GpuStepError::Unsupported("emitters"));
-    }
     if !world.rigid.is_empty() {
         return Err(GpuStepError::Unsupported("rigid bodies"));
     }
     if world.has_headings() {
         return Err(GpuStepError::Unsupported("2D headings"));
-    }
-    // (NaN never expires, as on the CPU.)
-    if world
-        .particles()
-        .lifetime
-        .iter()
-        .any(|&l| l != f32::INFINITY && !l.is_nan())
-    {
-        return Err(GpuStepError::Unsupported("particle lifetimes"));
-    }
-    if !world.queue.is_empty() {
-        return Err(GpuStepError::Unsupported(
-            "spawns and despawns queued for the next step (step the world first)",
-        ));
     }
     let particles = world.len();
     for force in world.forces() {
@@ -256,11 +295,8 @@ pub(super) fn plan(world: &World) -> Result<Plan, GpuStepError> {
             });
         }
     }
-    Ok(Plan {
-        method,
-        source: format!("{COMMON}\n{acceleration}\n{wgsl}"),
-        affine,
-        nbody,
-        colliders,
-    })
+    plan.method = method;
+    plan.affine = affine;
+    plan.nbody = nbody;
+    Ok(())
 }

@@ -30,6 +30,7 @@
 
 mod error;
 mod kernel;
+mod rows;
 mod world;
 
 pub use error::GpuStepError;

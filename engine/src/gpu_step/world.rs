@@ -5,10 +5,15 @@ use glam::{Vec3, Vec3A};
 use wgpu::util::DeviceExt;
 
 use super::error::GpuStepError;
-use super::kernel::{ColliderRecord, Plan, coefficients, plan};
+use super::kernel::{ColliderRecord, Plan, changes_rows, coefficients, plan, refresh};
+use super::rows::{RowKernel, RowPlan, StateBuffers};
 use crate::clock::FixedStep;
 use crate::render::Gpu;
-use crate::world::World;
+use crate::step::StepReport;
+use crate::world::{RowChange, World};
+
+/// Storage buffers the row kernels bind (`rows.wgsl`).
+const STORAGE_BUFFERS: u32 = 6;
 
 /// Invocations a workgroup (`@workgroup_size` in `step.wgsl`).
 pub const WORKGROUP: u32 = 256;
@@ -38,12 +43,50 @@ const _: () = assert!(std::mem::size_of::<Params>() == 80 && std::mem::offset_of
 
 /// A world's particles stepped on the GPU (see the [module](super)): made
 /// from a [`World`] (its state uploaded once), stepped with
-/// [`step`](Self::step), read back only when asked.
+/// [`advance`](Self::advance) (a fixed step of the world, its rows
+/// following the world's) or [`step`](Self::step) (steps in a batch), read
+/// back only when asked.
 #[derive(Debug)]
 pub struct GpuWorld {
     plan: Plan,
+    /// The plan re-read from the world at each [`advance`](Self::advance).
+    scratch: Plan,
     n: u32,
+    /// Rows the state buffers hold (they grow as the world does).
+    capacity: u32,
     groups: (u32, u32),
+    state: State,
+    colliders: wgpu::Buffer,
+    params: wgpu::Buffer,
+    /// Each particle's n-body acceleration at the step's start, where the
+    /// world has an n-body force.
+    nbody_accel: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: Pipelines,
+    bind_group: wgpu::BindGroup,
+    rows: RowKernel,
+    row_plan: RowPlan,
+    /// The world's tick at the next step (the flush's schedule follows it).
+    next_tick: u64,
+    ticks: u64,
+    /// Steps [`step`](Self::step) took that no world has booked yet.
+    behind: u64,
+    /// The length of every step taken, while they were all the same
+    /// (`Err` once two differed): what `store_into` ages the world by.
+    dt: Result<Option<f32>, ()>,
+    /// Whether the world's steps change its rows (emitters, lifetimes,
+    /// queued commands): then only `advance` steps it.
+    changes_rows: bool,
+    /// The world's revision this follows (when made, after each advance
+    /// and store), and whether the world logs its row changes for it.
+    revision: u64,
+    following: bool,
+}
+
+/// A particle's columns on the GPU.
+#[derive(Debug)]
+struct State {
     /// `(x, y, z, radius)` a particle.
     positions: wgpu::Buffer,
     /// `(vx, vy, vz, inverse mass)` a particle.
@@ -53,20 +96,79 @@ pub struct GpuWorld {
     previous: wgpu::Buffer,
     /// Each particle's colour, for drawing.
     colours: wgpu::Buffer,
-    params: wgpu::Buffer,
-    pipeline: wgpu::ComputePipeline,
-    /// Each particle's n-body acceleration at the step's start, where the
-    /// world has an n-body force.
+}
+
+impl State {
+    /// Empty buffers for `capacity` particles.
+    fn new(device: &wgpu::Device, capacity: u32) -> Self {
+        let vec4s = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(capacity.max(1)) * 16,
+                usage: STATE_USAGE,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            positions: vec4s("tickwork gpu step positions"),
+            velocities: vec4s("tickwork gpu step velocities"),
+            previous: vec4s("tickwork gpu step previous positions"),
+            colours: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("tickwork gpu step colours"),
+                size: u64::from(capacity.max(1)) * 4,
+                usage: STATE_USAGE,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    fn buffers(&self) -> StateBuffers<'_> {
+        StateBuffers {
+            positions: &self.positions,
+            velocities: &self.velocities,
+            previous: &self.previous,
+            colours: &self.colours,
+        }
+    }
+}
+
+/// The state buffers: stepped, drawn, copied in and out.
+const STATE_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::VERTEX)
+    .union(wgpu::BufferUsages::COPY_SRC)
+    .union(wgpu::BufferUsages::COPY_DST);
+
+/// The step's compute pipelines, built from a plan's shader.
+#[derive(Debug)]
+struct Pipelines {
+    step: wgpu::ComputePipeline,
     nbody: Option<wgpu::ComputePipeline>,
     /// Subnormal velocities to 0, after the ticks the CPU's step flushes.
     flush: wgpu::ComputePipeline,
-    /// The world's tick at the next step (the flush's schedule follows it).
-    next_tick: u64,
-    bind_group: wgpu::BindGroup,
-    ticks: u64,
-    /// The length of every step taken, while they were all the same
-    /// (`Err` once two differed): what `store_into` ages the world by.
-    dt: Result<Option<f32>, ()>,
+}
+
+impl Pipelines {
+    fn new(device: &wgpu::Device, layout: &wgpu::PipelineLayout, plan: &Plan) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(plan.method),
+            source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
+        });
+        let pipeline_of = |entry_point| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Self {
+            step: pipeline_of("step"),
+            nbody: plan.nbody.map(|_| pipeline_of("nbody")),
+            flush: pipeline_of("flush"),
+        }
+    }
 }
 
 impl GpuWorld {
@@ -86,13 +188,21 @@ impl GpuWorld {
         {
             return Err(GpuStepError::NoCompute);
         }
+        if gpu.device.limits().max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
+            return Err(GpuStepError::Unsupported(
+                "an adapter with fewer than 6 storage buffers a compute shader \
+                 (wgpu::Limits::max_storage_buffers_per_shader_stage)",
+            ));
+        }
         let plan = plan(world)?;
         let p = world.particles();
         let count = p.len();
         let (n, groups) = dispatch(count, &gpu.device.limits())?;
-        let mut positions = Vec::with_capacity(count.max(1));
-        let mut previous = Vec::with_capacity(count.max(1));
-        let mut velocities = Vec::with_capacity(count.max(1));
+        let device = &gpu.device;
+        let state = State::new(device, n);
+        let mut positions = Vec::with_capacity(count);
+        let mut previous = Vec::with_capacity(count);
+        let mut velocities = Vec::with_capacity(count);
         for (k, ((x, x0), v)) in p
             .position
             .iter()
@@ -104,75 +214,33 @@ impl GpuWorld {
             previous.push([x0.x, x0.y, x0.z, p.radius[k]]);
             velocities.push([v.x, v.y, v.z, p.inverse_mass[k]]);
         }
-        // A binding is never empty.
-        if count == 0 {
-            positions.push([0.0; 4]);
-            previous.push([0.0; 4]);
-            velocities.push([0.0; 4]);
-        }
-        let device = &gpu.device;
-        let storage = |label, data: &[[f32; 4]]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytemuck::cast_slice(data),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::VERTEX
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-            })
-        };
-        let previous = storage("tickwork gpu step previous positions", &previous);
-        let positions = storage("tickwork gpu step positions", &positions);
-        let velocities = storage("tickwork gpu step velocities", &velocities);
-        let mut records: Vec<ColliderRecord> = plan.colliders.clone();
-        if records.is_empty() {
-            // A binding is never empty; `colliders: 0` reads none.
-            records.push(bytemuck::Zeroable::zeroed());
-        }
         // Colours for drawing: sRGB RGBA as little-endian words, hidden
         // particles transparent (as the renderer's own records).
         let hidden = world.hidden_rows();
-        let mut colours: Vec<u32> = (0..count)
+        let colours: Vec<u32> = (0..count)
             .map(|k| {
                 let shown = hidden.is_none_or(|h| !h[k].0);
                 if shown { u32::from_le_bytes(p.colour[k]) } else { 0 }
             })
             .collect();
-        if colours.is_empty() {
-            colours.push(0);
+        if count > 0 {
+            gpu.queue
+                .write_buffer(&state.positions, 0, bytemuck::cast_slice(&positions));
+            gpu.queue
+                .write_buffer(&state.previous, 0, bytemuck::cast_slice(&previous));
+            gpu.queue
+                .write_buffer(&state.velocities, 0, bytemuck::cast_slice(&velocities));
+            gpu.queue
+                .write_buffer(&state.colours, 0, bytemuck::cast_slice(&colours));
         }
-        let colours = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("tickwork gpu step colours"),
-            contents: bytemuck::cast_slice(&colours),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let colliders = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("tickwork gpu step colliders"),
-            contents: bytemuck::cast_slice(&records),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let colliders = colliders_buffer(device, &plan.colliders);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu step params"),
             size: std::mem::size_of::<Params>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        // A vec4 a particle where the world has an n-body force; one
-        // otherwise (a binding is never empty).
-        let nbody_accel = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tickwork gpu step n-body"),
-            size: if plan.nbody.is_some() {
-                16 * count.max(1) as u64
-            } else {
-                16
-            },
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(plan.method),
-            source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
-        });
+        let nbody_accel = nbody_buffer(device, plan.nbody.is_some(), n);
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -206,61 +274,31 @@ impl GpuWorld {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline_of = |entry_point| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipeline = pipeline_of("step");
-        let nbody = plan.nbody.map(|_| pipeline_of("nbody"));
-        let flush = pipeline_of("flush");
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tickwork gpu step"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: positions.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: velocities.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: colliders.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: nbody_accel.as_entire_binding(),
-                },
-            ],
-        });
+        let pipelines = Pipelines::new(device, &pipeline_layout, &plan);
+        let bind_group = step_bind_group(device, &layout, &params, &state, &colliders, &nbody_accel);
         Ok(Self {
+            scratch: plan.clone(),
             plan,
             n,
+            capacity: n.max(1),
             groups,
-            positions,
-            velocities,
-            previous,
-            colours,
+            state,
+            colliders,
             params,
-            pipeline,
-            nbody,
-            flush,
-            next_tick: world.tick(),
+            nbody_accel,
+            layout,
+            pipeline_layout,
+            pipelines,
             bind_group,
+            rows: RowKernel::new(device),
+            row_plan: RowPlan::default(),
+            next_tick: world.tick(),
             ticks: 0,
+            behind: 0,
             dt: Ok(None),
+            changes_rows: changes_rows(world),
+            revision: world.revision(),
+            following: false,
         })
     }
 
@@ -302,41 +340,27 @@ impl GpuWorld {
     #[must_use]
     pub fn particles(&self) -> crate::render::GpuParticles<'_> {
         crate::render::GpuParticles {
-            previous: &self.previous,
-            current: &self.positions,
-            colours: &self.colours,
+            previous: &self.state.previous,
+            current: &self.state.positions,
+            colours: &self.state.colours,
             count: self.n,
         }
     }
 
     /// The state's two buffers, `(x, y, z, radius)` and `(vx, vy, vz,
-    /// inverse mass)` a particle, for a renderer or a benchmark's copy.
+    /// inverse mass)` a particle (row order; they may hold more rows than
+    /// [`len`](Self::len)), for a renderer or a benchmark's copy.
     #[must_use]
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
-        (&self.positions, &self.velocities)
+        (&self.state.positions, &self.state.velocities)
     }
 
-    /// Records `steps` fixed steps of `dt` seconds into one command
-    /// buffer, one dispatch each in one compute pass (WebGPU orders their
-    /// storage writes), and submits it. Nothing is read back.
-    ///
-    /// # Errors
-    /// [`GpuStepError::Step`] for a `dt` that is not finite and positive.
-    pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) -> Result<(), GpuStepError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(GpuStepError::Step(dt));
-        }
-        if steps > 0 {
-            self.dt = match self.dt {
-                Ok(None) => Ok(Some(dt)),
-                Ok(Some(same)) if same.to_bits() == dt.to_bits() => Ok(Some(dt)),
-                _ => Err(()),
-            };
-        }
+    /// The shader's parameters for steps of `dt`.
+    fn params(&self, dt: f32) -> Params {
         let (c, b) = self.plan.affine;
         let (drift, kick) = coefficients(self.plan.method, dt);
         let (nbody_g, nbody_eps2) = self.plan.nbody.unwrap_or_default();
-        let params = Params {
+        Params {
             c: c.to_array(),
             b,
             dt,
@@ -349,8 +373,45 @@ impl GpuWorld {
             nbody_eps2,
             infinity: f32::INFINITY,
             _pad: 0.0,
-        };
-        gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        }
+    }
+
+    /// Notes a step of `dt` taken (for `store_into`'s ageing).
+    fn took(&mut self, dt: f32, steps: u32) {
+        if steps > 0 {
+            self.dt = match self.dt {
+                Ok(None) => Ok(Some(dt)),
+                Ok(Some(same)) if same.to_bits() == dt.to_bits() => Ok(Some(dt)),
+                _ => Err(()),
+            };
+        }
+        self.next_tick += u64::from(steps);
+        self.ticks += u64::from(steps);
+    }
+
+    /// Records `steps` fixed steps of `dt` seconds into one command
+    /// buffer, one dispatch each in one compute pass (WebGPU orders their
+    /// storage writes), and submits it. Nothing is read back, and the
+    /// world is not told: [`store_into`](Self::store_into) books the steps
+    /// into it. For a world whose rows stay as they are; one with
+    /// emitters, lifetimes or queued commands steps with
+    /// [`advance`](Self::advance).
+    ///
+    /// # Errors
+    /// [`GpuStepError::Step`] for a `dt` that is not finite and positive;
+    /// [`GpuStepError::Unsupported`] for a world whose rows change.
+    pub fn step(&mut self, gpu: &Gpu, dt: f32, steps: u32) -> Result<(), GpuStepError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GpuStepError::Step(dt));
+        }
+        if self.changes_rows {
+            return Err(GpuStepError::Unsupported(
+                "steps in a batch of a world whose rows change (emitters, lifetimes, queued spawns or \
+                 despawns): step it with GpuWorld::advance, which follows them",
+            ));
+        }
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.params(dt)));
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step"),
         });
@@ -358,14 +419,209 @@ impl GpuWorld {
             // All steps but the last, then the positions kept as the
             // previous ones, then the last.
             self.encode_steps(&mut encoder, self.next_tick, steps - 1);
-            let bytes = self.positions.size();
-            encoder.copy_buffer_to_buffer(&self.positions, 0, &self.previous, 0, bytes);
+            self.keep_previous(&mut encoder);
             self.encode_steps(&mut encoder, self.next_tick + u64::from(steps - 1), 1);
         }
-        self.next_tick += u64::from(steps);
         gpu.queue.submit([encoder.finish()]);
-        self.ticks += u64::from(steps);
+        self.took(dt, steps);
+        self.behind += u64::from(steps);
         Ok(())
+    }
+
+    /// One fixed step of `world`, the world this was made from: its
+    /// particles stepped on the GPU, and the rest of its step on the CPU
+    /// ([`World::step`]'s lifetimes, expiry, emitters, queued spawns and
+    /// despawns, tick and time), the GPU's rows then following the
+    /// world's (removed rows filled from the end as the CPU's
+    /// swap-removes fill them, new particles uploaded: their records
+    /// only). The forces' and colliders' values are re-read at each step,
+    /// so a game may change them between steps (a wind, an emitter, a
+    /// method); spawns and despawns between steps are followed too.
+    /// Nothing is read back: the world's positions and velocities are
+    /// those of the last [`store_into`](Self::store_into).
+    ///
+    /// # Errors
+    /// [`GpuStepError::Simulation`] for what the world's step refuses (an
+    /// emitter past its limits, ...), [`GpuStepError::Edited`] if the
+    /// world's particles were changed between steps other than by spawns
+    /// and despawns, what of the world the GPU step does not do (a force
+    /// added since, ...), and [`GpuStepError::Unsupported`] for another
+    /// world or a step from another tick.
+    pub fn advance(&mut self, gpu: &Gpu, world: &mut World, step: FixedStep) -> Result<StepReport, GpuStepError> {
+        let dt = step.dt as f32;
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GpuStepError::Step(dt));
+        }
+        if self.behind > 0 || world.tick() != self.next_tick || step.tick != world.tick() {
+            return Err(GpuStepError::Unsupported(
+                "advancing a world other than the one it was made from, or from another tick than the world's \
+                 (store steps taken with GpuWorld::step into it first)",
+            ));
+        }
+        // The changes to the rows since the last step (a game's spawns
+        // and despawns), followed before this step.
+        let mut log = if self.following {
+            let log = world.row_log.take().unwrap_or_default();
+            let logged = self.revision + log.len() as u64;
+            world.row_log = Some(log);
+            if world.revision() != logged || world.edited {
+                return Err(GpuStepError::Edited);
+            }
+            world.row_log.take().unwrap_or_default()
+        } else {
+            if world.revision() != self.revision || world.len() != self.len() {
+                return Err(GpuStepError::Edited);
+            }
+            self.following = true;
+            Vec::new()
+        };
+        let outcome = self.advance_logged(gpu, world, step, &mut log);
+        log.clear();
+        world.row_log = Some(log);
+        self.revision = world.revision();
+        outcome
+    }
+
+    /// [`advance`](Self::advance) once the world's log is taken: `log`
+    /// holds the changes since the last step, and is used again for the
+    /// step's own.
+    fn advance_logged(
+        &mut self,
+        gpu: &Gpu,
+        world: &mut World,
+        step: FixedStep,
+        log: &mut Vec<RowChange>,
+    ) -> Result<StepReport, GpuStepError> {
+        if !log.is_empty() {
+            let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tickwork gpu rows"),
+            });
+            self.follow_rows(gpu, &mut encoder, log, world)?;
+            gpu.queue.submit([encoder.finish()]);
+            log.clear();
+        }
+        refresh(world, &mut self.scratch)?;
+        self.adopt_plan(gpu);
+        // The rest of the world's step, logging the rows it changes.
+        world.row_log = Some(core::mem::take(log));
+        let report = world.step_bookkeeping(step);
+        *log = world.row_log.take().unwrap_or_default();
+        let report = report.map_err(GpuStepError::Simulation)?;
+        let dt = step.dt as f32;
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.params(dt)));
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("tickwork gpu step"),
+        });
+        if self.n > 0 {
+            self.keep_previous(&mut encoder);
+            self.encode_steps(&mut encoder, step.tick, 1);
+        }
+        self.follow_rows(gpu, &mut encoder, log, world)?;
+        gpu.queue.submit([encoder.finish()]);
+        self.took(dt, 1);
+        Ok(report)
+    }
+
+    /// Records into `encoder` what `log` did to the rows, leaving the
+    /// GPU's rows the world's (growing the buffers first if it has more).
+    fn follow_rows(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        log: &[RowChange],
+        world: &World,
+    ) -> Result<(), GpuStepError> {
+        if log.is_empty() {
+            return Ok(());
+        }
+        let (n, groups) = dispatch(world.len(), &gpu.device.limits())?;
+        self.reserve(gpu, encoder, n)?;
+        self.row_plan.plan(log, self.n, world);
+        self.rows.encode(gpu, encoder, &self.row_plan, &self.state.buffers())?;
+        (self.n, self.groups) = (n, groups);
+        Ok(())
+    }
+
+    /// Grows the state buffers to hold `rows` (at least twice what they
+    /// held), copying what they hold in `encoder`.
+    fn reserve(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, rows: u32) -> Result<(), GpuStepError> {
+        if rows <= self.capacity {
+            return Ok(());
+        }
+        let limits = gpu.device.limits();
+        let doubled = self.capacity.saturating_mul(2).max(rows);
+        let capacity = if dispatch(doubled as usize, &limits).is_ok() {
+            doubled
+        } else {
+            dispatch(rows as usize, &limits)?;
+            rows
+        };
+        let device = &gpu.device;
+        let state = State::new(device, capacity);
+        for (from, to) in [
+            (&self.state.positions, &state.positions),
+            (&self.state.velocities, &state.velocities),
+            (&self.state.previous, &state.previous),
+            (&self.state.colours, &state.colours),
+        ] {
+            encoder.copy_buffer_to_buffer(from, 0, to, 0, from.size());
+        }
+        self.state = state;
+        self.capacity = capacity;
+        if self.plan.nbody.is_some() {
+            self.nbody_accel = nbody_buffer(device, true, capacity);
+        }
+        self.rebind(device);
+        Ok(())
+    }
+
+    /// Makes the step's bind group again (a buffer was replaced).
+    fn rebind(&mut self, device: &wgpu::Device) {
+        self.bind_group = step_bind_group(
+            device,
+            &self.layout,
+            &self.params,
+            &self.state,
+            &self.colliders,
+            &self.nbody_accel,
+        );
+        self.rows.unbind();
+    }
+
+    /// Takes the plan just re-read from the world: a new shader where its
+    /// method or forces changed, new collider records where they did.
+    fn adopt_plan(&mut self, gpu: &Gpu) {
+        let device = &gpu.device;
+        let mut rebind = false;
+        if self.scratch.nbody.is_some() && self.nbody_accel.size() < u64::from(self.capacity) * 16 {
+            self.nbody_accel = nbody_buffer(device, true, self.capacity);
+            rebind = true;
+        }
+        if self.scratch.source != self.plan.source {
+            self.pipelines = Pipelines::new(device, &self.pipeline_layout, &self.scratch);
+        }
+        if self.scratch.colliders != self.plan.colliders {
+            let bytes = (self.scratch.colliders.len() * std::mem::size_of::<ColliderRecord>()) as u64;
+            if bytes > self.colliders.size() {
+                self.colliders = colliders_buffer(device, &self.scratch.colliders);
+                rebind = true;
+            } else if bytes > 0 {
+                gpu.queue
+                    .write_buffer(&self.colliders, 0, bytemuck::cast_slice(&self.scratch.colliders));
+            }
+        }
+        core::mem::swap(&mut self.plan, &mut self.scratch);
+        if rebind {
+            self.rebind(device);
+        }
+    }
+
+    /// Copies the positions into the previous positions (the start of the
+    /// step to come, for interpolation).
+    fn keep_previous(&self, encoder: &mut wgpu::CommandEncoder) {
+        let bytes = u64::from(self.n) * 16;
+        encoder.copy_buffer_to_buffer(&self.state.positions, 0, &self.state.previous, 0, bytes);
     }
 
     /// Waits until the GPU has done every step it was given (a tool's
@@ -392,15 +648,16 @@ impl GpuWorld {
             timestamp_writes: None,
         });
         pass.set_bind_group(0, &self.bind_group, &[]);
+        let p = &self.pipelines;
         for tick in first..first + u64::from(steps) {
-            if let Some(nbody) = &self.nbody {
+            if let Some(nbody) = &p.nbody {
                 pass.set_pipeline(nbody);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             }
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(&p.step);
             pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             if tick.is_multiple_of(crate::step::SUBNORMAL_FLUSH_EVERY) {
-                pass.set_pipeline(&self.flush);
+                pass.set_pipeline(&p.flush);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             }
         }
@@ -414,26 +671,34 @@ impl GpuWorld {
     /// # Errors
     /// [`GpuStepError::ReadBack`] if the buffer cannot be mapped.
     pub fn read_back(&self, gpu: &Gpu) -> Result<(Vec<Vec3>, Vec<Vec3>), GpuStepError> {
-        let [positions, velocities] = self.read(gpu, [&self.positions, &self.velocities])?;
+        let [positions, velocities] = self.read(gpu, [&self.state.positions, &self.state.velocities])?;
         Ok((positions, velocities))
     }
 
     /// Writes the GPU's state into `world`, the world this was made from,
     /// as the CPU's steps would have left it: positions, velocities and
-    /// the previous positions, the tick and time after `last` (the last
-    /// step taken, as the clock gave it), the lived time (each step's `dt`
-    /// added, as the CPU adds it). Its checksum is then the CPU run's where
+    /// the previous positions; for steps taken with [`step`](Self::step),
+    /// also the tick and time after `last` (the last step taken, as the
+    /// clock gave it) and the lived time (each step's `dt` added, as the
+    /// CPU adds it), which [`advance`](Self::advance) has booked already
+    /// (then `last` is not read). Its checksum is then the CPU run's where
     /// the GPU's states are the CPU's (on lavapipe, tested), and the
     /// adapter's own elsewhere. Costs a read-back of three buffers (48
     /// bytes a particle) and a wait.
     ///
     /// # Errors
     /// [`GpuStepError::ReadBack`] if the buffers cannot be mapped;
-    /// [`GpuStepError::Unsupported`] for a world that is not this one's
-    /// origin (another particle count, or a tick that `last` does not
+    /// [`GpuStepError::NonFinite`] for a state that became infinite or
+    /// NaN; [`GpuStepError::Unsupported`] for a world that is not this
+    /// one's (another particle count, or a tick that `last` does not
     /// follow from).
-    pub fn store_into(&self, gpu: &Gpu, world: &mut World, last: FixedStep) -> Result<(), GpuStepError> {
-        if world.len() != self.len() || world.tick() + self.ticks != last.tick + 1 {
+    pub fn store_into(&mut self, gpu: &Gpu, world: &mut World, last: FixedStep) -> Result<(), GpuStepError> {
+        let booked = if self.behind == 0 {
+            world.tick() == self.next_tick
+        } else {
+            world.tick() + self.behind == last.tick + 1
+        };
+        if world.len() != self.len() || !booked {
             return Err(GpuStepError::Unsupported(
                 "storing into a world other than the one it was made from, at the tick it was made",
             ));
@@ -441,12 +706,15 @@ impl GpuWorld {
         if self.ticks == 0 {
             return Ok(());
         }
-        if self.dt != Ok(Some(last.dt as f32)) {
+        if self.behind > 0 && self.dt != Ok(Some(last.dt as f32)) {
             return Err(GpuStepError::Unsupported(
                 "storing steps of different lengths, or of another length than the last step's",
             ));
         }
-        let [x, v, previous] = self.read(gpu, [&self.positions, &self.velocities, &self.previous])?;
+        let [x, v, previous] = self.read(
+            gpu,
+            [&self.state.positions, &self.state.velocities, &self.state.previous],
+        )?;
         // As the CPU's step refuses a state it made non-finite.
         if let Some(row) = x.iter().zip(&v).position(|(x, v)| !(x.is_finite() && v.is_finite())) {
             return Err(GpuStepError::NonFinite {
@@ -455,26 +723,30 @@ impl GpuWorld {
                 velocity: v[row],
             });
         }
-        world.contacts.clear();
-        world.removed.clear();
         let p = &mut world.particles;
         for (row, ((x, v), previous)) in x.iter().zip(&v).zip(&previous).enumerate() {
             p.position.set(row, Vec3A::from(*x));
             p.velocity.set(row, Vec3A::from(*v));
             p.previous_position.set(row, Vec3A::from(*previous));
         }
-        for _ in 0..self.ticks {
-            p.lifetimes.lived += last.dt;
+        if self.behind > 0 {
+            world.contacts.clear();
+            world.removed.clear();
+            for _ in 0..self.behind {
+                p.lifetimes.lived += last.dt;
+            }
+            world.tick = last.tick + 1;
+            world.time = last.time + last.dt;
+            self.behind = 0;
         }
-        world.tick = last.tick + 1;
-        world.time = last.time + last.dt;
         world.revision += 1;
+        self.revision = world.revision();
         Ok(())
     }
 
     /// Copies `buffers` out and waits: their `xyz`, a particle each.
     fn read<const N: usize>(&self, gpu: &Gpu, buffers: [&wgpu::Buffer; N]) -> Result<[Vec<Vec3>; N], GpuStepError> {
-        let bytes = self.positions.size();
+        let bytes = u64::from(self.n.max(1)) * 16;
         let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu step read-back"),
             size: N as u64 * bytes,
@@ -516,10 +788,58 @@ impl GpuWorld {
     }
 }
 
+/// The colliders' records (one zeroed record for none: a binding is never
+/// empty, and `colliders: 0` reads none).
+fn colliders_buffer(device: &wgpu::Device, colliders: &[ColliderRecord]) -> wgpu::Buffer {
+    let zero = [bytemuck::Zeroable::zeroed()];
+    let records: &[ColliderRecord] = if colliders.is_empty() { &zero } else { colliders };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("tickwork gpu step colliders"),
+        contents: bytemuck::cast_slice(records),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+    })
+}
+
+/// A vec4 a particle where the world has an n-body force; one otherwise
+/// (a binding is never empty).
+fn nbody_buffer(device: &wgpu::Device, nbody: bool, capacity: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork gpu step n-body"),
+        size: if nbody { 16 * u64::from(capacity.max(1)) } else { 16 },
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+/// The step's bind group over these buffers.
+fn step_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    state: &State,
+    colliders: &wgpu::Buffer,
+    nbody_accel: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let resources = [params, &state.positions, &state.velocities, colliders, nbody_accel];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .enumerate()
+        .map(|(binding, buffer)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("tickwork gpu step"),
+        layout,
+        entries: &entries,
+    })
+}
+
 /// The particle count as the shader's `n`, and the workgroups of one
 /// dispatch `(x, y)` (past the per-dimension limit, the rest folds into
 /// y), or the limit the particles are past.
-fn dispatch(count: usize, limits: &wgpu::Limits) -> Result<(u32, (u32, u32)), GpuStepError> {
+pub(super) fn dispatch(count: usize, limits: &wgpu::Limits) -> Result<(u32, (u32, u32)), GpuStepError> {
     let bytes = count as u64 * 16;
     for (limit, value) in [
         (

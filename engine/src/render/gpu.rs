@@ -144,6 +144,8 @@ impl Gpu {
             required_limits: wgpu::Limits {
                 max_storage_buffer_binding_size: adapter.limits().max_storage_buffer_binding_size,
                 max_buffer_size: adapter.limits().max_buffer_size,
+                // The GPU step's row kernels bind six (downlevel: four).
+                max_storage_buffers_per_shader_stage: adapter.limits().max_storage_buffers_per_shader_stage,
                 ..limits
             },
             ..Default::default()

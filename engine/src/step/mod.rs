@@ -111,19 +111,11 @@ impl World {
     pub fn step_with(
         &mut self,
         step: FixedStep,
-        mut systems: impl FnMut(&mut World, &FixedStep),
+        systems: impl FnMut(&mut World, &FixedStep),
     ) -> Result<StepReport, SimulationError> {
         let tick = step.tick;
-        if !(step.time.is_finite() && step.dt.is_finite()) {
-            return Err(SimulationError::InvalidStep {
-                tick,
-                time: step.time,
-                dt: step.dt,
-            });
-        }
+        self.check_step(step)?;
         let (t, dt) = (step.time as f32, step.dt as f32);
-        self.check_emitters(dt, tick)?;
-        self.check_pairs(tick)?;
         let mut report = StepReport::default();
         for force in &mut self.forces {
             force.prepare(&self.entities);
@@ -148,15 +140,43 @@ impl World {
         }
         self.step_rigid_bodies(t, dt, tick)?;
         self.turn_headings(dt);
+        self.end_step(step, &mut report, systems)?;
+        Ok(report)
+    }
+
+    /// What a step does once the particles and bodies have stepped: the
+    /// lifetimes, expiry, emitters, queued commands, the tick and time,
+    /// the game's systems, the sensors.
+    /// What a step refuses before it changes anything: a time or length
+    /// that is not finite, an invalid emitter or one due too many, a force
+    /// past its pairs.
+    fn check_step(&self, step: FixedStep) -> Result<(), SimulationError> {
+        if !(step.time.is_finite() && step.dt.is_finite()) {
+            return Err(SimulationError::InvalidStep {
+                tick: step.tick,
+                time: step.time,
+                dt: step.dt,
+            });
+        }
+        self.check_emitters(step.dt as f32, step.tick)?;
+        self.check_pairs(step.tick)
+    }
+
+    fn end_step(
+        &mut self,
+        step: FixedStep,
+        report: &mut StepReport,
+        mut systems: impl FnMut(&mut World, &FixedStep),
+    ) -> Result<(), SimulationError> {
         // Aged once the particles and bodies have stepped (a failed step
         // leaves the lived time, and the dead it would find, for the next),
         // and before the emitters, for whom expiry makes room.
         self.expired_rows.clear();
         self.particles.age(step.dt, &mut self.expired_rows);
-        self.expire(&mut report);
-        self.emit(dt, tick)?;
+        self.expire(report);
+        self.emit(step.dt as f32, step.tick)?;
         let (spawned, despawned) = self.apply_queued();
-        self.tick = tick + 1;
+        self.tick = step.tick + 1;
         self.time = step.time + step.dt;
         self.revision += 1;
         systems(self, &step);
@@ -164,6 +184,26 @@ impl World {
         report.spawned = spawned + spawned_by_game;
         report.despawned = despawned + despawned_by_game;
         self.find_overlaps();
+        Ok(())
+    }
+
+    /// The step of a world whose particles are stepped elsewhere (a GPU
+    /// world's, `gpu_step`): the same checks, then what the step does
+    /// after the particles' integration (lifetimes, expiry, emitters,
+    /// queued commands, tick and time), the particle state untouched. The
+    /// caller has refused what this leaves out (rigid bodies, headings,
+    /// sensors, colliders that move or report).
+    ///
+    /// # Errors
+    /// As [`step`](Self::step), for what it does.
+    #[cfg(feature = "render")]
+    pub(crate) fn step_bookkeeping(&mut self, step: FixedStep) -> Result<StepReport, SimulationError> {
+        self.check_step(step)?;
+        self.edited = false;
+        self.removed.clear();
+        self.contacts.clear();
+        let mut report = StepReport::default();
+        self.end_step(step, &mut report, |_, _| {})?;
         Ok(report)
     }
 

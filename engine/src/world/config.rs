@@ -51,6 +51,25 @@ pub struct WorldConfig {
     /// NaN, or a negative speed) keeps every bounce, so a particle settling
     /// on a surface may meet `MAX_CONTACT_EVENTS` in a step.
     pub rest_speed: f32,
+    /// Where a runner steps the world's particles (default
+    /// [`Backend::Cpu`]); `--gpu` on the command line sets
+    /// [`Backend::Gpu`] for every world of a run.
+    pub backend: Backend,
+}
+
+/// Where a runner steps a world's particles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Backend {
+    /// On the CPU, [`World::step`](super::World::step) (default).
+    #[default]
+    Cpu,
+    /// On the GPU (`gpu_step::GpuWorld`, in builds with the
+    /// `render` feature): the particles' state lives in GPU buffers,
+    /// drawn from there; the [`World`](super::World) keeps the rest
+    /// (entities, emitters, lifetimes, tick), its positions and velocities
+    /// those of the last read-back. What the GPU step does not do is an
+    /// error naming it when the run starts.
+    Gpu,
 }
 
 impl Default for WorldConfig {
@@ -64,6 +83,7 @@ impl Default for WorldConfig {
             max_particles: 10_000_000,
             max_pairs: 50_000_000,
             rest_speed: 0.5,
+            backend: Backend::Cpu,
         }
     }
 }

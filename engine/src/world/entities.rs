@@ -43,6 +43,9 @@ impl World {
     fn bind(&mut self, entity: Entity, particle: &Particle) -> usize {
         let row = self.entities.bind(entity);
         self.revision += 1;
+        if let Some(log) = &mut self.row_log {
+            log.push(super::world::RowChange::Added);
+        }
         self.particles.push(particle);
         self.columns.push_defaults();
         row
@@ -62,6 +65,9 @@ impl World {
     pub fn despawn(&mut self, entity: Entity) -> Result<(), EntityError> {
         let row = self.entities.row(entity)?;
         self.revision += 1;
+        if let Some(log) = &mut self.row_log {
+            log.push(super::world::RowChange::Removed(row as u32));
+        }
         let body = self.particles.rigid_row[row];
         if body != u32::MAX {
             let body = body as usize;

@@ -32,12 +32,13 @@ mod world;
 pub use checksum::StableHasher;
 pub use columns::Component;
 pub use components::QueryMut;
-pub use config::{WorldConfig, WorldError};
+pub use config::{Backend, WorldConfig, WorldError};
 pub use heading::Heading;
 pub use particles::Particles;
 pub use removal::{Removal, RemovalCause};
 pub use rigid::{RigidBodies, RigidBody};
 pub use snapshot::Snapshot;
+pub(crate) use world::RowChange;
 pub use world::World;
 
 pub use crate::layout::{Colour, Entities, Entity, EntityError, Particle, RowsMut, SpawnError, Vec3Column};

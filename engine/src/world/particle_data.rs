@@ -101,6 +101,7 @@ impl World {
         let row = self.row(entity)?;
         check_vector("velocity", velocity).map_err(|error| WorldError::Invalid { entity, error })?;
         self.particles.velocity.set(row, velocity.into());
+        self.revision += 1;
         Ok(())
     }
 

@@ -61,6 +61,19 @@ pub struct World {
     pub(crate) sweep: SweepScratch,
     /// Contacts by row, before they are sorted and named.
     pub(crate) touches: Vec<RowTouch>,
+    /// Where a GPU world (`gpu_step::GpuWorld`) steps the particles:
+    /// each row removed and added, in order, since it was set (`None`: not
+    /// logged), so the GPU's rows follow the CPU's.
+    pub(crate) row_log: Option<Vec<RowChange>>,
+}
+
+/// A change to the rows, as [`World::row_log`] keeps them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RowChange {
+    /// The row was swap-removed: the last row moved into it.
+    Removed(u32),
+    /// A row was added at the end.
+    Added,
 }
 
 impl Clone for World {
@@ -93,6 +106,7 @@ impl Clone for World {
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
+            row_log: None,
         }
     }
 
@@ -191,6 +205,7 @@ impl World {
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
+            row_log: None,
         })
     }
 
