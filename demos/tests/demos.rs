@@ -131,6 +131,31 @@ fn fountain_spawns_at_its_emitters_rate_and_matches_its_golden_frame() {
     check_golden("demo_fountain", &last);
 }
 
+/// The line that gives a run's final checksum.
+fn checksum_line(stdout: &str) -> &str {
+    stdout
+        .lines()
+        .find(|l| l.contains("the final state at tick"))
+        .unwrap_or_else(|| panic!("no checksum line:\n{stdout}"))
+}
+
+#[test]
+fn fountain_on_the_gpu_ends_in_the_cpus_checksum_and_matches_the_same_golden_frame() {
+    // Emitters, lifetimes of 3.4 s and a wind the game switches: the GPU
+    // step follows the world's rows; on lavapipe its state is the CPU's.
+    let (cpu, _) = run_demo(env!("CARGO_BIN_EXE_fountain"), "fountain_cpu", 120, &["--seed", "3"]);
+    let (gpu, last) = run_demo(
+        env!("CARGO_BIN_EXE_fountain"),
+        "fountain_gpu",
+        120,
+        &["--seed", "3", "--gpu"],
+    );
+    assert_eq!(checksum_line(&gpu), checksum_line(&cpu));
+    assert!(gpu.contains("fountain: 36000 droplets alive"), "{gpu}");
+    // Drawn from the GPU's buffers, as the CPU's run is drawn.
+    check_golden("demo_fountain", &last);
+}
+
 #[test]
 fn cloth_blows_up_under_explicit_euler_and_stays_stable_under_implicit_methods() {
     let (stdout, last) = run_demo(env!("CARGO_BIN_EXE_cloth"), "cloth", 90, &[]);

@@ -246,6 +246,7 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
             integrator: None,
             seed,
             networked: false,
+            gpu: false,
         },
         replay: Some(recording.clone()),
         ..SessionOptions::default()

@@ -13,6 +13,7 @@ use tickwork_engine::app::{
 };
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::render::{Blend, Gpu, Interpolation, RendererConfig};
+use tickwork_engine::world::Backend;
 
 use super::error::CliError;
 
@@ -61,12 +62,17 @@ pub struct ViewArgs {
     /// Hide the HUD (fps, steps, dropped time, integrator, particles, energy).
     #[arg(long)]
     pub no_hud: bool,
+    /// Step the particles on the GPU (compute shaders), drawn from the
+    /// GPU's buffers, whatever the scene's `backend`.
+    #[arg(long)]
+    pub gpu: bool,
 }
 
 impl ViewArgs {
     fn playback(&self) -> Result<Playback, CliError> {
         let scene = Scene::load(&self.scene).map_err(CliError::SceneLoad)?;
-        Playback::from_scene(&scene, self.integrator.as_deref()).map_err(|e| match e {
+        let backend = self.gpu.then_some(Backend::Gpu);
+        Playback::from_scene_on(&scene, self.integrator.as_deref(), backend).map_err(|e| match e {
             PlaybackError::Integrator(e) => CliError::Integrator(e),
             source => CliError::Playback {
                 path: self.scene.clone(),

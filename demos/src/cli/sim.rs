@@ -198,9 +198,22 @@ fn run_on_gpu(
     let start_energy = world.energy().total();
     let started = std::time::Instant::now();
     let (mut pending, mut last) = (0u32, None);
+    let (mut peak, mut particle_steps) = (particles, 0u64);
     let report_every = (steps / 100).max(1);
     for done in 0..steps {
         for step in clock.step(1).fixed_steps() {
+            if !on_gpu.steps_in_batches() {
+                // Emitters, lifetimes: the world's rows change, step by step.
+                particle_steps += world.len() as u64;
+                on_gpu.advance(&gpu, world, step).map_err(CliError::GpuStep)?;
+                peak = peak.max(world.len());
+                last = Some(step);
+                if (step.tick + 1).is_multiple_of(u64::from(GPU_BATCH)) {
+                    on_gpu.finish(&gpu).map_err(CliError::GpuStep)?;
+                }
+                continue;
+            }
+            particle_steps += particles as u64;
             pending += 1;
             last = Some(step);
             if pending == GPU_BATCH {
@@ -224,10 +237,10 @@ fn run_on_gpu(
     let summary = HeadlessSummary {
         steps,
         time: clock.time(),
-        particles: (particles, world.len(), particles),
+        particles: (particles, world.len(), peak),
         energy: (start_energy, world.energy().total()),
         wall_seconds: started.elapsed().as_secs_f64(),
-        particle_steps: particles as u64 * steps,
+        particle_steps,
     };
     Ok((summary, adapter))
 }

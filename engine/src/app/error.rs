@@ -23,6 +23,8 @@ pub enum PlaybackError {
     Simulation(SimulationError),
     /// An integrator name that is not registered.
     Integrator(UnknownMethod),
+    /// The world steps on the GPU, and the GPU step refused it or failed.
+    Gpu(crate::gpu_step::GpuStepError),
 }
 
 impl fmt::Display for PlaybackError {
@@ -32,6 +34,7 @@ impl fmt::Display for PlaybackError {
             Self::Clock(e) => e.fmt(f),
             Self::Simulation(e) => e.fmt(f),
             Self::Integrator(e) => e.fmt(f),
+            Self::Gpu(e) => e.fmt(f),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! which share the per-frame path. [`run`] picks one for a game.
 
 mod audio;
+mod backend;
 mod control;
 mod draw;
 mod error;

@@ -67,6 +67,7 @@ impl<'g> OffscreenRun<'g> {
     /// [`RunError::Playback`] for a bad duration or failed step,
     /// [`RunError::Render`] if drawing fails.
     pub fn frame(&mut self, source: &mut dyn FrameSource, seconds: f64, hud: bool) -> Result<RgbaImage, RunError> {
+        source.attach_gpu(self.gpu);
         source.advance(seconds)?;
         self.draw(source, hud)
     }

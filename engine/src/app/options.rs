@@ -104,6 +104,11 @@ pub struct RunOptions {
     /// `WGPU_BACKEND` chooses.
     #[arg(long, value_parser = ["webgpu", "webgl2"])]
     pub backend: Option<String>,
+    /// Step every world's particles on the GPU (compute shaders, drawn
+    /// from the GPU's buffers); what the GPU step does not do is an error
+    /// naming it.
+    #[arg(long)]
+    pub gpu: bool,
 }
 
 impl Default for RunOptions {
@@ -134,6 +139,7 @@ impl Default for RunOptions {
             impair: None,
             wait_seconds: 60.0,
             backend: None,
+            gpu: false,
         }
     }
 }

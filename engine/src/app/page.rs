@@ -158,11 +158,15 @@ impl<G: Game> PageRun<G> {
                 path.display()
             ));
         }
-        say(&format!(
-            "tickwork: {}: the final state at tick {ticks} has checksum {:016x}",
-            title,
-            self.session.checksum()
-        ));
+        // A world on the GPU comes back only where the page may wait.
+        match self.session.read_back() {
+            Ok(()) => say(&format!(
+                "tickwork: {}: the final state at tick {ticks} has checksum {:016x}",
+                title,
+                self.session.checksum()
+            )),
+            Err(why) => say(&format!("tickwork: {title}: no checksum of the final state: {why}")),
+        }
         if let Some(outcome) = self.session.outcome() {
             say(&format!("{title}: {outcome}"));
         }

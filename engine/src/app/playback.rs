@@ -14,12 +14,14 @@ use crate::render::{Camera, FrameView, Trails};
 use crate::scene::Scene;
 use crate::world::{Snapshot, World};
 
+use super::backend::{StepFailure, Stepper};
 use super::control::{Control, chosen_integrator, clock_control};
 use super::error::{PlaybackError, RunError};
 use super::frame_rate::FrameRate;
 use super::panel::{ClockRow, WorldRow};
 use super::source::FrameSource;
 use super::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
+use crate::render::Gpu;
 
 /// A world, its clock, its initial state and what the viewer shows.
 pub struct Playback {
@@ -40,6 +42,13 @@ pub struct Playback {
     hud: String,
     /// Relative energy error, sampled once per frame that stepped (the panel's plot).
     energy_trace: EnergyTrace,
+    /// Where the world steps (its GPU copy, where its backend is the GPU).
+    stepper: Stepper,
+    /// The runner's GPU, for a world on the GPU.
+    gpu: Option<Gpu>,
+    /// Drawn in place of a world on the GPU (its particles come from the
+    /// GPU's buffers).
+    empty: World,
 }
 
 impl fmt::Debug for Playback {
@@ -79,6 +88,9 @@ impl Playback {
             initial_len: world_len,
             hud: String::new(),
             energy_trace: EnergyTrace::default(),
+            stepper: Stepper::default(),
+            gpu: None,
+            empty: World::default(),
         })
     }
 
@@ -90,9 +102,25 @@ impl Playback {
     /// [`PlaybackError::Scene`] for a scene that does not load or build,
     /// [`PlaybackError::Integrator`] for an unknown integrator name.
     pub fn from_scene(scene: &Scene, integrator: Option<&str>) -> Result<Self, PlaybackError> {
+        Self::from_scene_on(scene, integrator, None)
+    }
+
+    /// [`from_scene`](Self::from_scene), on `backend` instead of the
+    /// scene's (`--gpu`) if given.
+    ///
+    /// # Errors
+    /// As [`from_scene`](Self::from_scene).
+    pub fn from_scene_on(
+        scene: &Scene,
+        integrator: Option<&str>,
+        backend: Option<crate::world::Backend>,
+    ) -> Result<Self, PlaybackError> {
         let (mut world, entities) = scene.build().map_err(PlaybackError::Scene)?;
         if let Some(name) = integrator {
             world.set_integrator(name)?;
+        }
+        if let Some(backend) = backend {
+            world.set_backend(backend);
         }
         let rate = scene.rate().map_err(PlaybackError::Scene)?;
         let mut playback = Self::new(world, rate, Camera::from_hint(&scene.spec.camera), scene.name())?;
@@ -163,11 +191,19 @@ impl Playback {
         let frame = self.clock.advance(seconds)?;
         self.frame_rate.record(seconds);
         for step in frame.fixed_steps() {
-            self.world.step(step)?;
-            self.trails.record(&self.world);
+            self.stepper
+                .step(&mut self.gpu, &mut self.world, step)
+                .map_err(|failure| match failure {
+                    StepFailure::Simulation(error) => PlaybackError::Simulation(error),
+                    StepFailure::Gpu(error) => PlaybackError::Gpu(error),
+                })?;
             self.steps_total += 1;
+            if self.stepper.on_gpu().is_none() {
+                self.trails.record(&self.world);
+            }
         }
-        if frame.steps > 0 || self.energy_trace.samples().next().is_none() {
+        // (A world on the GPU has its energy there.)
+        if self.stepper.on_gpu().is_none() && (frame.steps > 0 || self.energy_trace.samples().next().is_none()) {
             self.energy_trace.sample(&mut self.world);
         }
         self.last = frame;
@@ -188,6 +224,7 @@ impl Playback {
         if control == Control::Reset {
             let integrator = self.world.integrator().info().name;
             self.world.restore(&self.initial);
+            self.stepper.forget();
             // Keep the integrator the viewer chose.
             self.world.set_integrator(integrator)?;
             self.trails.clear_points();
@@ -203,11 +240,29 @@ impl Playback {
     /// and `hud` as the HUD text.
     #[must_use]
     pub fn view<'a>(&'a self, hud: &'a str) -> FrameView<'a> {
+        // A world on the GPU is drawn from its buffers (see `with_view`).
+        let world = if self.stepper.on_gpu().is_some() {
+            &self.empty
+        } else {
+            &self.world
+        };
         FrameView {
             trails: Some(&self.trails),
             hud,
-            ..FrameView::new(&self.world, self.last.alpha as f32, self.camera)
+            ..FrameView::new(world, self.last.alpha as f32, self.camera)
         }
+    }
+
+    /// Reads a world on the GPU back into [`world`](Self::world) (its
+    /// positions and velocities live there): a copy of its state and a
+    /// wait for the GPU. Nothing for a world on the CPU.
+    ///
+    /// # Errors
+    /// [`PlaybackError::Gpu`] if the read-back fails.
+    pub fn read_back(&mut self) -> Result<(), PlaybackError> {
+        self.stepper
+            .sync(self.gpu.as_ref(), &mut self.world)
+            .map_err(PlaybackError::Gpu)
     }
 
     /// The HUD text: fps, steps this frame, dropped time, integrator, time
@@ -215,6 +270,24 @@ impl Playback {
     pub fn hud_text(&mut self, out: &mut String) {
         use std::fmt::Write;
         let tick = self.world.tick();
+        if let Some(on_gpu) = self.stepper.on_gpu() {
+            out.clear();
+            let _ = write!(
+                out,
+                "{}  |  {} on the GPU{}\n{:.0} fps  |  {} steps this frame  |  dropped {:.3} s  |  x{}\n{} \
+                 particles  |  t = {:.2} s",
+                self.title,
+                on_gpu.method(),
+                if self.clock.is_paused() { "  |  paused" } else { "" },
+                self.fps(),
+                self.last.steps,
+                self.clock.dropped_total(),
+                self.clock.config().time_scale,
+                self.world.len(),
+                self.world.time()
+            );
+            return;
+        }
         let stale = match self.energy {
             None => true,
             Some((at, _)) => at != tick && (self.world.len() <= ENERGY_EVERY_STEP_UP_TO || tick >= at + 30),
@@ -290,6 +363,13 @@ impl FrameSource for Playback {
         &mut self.camera
     }
 
+    fn attach_gpu(&mut self, gpu: &Gpu) {
+        // The first GPU given stays: the world's buffers live on it.
+        if self.gpu.is_none() {
+            self.gpu = Some(gpu.clone());
+        }
+    }
+
     fn with_view(
         &mut self,
         hud: bool,
@@ -302,7 +382,11 @@ impl FrameSource for Playback {
         } else {
             text.clear();
         }
-        let result = render(&self.view(&text));
+        let gpu_particles = self.stepper.particles();
+        let result = render(&FrameView {
+            gpu_particles: gpu_particles.as_slice(),
+            ..self.view(&text)
+        });
         self.hud = text;
         Ok(result?)
     }

@@ -148,6 +148,16 @@ impl<G: Game + Clone> GameSession<G> {
                 worlds.len()
             ))));
         }
+        if let Some(shown) = worlds
+            .iter()
+            .find(|w| w.world.config().backend == crate::world::Backend::Gpu)
+        {
+            return Err(RunError::Game(GameError::Message(format!(
+                "world \"{}\" steps on the GPU, which a rollback session does not take yet (its state would \
+                 have to come back every tick): run it without --gpu",
+                shown.label
+            ))));
+        }
         for ((shown, snapshot), failure) in worlds.iter_mut().zip(&saved.worlds).zip(&saved.failures) {
             shown.world.restore(snapshot);
             shown.failure.clone_from(failure);

@@ -192,6 +192,8 @@ pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
         );
     }
     shown?;
+    // Worlds on the GPU come back for the checksum and the outcome.
+    session.read_back()?;
     if !summary.windowed {
         let checksum = session.checksum();
         crate::say!(
@@ -215,6 +217,7 @@ pub(super) fn session_options(options: &RunOptions, replay: Option<Recording>) -
             integrator: options.integrator.clone(),
             seed: options.seed,
             networked: false,
+            gpu: options.gpu,
         },
         hz: options.hz,
         time_scale: options.time_scale,
@@ -257,6 +260,7 @@ fn network_run<G: Game + Clone + 'static>(
                 integrator: options.integrator.clone(),
                 seed: options.seed,
                 networked: true,
+                gpu: options.gpu,
             },
             hz: options.hz,
             time_scale: 1.0,

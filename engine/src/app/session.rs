@@ -11,6 +11,7 @@
 use std::path::PathBuf;
 
 use super::audio::{Audio, Played};
+use super::backend::StepFailure;
 use super::control::{Control, chosen_integrator, clock_control};
 use super::draw::{Draw, Viewport};
 use super::error::RunError;
@@ -19,12 +20,13 @@ use super::game::{Game, GameError};
 use super::panel::{ClockRow, WorldRow};
 use super::session_options::SessionOptions;
 use super::source::FrameSource;
-use super::stage::Stage;
+use super::stage::{Stage, StageWorld};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::interpolation::Interpolation;
 use crate::platform::say;
 use crate::render::{Camera, FrameView, RenderError, WorldView};
+use crate::world::Backend;
 use tickwork_integrators::build;
 
 /// Where the session's per-tick input comes from.
@@ -230,8 +232,13 @@ impl<G: Game> GameSession<G> {
             self.check_fixed_integrators(&stage, name)?;
         }
         for shown in &mut stage.worlds {
+            if self.options.settings.gpu {
+                shown.world.set_backend(Backend::Gpu);
+            }
             shown.energy.sample(&mut shown.world);
         }
+        // The GPU the worlds on it step on stays the runner's.
+        stage.gpu = self.stage.gpu.take();
         self.clock = FixedClock::new(ClockConfig {
             rate,
             time_scale: self.clock.config().time_scale,
@@ -366,11 +373,15 @@ impl<G: Game> GameSession<G> {
             .fixed_update_players(&mut self.stage, &step, inputs)
             .map_err(RunError::Game)?;
         self.audio.tick(step.tick, &self.stage.sounds_due);
+        let gpu = &mut self.stage.gpu;
         for shown in &mut self.stage.worlds {
-            shown.step(step).map_err(|error| {
-                RunError::Game(GameError::Simulation {
-                    world: shown.label.clone(),
-                    error,
+            shown.step(gpu, step).map_err(|failure| {
+                RunError::Game(match failure {
+                    StepFailure::Simulation(error) => GameError::Simulation {
+                        world: shown.label.clone(),
+                        error,
+                    },
+                    StepFailure::Gpu(error) => GameError::Message(format!("world \"{}\": {error}", shown.label)),
                 })
             })?;
         }
@@ -418,8 +429,20 @@ impl<G: Game> GameSession<G> {
         &mut self.clock
     }
 
+    /// Reads every world on the GPU back into its [`World`](crate::World)
+    /// (see [`Stage::read_back`]), so that [`checksum`](Self::checksum)
+    /// and the game's outcome cover their state: a copy of each one's
+    /// state and a wait for the GPU. Nothing for worlds on the CPU.
+    ///
+    /// # Errors
+    /// [`RunError::Game`] if a read-back fails.
+    pub fn read_back(&mut self) -> Result<(), RunError> {
+        self.stage.read_back_all().map_err(RunError::Game)
+    }
+
     /// The checksum of every world's state, in stage order, and of the
-    /// game's own ([`Game::state_hash`]).
+    /// game's own ([`Game::state_hash`]); a world on the GPU's as of its
+    /// last [`read_back`](Self::read_back).
     #[must_use]
     pub fn checksum(&self) -> u64 {
         checksum_of(&self.game, &self.stage)
@@ -610,6 +633,13 @@ impl<G: Game> FrameSource for GameSession<G> {
         &mut self.stage.camera
     }
 
+    fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
+        // The first GPU given stays: the worlds' buffers live on it.
+        if self.stage.gpu.is_none() {
+            self.stage.gpu = Some(gpu.clone());
+        }
+    }
+
     fn with_view(
         &mut self,
         hud: bool,
@@ -638,6 +668,13 @@ impl<G: Game> FrameSource for GameSession<G> {
             Some((first, rest)) => (Some(first), rest),
             None => (None, &[][..]),
         };
+        // A world on the GPU is drawn from its buffers, not its columns.
+        let empty = &self.empty;
+        fn columns<'a>(w: &'a StageWorld, empty: &'a crate::world::World) -> &'a crate::world::World {
+            if w.gpu_particles().is_some() { empty } else { &w.world }
+        }
+        let gpu_particles: Vec<crate::render::GpuParticles<'_>> =
+            self.stage.worlds.iter().filter_map(StageWorld::gpu_particles).collect();
         for shown in &self.stage.worlds {
             if let Some(texture) = &shown.sprite {
                 let layer = shown.layer.unwrap_or(self.draw.particles_on());
@@ -647,7 +684,7 @@ impl<G: Game> FrameSource for GameSession<G> {
         let others: Vec<WorldView<'_>> = rest
             .iter()
             .map(|w| WorldView {
-                world: &w.world,
+                world: columns(w, empty),
                 trails: Some(&w.trails),
                 as_sprites: w.sprite.is_some(),
                 layer: w.layer,
@@ -666,7 +703,8 @@ impl<G: Game> FrameSource for GameSession<G> {
             texts: &self.draw.texts,
             hud: &self.draw.hud,
             hud_colours: &self.draw.hud_colours,
-            ..FrameView::new(first.map_or(&self.empty, |w| &w.world), alpha, self.stage.camera)
+            gpu_particles: &gpu_particles,
+            ..FrameView::new(first.map_or(empty, |w| columns(w, empty)), alpha, self.stage.camera)
         };
         render(&view)?;
         Ok(())

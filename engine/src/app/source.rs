@@ -71,6 +71,13 @@ pub trait FrameSource {
     /// The camera, for the window's mouse.
     fn camera_mut(&mut self) -> &mut Camera;
 
+    /// The GPU the runner draws with, given before the first frame: worlds
+    /// stepped on the GPU step there, so the renderer draws them from
+    /// their own buffers. Default: not used.
+    fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
+        let _ = gpu;
+    }
+
     /// Calls `render` with the view of the current frame, for a target of
     /// `size` pixels (`hud`: with its HUD text).
     ///

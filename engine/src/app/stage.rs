@@ -8,13 +8,16 @@ use core::fmt;
 
 use glam::{Vec2, Vec3};
 
+use super::backend::{StepFailure, Stepper};
 use super::draw::Viewport;
+use super::game::GameError;
 use super::sound::Sound;
 use crate::clock::{FixedStep, Rate};
+use crate::gpu_step::GpuStepError;
 use crate::input::KeySet;
+use crate::render::Gpu;
 use crate::render::{Camera, Texture, Trails};
-use crate::step::SimulationError;
-use crate::world::{Colour, Entity, World, WorldConfig};
+use crate::world::{Backend, Colour, Entity, World, WorldConfig};
 
 /// A world's handle on its stage, from [`Stage::add_world`]. A restart
 /// builds a fresh stage, whose set-up hands out the same ids in the same
@@ -72,7 +75,11 @@ impl std::error::Error for StageError {}
 pub struct StageWorld {
     /// Shown in the legend, the panel and error messages.
     pub label: String,
-    /// The world.
+    /// The world. One whose [`WorldConfig::backend`] is the GPU keeps
+    /// its particles' positions and velocities there once it has stepped:
+    /// here they are those of the last read-back
+    /// ([`Stage::read_back`]); its entities, lifetimes, emitters, forces
+    /// and colliders are current.
     pub world: World,
     /// Its trails (none followed by default).
     pub trails: Trails,
@@ -96,6 +103,8 @@ pub struct StageWorld {
     /// the shapes of that layer (default `None`: the frame's
     /// [`Draw::particle_layer`](super::Draw::particle_layer)).
     pub layer: Option<i32>,
+    /// Where its steps run, and its GPU copy once it has one.
+    pub(crate) stepper: Stepper,
 }
 
 /// What happens when a world's step fails (an explicit method blowing up
@@ -166,6 +175,9 @@ pub struct Settings {
     /// from this machine, and a game of more players drives or idles the
     /// others itself). The same on every peer, so a game may branch on it.
     pub networked: bool,
+    /// `--gpu`: every world steps on the GPU (the runner sets each
+    /// world's [`WorldConfig::backend`] after set-up; default false).
+    pub gpu: bool,
 }
 
 impl Settings {
@@ -182,6 +194,9 @@ impl Settings {
         if let Some(name) = self.integrator.as_deref().filter(|names| !names.contains(',')) {
             name.trim().clone_into(&mut config.integrator);
         }
+        if self.gpu {
+            config.backend = Backend::Gpu;
+        }
         config
     }
 }
@@ -192,38 +207,63 @@ impl Settings {
 pub(crate) const ENERGY_EVERY_STEP_UP_TO: usize = 4_000;
 
 impl StageWorld {
-    /// Runs one fixed step of this world, then records its trails and
-    /// samples its energy. A world that fails stops the run, or, if it
-    /// freezes on failure, goes back to its last finite state and stays
-    /// there (its `failure` says why) while the others run on.
-    ///
-    /// # Errors
-    /// The [`SimulationError`] of a failed step of a world that stops the run.
-    pub fn step(&mut self, step: FixedStep) -> Result<(), SimulationError> {
+    /// Runs one fixed step of this world (on the GPU where its
+    /// configuration says, on `gpu`), then records its trails and samples
+    /// its energy (a world on the CPU). A world that fails stops the run,
+    /// or, if it freezes on failure, goes back to its last finite state
+    /// and stays there (its `failure` says why) while the others run on.
+    pub(crate) fn step(&mut self, gpu: &mut Option<Gpu>, step: FixedStep) -> Result<(), StepFailure> {
         if self.failure.is_some() {
             return Ok(());
         }
+        let on_gpu = self.world.config().backend == Backend::Gpu;
+        if on_gpu && self.sprite.is_some() {
+            return Err(StepFailure::Gpu(GpuStepError::Unsupported(
+                "sprites for a world's particles (they are drawn from the CPU's columns)",
+            )));
+        }
         if self.on_failure == OnFailure::Freeze {
+            if on_gpu {
+                return Err(StepFailure::Gpu(GpuStepError::Unsupported(
+                    "OnFailure::Freeze (a snapshot of the state every step): a world on the GPU stops the run",
+                )));
+            }
             match &mut self.last_good {
                 Some(snapshot) => self.world.snapshot_into(snapshot),
                 None => self.last_good = Some(self.world.snapshot()),
             }
         }
-        if let Err(error) = self.world.step(step) {
-            return match (self.on_failure, &self.last_good) {
-                (OnFailure::Freeze, Some(snapshot)) => {
+        if let Err(failure) = self.stepper.step(gpu, &mut self.world, step) {
+            return match (failure, self.on_failure, &self.last_good) {
+                (StepFailure::Simulation(error), OnFailure::Freeze, Some(snapshot)) => {
                     self.world.restore(snapshot);
                     self.failure = Some(format!("failed at t = {:.2} s: {error}", step.time));
                     Ok(())
                 }
-                _ => Err(error),
+                (failure, ..) => Err(failure),
             };
+        }
+        if on_gpu {
+            return Ok(());
         }
         self.trails.record(&self.world);
         if self.world.len() <= ENERGY_EVERY_STEP_UP_TO || step.tick.is_multiple_of(30) {
             self.energy.sample(&mut self.world);
         }
         Ok(())
+    }
+
+    /// Its particles stepped on the GPU, drawn from the GPU's buffers
+    /// (`None` for a world on the CPU, or before its first step).
+    pub(crate) fn gpu_particles(&self) -> Option<crate::render::GpuParticles<'_>> {
+        self.stepper.particles()
+    }
+
+    /// Reads a world on the GPU back (its positions and velocities), so
+    /// that [`world`](Self::world) is current: costs a copy of its state
+    /// and a wait for the GPU.
+    pub(crate) fn sync(&mut self, gpu: Option<&Gpu>) -> Result<(), GpuStepError> {
+        self.stepper.sync(gpu, &mut self.world)
     }
 }
 
@@ -270,6 +310,9 @@ pub struct Stage {
     pub claimed_keys: KeySet,
     /// The sounds this tick's `fixed_update` asked for, in order.
     pub(crate) sounds_due: Vec<Sound>,
+    /// The GPU the worlds on the GPU step on: the runner's (the one it
+    /// draws with), or one of their own for a run that draws nothing.
+    pub(crate) gpu: Option<Gpu>,
 }
 
 impl Default for Stage {
@@ -290,6 +333,7 @@ impl Default for Stage {
             viewport: Viewport::default(),
             claimed_keys: KeySet::EMPTY,
             sounds_due: Vec::new(),
+            gpu: None,
         }
     }
 }
@@ -377,6 +421,7 @@ impl Stage {
             last_good: None,
             sprite: None,
             layer: None,
+            stepper: Stepper::default(),
         });
         let index = self.worlds.len() - 1;
         WorldBuilder { stage: self, index }
@@ -414,6 +459,38 @@ impl Stage {
     /// [`StageError::Unknown`] for an id past this stage's worlds.
     pub fn world_mut(&mut self, id: WorldId) -> Result<&mut World, StageError> {
         self.shown_mut(id).map(|shown| &mut shown.world)
+    }
+
+    /// The world `id`, its particles read back first if it steps on the
+    /// GPU (their positions and velocities live there): for a game that
+    /// reads them (a score from positions, a snapshot). Costs a copy of
+    /// the state (48 bytes a particle) and a wait for the GPU; a world on
+    /// the CPU is returned as it is.
+    ///
+    /// # Errors
+    /// [`GameError::Message`] for an unknown id or a failed read-back.
+    pub fn read_back(&mut self, id: WorldId) -> Result<&World, GameError> {
+        let gpu = self.gpu.as_ref();
+        let worlds = self.worlds.len();
+        let shown = self
+            .worlds
+            .get_mut(id.0)
+            .ok_or_else(|| GameError::Message(StageError::Unknown { id, worlds }.to_string()))?;
+        shown
+            .sync(gpu)
+            .map_err(|error| GameError::Message(format!("world \"{}\": {error}", shown.label)))?;
+        Ok(&shown.world)
+    }
+
+    /// Reads every world on the GPU back (see [`read_back`](Self::read_back)).
+    pub(crate) fn read_back_all(&mut self) -> Result<(), GameError> {
+        let gpu = self.gpu.as_ref();
+        for shown in &mut self.worlds {
+            shown
+                .sync(gpu)
+                .map_err(|error| GameError::Message(format!("world \"{}\": {error}", shown.label)))?;
+        }
+        Ok(())
     }
 
     /// Several worlds at once, to change together (a ball passing from one

@@ -29,6 +29,8 @@ pub enum GpuStepError {
     Unsupported(&'static str),
     /// The adapter cannot run compute shaders (WebGL2).
     NoCompute,
+    /// No adapter was found for a world whose backend is the GPU.
+    NoAdapter(String),
     /// The particles' buffers are past one of the device's limits.
     Limit {
         /// The limit's name in `wgpu::Limits`.
@@ -83,6 +85,7 @@ impl fmt::Display for GpuStepError {
             Self::Collider { collider, reason } => write!(f, "the GPU step does not resolve this {collider}: {reason}"),
             Self::Unsupported(what) => write!(f, "the GPU step does not do {what}"),
             Self::NoCompute => f.write_str("the GPU step needs compute shaders, which this adapter (WebGL2) lacks"),
+            Self::NoAdapter(why) => write!(f, "the GPU backend needs a graphics adapter: {why}"),
             Self::Limit {
                 limit,
                 value,

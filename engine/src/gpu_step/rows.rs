@@ -114,6 +114,13 @@ impl RowPlan {
     }
 }
 
+impl RowPlan {
+    /// The largest radius among the new particles (0 for none).
+    pub fn max_radius(&self) -> f32 {
+        self.spawns.iter().fold(0.0, |m: f32, s| m.max(s.position[3]))
+    }
+}
+
 /// The state buffers the row kernels read and write.
 pub(super) struct StateBuffers<'a> {
     pub positions: &'a wgpu::Buffer,

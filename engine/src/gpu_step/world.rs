@@ -82,6 +82,8 @@ pub struct GpuWorld {
     /// and store), and whether the world logs its row changes for it.
     revision: u64,
     following: bool,
+    /// At least the largest radius of its particles (for the renderer).
+    max_radius: f32,
 }
 
 /// A particle's columns on the GPU.
@@ -299,6 +301,7 @@ impl GpuWorld {
             changes_rows: changes_rows(world),
             revision: world.revision(),
             following: false,
+            max_radius: p.radius.iter().fold(0.0, |m: f32, &r| m.max(r)),
         })
     }
 
@@ -318,6 +321,14 @@ impl GpuWorld {
     #[must_use]
     pub fn method(&self) -> &'static str {
         self.plan.method
+    }
+
+    /// Whether [`step`](Self::step) takes this world: its rows stay as
+    /// they are (no emitters, lifetimes or queued commands); otherwise it
+    /// steps by [`advance`](Self::advance).
+    #[must_use]
+    pub fn steps_in_batches(&self) -> bool {
+        !self.changes_rows
     }
 
     /// The fixed steps taken.
@@ -344,6 +355,7 @@ impl GpuWorld {
             current: &self.state.positions,
             colours: &self.state.colours,
             count: self.n,
+            max_radius: self.max_radius,
         }
     }
 
@@ -538,6 +550,7 @@ impl GpuWorld {
         let (n, groups) = dispatch(world.len(), &gpu.device.limits())?;
         self.reserve(gpu, encoder, n)?;
         self.row_plan.plan(log, self.n, world);
+        self.max_radius = self.row_plan.max_radius().max(self.max_radius);
         self.rows.encode(gpu, encoder, &self.row_plan, &self.state.buffers())?;
         (self.n, self.groups) = (n, groups);
         Ok(())
@@ -768,9 +781,16 @@ impl GpuWorld {
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+        // Natively the wait has run the callback; a page cannot wait (its
+        // GPU answers once its script yields), and is told so.
         receiver
-            .recv()
-            .map_err(|_| GpuStepError::ReadBack("the read-back was dropped".into()))?
+            .try_recv()
+            .map_err(|_| {
+                GpuStepError::ReadBack(
+                    "the GPU has not answered: a page cannot wait for a read-back (read a GPU world back natively)"
+                        .into(),
+                )
+            })?
             .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
         let mapped = slice
             .get_mapped_range()

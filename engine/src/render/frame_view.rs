@@ -48,11 +48,12 @@ pub struct FrameView<'a> {
     /// Colour changes in the HUD text: from each byte offset on, the text
     /// is drawn in that sRGB colour (default: none, all light grey).
     pub hud_colours: &'a [(usize, [u8; 4])],
-    /// Particles stepped on the GPU, drawn from their own buffers with the
-    /// worlds' discs (on `particle_layer`), interpolated linearly between
+    /// Particles stepped on the GPU, drawn from their own buffers after
+    /// the worlds' (on `particle_layer`), interpolated linearly between
     /// their previous and current positions (Hermite interpolation is not
-    /// theirs yet), as quads (the splat stands aside): nothing is
-    /// uploaded.
+    /// theirs yet: an error), as quads or by the splat as any world's: a
+    /// compute pass gathers them into the frame's particle records on the
+    /// GPU, nothing is uploaded.
     pub gpu_particles: &'a [GpuParticles<'a>],
 }
 
@@ -69,6 +70,9 @@ pub struct GpuParticles<'a> {
     pub colours: &'a wgpu::Buffer,
     /// How many particles.
     pub count: u32,
+    /// At least the largest radius among them (the splat path draws
+    /// particles up to a few pixels wide).
+    pub max_radius: f32,
 }
 
 impl<'a> FrameView<'a> {

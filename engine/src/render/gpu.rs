@@ -9,7 +9,9 @@ use std::fmt;
 
 use super::RenderError;
 
-/// A wgpu device and queue, with the adapter they came from.
+/// A wgpu device and queue, with the adapter they came from (cloned
+/// cheaply: each is a handle to the same device).
+#[derive(Clone)]
 pub struct Gpu {
     /// The instance the adapter was found on (needed to create surfaces).
     pub instance: wgpu::Instance,

@@ -38,6 +38,7 @@ mod camera;
 mod config;
 mod error;
 mod frame_view;
+mod gather;
 mod golden;
 mod gpu;
 mod hermite;

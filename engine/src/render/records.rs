@@ -133,29 +133,3 @@ pub(crate) fn instance_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
         attributes: &INSTANCE_ATTRIBUTES,
     }
 }
-
-/// The previous position and radius, `(x, y, z, radius)` a particle, of a
-/// world stepped on the GPU (slot 0), as the shader's `previous` and
-/// `radius`.
-const GPU_PREVIOUS: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32];
-/// Its current position (slot 1), as `current`.
-const GPU_CURRENT: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![2 => Float32x3];
-/// Its colours (slot 2), as `colour`.
-const GPU_COLOUR: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
-
-/// The layouts of a GPU world's own buffers read as the particle shader's
-/// instance records: no upload, the same shader.
-pub(crate) fn gpu_particle_buffer_layouts() -> [Option<wgpu::VertexBufferLayout<'static>>; 3] {
-    let layout = |array_stride, attributes| {
-        Some(wgpu::VertexBufferLayout {
-            array_stride,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes,
-        })
-    };
-    [
-        layout(16, &GPU_PREVIOUS[..]),
-        layout(16, &GPU_CURRENT[..]),
-        layout(4, &GPU_COLOUR[..]),
-    ]
-}

@@ -96,12 +96,13 @@ pub struct Renderer {
     world_draws: Vec<WorldDraw>,
     /// The layers the worlds are drawn on, lowest first, each once.
     world_layers: Vec<i32>,
-    /// The frame's particles stepped on the GPU: previous, current and
-    /// colour buffers (shared handles) and counts, drawn with the worlds.
-    gpu_draws: Vec<(wgpu::Buffer, wgpu::Buffer, wgpu::Buffer, u32)>,
-    /// The particle shader over a GPU world's own buffers, made at the
-    /// first frame that has one.
-    gpu_particle_pipeline: Option<wgpu::RenderPipeline>,
+    /// The CPU worlds' records in `instances` (the GPU worlds' follow).
+    cpu_instances: u32,
+    /// The largest radius among the CPU worlds' particles.
+    cpu_max_radius: f32,
+    /// GPU worlds' particles into `instances`, made at the first frame
+    /// that has one.
+    gather: Option<super::gather::Gather>,
     /// Where a letterboxed camera draws (`None`: the whole frame).
     letterbox: Option<FrameRect>,
     /// The game's sprites.
@@ -285,8 +286,9 @@ impl Renderer {
             particle_layer: 0,
             world_draws: Vec::new(),
             world_layers: Vec::new(),
-            gpu_draws: Vec::new(),
-            gpu_particle_pipeline: None,
+            cpu_instances: 0,
+            cpu_max_radius: 0.0,
+            gather: None,
             letterbox: None,
             sprites,
             frame_scissor: [0, 0, 1, 1],
@@ -351,40 +353,31 @@ impl Renderer {
             None => [0, 0, self.frame_size.0, self.frame_size.1],
         };
         let t = self.config.interpolation.parameter(view.alpha);
+        let gpu_count = self.gather_count(view)?;
         self.upload_particles(gpu, view);
-        self.plan_worlds(view);
-        for (k, g) in view.gpu_particles.iter().enumerate() {
-            let count = u64::from(g.count);
-            let held = (g.previous.size().min(g.current.size()) / 16).min(g.colours.size() / 4);
-            if count > held {
-                return Err(RenderError::Config(format!(
-                    "gpu_particles[{k}] counts {count} particles, but its buffers hold {held}"
-                )));
+        let total = u64::from(self.cpu_instances) + gpu_count;
+        if gpu_count > 0 && total * std::mem::size_of::<Instance>() as u64 > self.instances.size() {
+            // Room for the GPU worlds' records too: the CPU's go again.
+            let rows = usize::try_from(total).unwrap_or(usize::MAX).next_power_of_two();
+            self.instances = record_buffer::<Instance>(&gpu.device, "tickwork particles", rows);
+            if let Some(splat) = &mut self.splat {
+                splat.invalidate();
             }
+            self.uploaded.clear();
+            self.upload_particles(gpu, view);
         }
-        self.gpu_draws.clear();
-        self.gpu_draws.extend(
-            view.gpu_particles
-                .iter()
-                .filter(|g| g.count > 0)
-                .map(|g| (g.previous.clone(), g.current.clone(), g.colours.clone(), g.count)),
-        );
-        if !self.gpu_draws.is_empty() && self.gpu_particle_pipeline.is_none() {
-            self.gpu_particle_pipeline = Some(particle_pipeline(
-                &gpu.device,
-                &self.particle_layout,
-                &self.particle_shader,
-                "vs_main",
-                &super::records::gpu_particle_buffer_layouts(),
-                self.format,
-                &self.config,
-            ));
+        self.instance_count = u32::try_from(total).unwrap_or(u32::MAX);
+        self.max_radius = view
+            .gpu_particles
+            .iter()
+            .fold(self.cpu_max_radius, |m, g| m.max(g.max_radius));
+        if gpu_count > 0 {
+            let gather = self
+                .gather
+                .get_or_insert_with(|| super::gather::Gather::new(&gpu.device));
+            gather.gather(gpu, &self.instances, self.cpu_instances, view.gpu_particles);
         }
-        // GPU particles are drawn with the worlds of the particle layer.
-        if !self.gpu_draws.is_empty() && !self.world_layers.contains(&view.particle_layer) {
-            self.world_layers.push(view.particle_layer);
-            self.world_layers.sort_unstable();
-        }
+        self.plan_worlds(view, gpu_count);
         let dt = match self.config.interpolation {
             Interpolation::Hermite { dt } => Some(dt),
             _ => None,
@@ -414,7 +407,6 @@ impl Renderer {
             // draws).
             && self.letterbox.is_none()
             && self.world_layers.len() <= 1
-            && self.gpu_draws.is_empty()
             && self.max_radius * pixels_per_unit <= SPLAT_MAX_RADIUS;
         if self.splat_active
             && let Some(splat) = &mut self.splat
@@ -570,18 +562,6 @@ impl Renderer {
             }
             return;
         }
-        if layer == self.particle_layer
-            && let Some(pipeline) = &self.gpu_particle_pipeline
-        {
-            for (previous, current, colours, count) in &self.gpu_draws {
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &self.particle_bind_group, &[]);
-                pass.set_vertex_buffer(0, previous.slice(..));
-                pass.set_vertex_buffer(1, current.slice(..));
-                pass.set_vertex_buffer(2, colours.slice(..));
-                pass.draw(0..4, 0..*count);
-            }
-        }
         for world in on_layer().filter(|w| !w.instances.is_empty()) {
             match &self.hermite {
                 Some(hermite) if self.hermite_active => {
@@ -604,7 +584,7 @@ impl Renderer {
 
     /// Each world's layer and instances this frame, and the layers they
     /// are on (lowest first). Their lines are set as they are built.
-    fn plan_worlds(&mut self, view: &FrameView<'_>) {
+    fn plan_worlds(&mut self, view: &FrameView<'_>, gpu_count: u64) {
         self.world_draws.clear();
         self.world_layers.clear();
         let mut first = 0u32;
@@ -619,6 +599,18 @@ impl Renderer {
             first = first.saturating_add(count);
             if !self.world_layers.contains(&layer) {
                 self.world_layers.push(layer);
+            }
+        }
+        // The GPU worlds' records, after the CPU's, on the particle layer.
+        if gpu_count > 0 {
+            let count = u32::try_from(gpu_count).unwrap_or(u32::MAX);
+            self.world_draws.push(WorldDraw {
+                layer: view.particle_layer,
+                instances: first..first.saturating_add(count),
+                lines: 0..0,
+            });
+            if !self.world_layers.contains(&view.particle_layer) {
+                self.world_layers.push(view.particle_layer);
             }
         }
         self.world_layers.sort_unstable();
@@ -852,6 +844,31 @@ impl Renderer {
         }
     }
 
+    /// The particles of the frame's GPU worlds, checked against their
+    /// buffers (and refused under Hermite interpolation, which needs
+    /// velocities their records do not carry).
+    fn gather_count(&self, view: &FrameView<'_>) -> Result<u64, RenderError> {
+        let mut total = 0u64;
+        for (k, g) in view.gpu_particles.iter().enumerate() {
+            let count = u64::from(g.count);
+            let held = (g.previous.size().min(g.current.size()) / 16).min(g.colours.size() / 4);
+            if count > held {
+                return Err(RenderError::Config(format!(
+                    "gpu_particles[{k}] counts {count} particles, but its buffers hold {held}"
+                )));
+            }
+            total += count;
+        }
+        if total > 0 && matches!(self.config.interpolation, Interpolation::Hermite { .. }) {
+            return Err(RenderError::Config(
+                "Hermite interpolation of particles stepped on the GPU is not there yet: draw them with \
+                 Interpolation::Interpolate"
+                    .into(),
+            ));
+        }
+        Ok(total)
+    }
+
     fn upload_particles(&mut self, gpu: &Gpu, view: &FrameView<'_>) {
         self.upload_key.clear();
         self.upload_key
@@ -861,8 +878,8 @@ impl Renderer {
         }
         std::mem::swap(&mut self.uploaded, &mut self.upload_key);
         let n: usize = view.worlds().map(|w| w.world.len()).sum();
-        self.instance_count = n as u32;
-        self.max_radius = view
+        self.cpu_instances = u32::try_from(n).unwrap_or(u32::MAX);
+        self.cpu_max_radius = view
             .worlds()
             .flat_map(|w| w.world.particles().radius.iter())
             .fold(0.0, |m: f32, &r| m.max(r));

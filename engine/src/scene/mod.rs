@@ -152,6 +152,7 @@ impl Scene {
         WorldConfig {
             integrator: self.spec.integrator.0.clone(),
             seed: self.spec.seed,
+            backend: self.spec.backend,
             ..WorldConfig::default()
         }
     }

@@ -233,6 +233,12 @@ impl World {
         &self.config
     }
 
+    /// Sets where a runner steps the particles (see
+    /// [`WorldConfig::backend`]); for a world that has not stepped yet.
+    pub fn set_backend(&mut self, backend: super::Backend) {
+        self.config.backend = backend;
+    }
+
     // ---- snapshots ----------------------------------------------------------
 
     /// This world's identity: unique in the process, different for a clone.

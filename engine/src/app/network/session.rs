@@ -172,6 +172,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
                     integrator: welcome.integrator.clone(),
                     seed: welcome.seed,
                     networked: true,
+                    gpu: false,
                 },
                 hz: welcome.hz,
                 record: None,

@@ -438,6 +438,7 @@ impl ApplicationHandler<Connected> for App<'_> {
         self.connecting = false;
         match connected {
             Ok((state, panel)) => {
+                self.source.attach_gpu(&state.gpu);
                 self.summary.adapter = state.gpu.describe();
                 self.summary.surface = format!("{:?}, {:?}", state.format, state.config.present_mode);
                 if crate::platform::IS_WEB {

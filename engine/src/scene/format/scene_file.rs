@@ -35,6 +35,10 @@ pub struct SceneFile {
     /// Seed of the world's random generator (default: `0`).
     #[serde(default)]
     pub seed: u64,
+    /// Where a runner steps the particles: `Cpu` or `Gpu` (default: `Cpu`;
+    /// `--gpu` overrides it).
+    #[serde(default)]
+    pub backend: crate::world::Backend,
     /// Simulated seconds a headless run lasts unless told otherwise (default: `10.0`).
     #[serde(default = "default_duration")]
     pub duration: Positive,

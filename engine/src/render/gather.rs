@@ -1,0 +1,136 @@
+//! GPU worlds' particles gathered into the frame's instance records
+//! (`assets/shaders/gather.wgsl`): one compute pass a frame writes each
+//! GPU world's previous and current positions, radii and colours after
+//! the CPU worlds' records, so the quads and the splat draw every world
+//! the same way. Nothing is uploaded or read back: 32 bytes a particle
+//! written on the GPU.
+
+use super::frame_view::GpuParticles;
+use super::gpu::Gpu;
+
+/// Invocations a workgroup (`@workgroup_size` in `gather.wgsl`).
+const WORKGROUP: u32 = 64;
+
+/// `Gather` in `gather.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GatherParams {
+    first: u32,
+    count: u32,
+    groups_x: u32,
+    pad: u32,
+}
+
+/// The gather pipeline and a uniform a GPU world.
+pub(crate) struct Gather {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    /// One a GPU world of the frame, kept from frame to frame.
+    params: Vec<wgpu::Buffer>,
+}
+
+impl Gather {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("tickwork gather"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gather.wgsl").into()),
+        });
+        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        use wgpu::BufferBindingType::{Storage, Uniform};
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork gather"),
+            entries: &[
+                buffer(0, Uniform),
+                buffer(1, Storage { read_only: true }),
+                buffer(2, Storage { read_only: true }),
+                buffer(3, Storage { read_only: true }),
+                buffer(4, Storage { read_only: false }),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tickwork gather"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tickwork gather"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("gather_particles"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Self {
+            layout,
+            pipeline,
+            params: Vec::new(),
+        }
+    }
+
+    /// Writes `worlds`' particles into `instances` from record `first` on,
+    /// one after the other, and submits the pass (before the frame's own
+    /// commands, which draw them).
+    pub(crate) fn gather(&mut self, gpu: &Gpu, instances: &wgpu::Buffer, first: u32, worlds: &[GpuParticles<'_>]) {
+        let device = &gpu.device;
+        while self.params.len() < worlds.len() {
+            self.params.push(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("tickwork gather params"),
+                size: std::mem::size_of::<GatherParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("tickwork gather"),
+        });
+        let per_dimension = device.limits().max_compute_workgroups_per_dimension.max(1);
+        let mut first = first;
+        for (world, params) in worlds.iter().zip(&self.params) {
+            let groups = world.count.div_ceil(WORKGROUP);
+            let x = groups.min(per_dimension);
+            let y = groups.div_ceil(x.max(1));
+            let uniform = GatherParams {
+                first,
+                count: world.count,
+                groups_x: x,
+                pad: 0,
+            };
+            first = first.saturating_add(world.count);
+            if world.count == 0 {
+                continue;
+            }
+            gpu.queue.write_buffer(params, 0, bytemuck::bytes_of(&uniform));
+            let entries = [params, world.previous, world.current, world.colours, instances];
+            let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
+                .iter()
+                .enumerate()
+                .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                    binding: binding as u32,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("tickwork gather"),
+                layout: &self.layout,
+                entries: &entries,
+            });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tickwork gather"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+}
