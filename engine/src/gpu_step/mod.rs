@@ -4,8 +4,12 @@
 //!
 //! A [`GpuWorld`] is made from a [`World`](crate::World): its particles are
 //! uploaded once, then [`GpuWorld::step`] records any number of fixed steps
-//! into one command buffer, one dispatch each, and nothing comes back
-//! unless asked for ([`GpuWorld::read_back`], which says what it costs).
+//! into one command buffer, one dispatch each, or [`GpuWorld::advance`]
+//! runs one fixed step of the world with the world's own lifetimes,
+//! emitters and spawns on the CPU and the GPU's rows following the
+//! world's (`rows.rs`); nothing comes back unless asked for
+//! ([`GpuWorld::read_back`], which says what it costs). The runners step
+//! a world here when its `WorldConfig::backend` says so (`app/backend.rs`).
 //! What the GPU step does not do (yet) is refused when the world is made,
 //! with an error naming it ([`GpuStepError`]): the methods are explicit
 //! and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth; the
