@@ -96,6 +96,45 @@ fn render_writes_frames_and_a_gif_and_refuses_to_overwrite_them() {
 }
 
 #[test]
+fn a_million_particles_render_on_the_gpu_as_they_render_on_the_cpu() {
+    // The GPU step's scene: a million particles onto a floor, drawn by the
+    // splat on either backend; the GPU's states are the CPU's on lavapipe,
+    // so the frames are the same pixels.
+    let mut last = Vec::new();
+    for backend in ["cpu", "gpu"] {
+        let dir = scratch(&format!("downpour_{backend}"));
+        let scene_path = scene("downpour.ron");
+        let mut args = vec![
+            "render",
+            &scene_path,
+            "--frames",
+            "3",
+            "--size",
+            "320x180",
+            "--no-hud",
+            "--display-hz",
+            "20",
+            "--out",
+            dir.to_str().expect("utf-8"),
+        ];
+        if backend == "gpu" {
+            args.push("--gpu");
+        }
+        let output = tickwork(&args);
+        assert!(output.status.success(), "{backend}: {}", text(&output.stderr));
+        let stdout = text(&output.stdout);
+        // 3 frames of 50 ms at 60 Hz: 9 steps.
+        assert!(stdout.contains("rendered 3 frames (9 steps, 320x180)"), "{stdout}");
+        last.push(image::open(dir.join("frame_00002.png")).expect("frame").to_rgba8());
+    }
+    // Something is drawn: the lattice's blue over the background's 22.
+    let lit = last[0].pixels().filter(|p| p[2] > 40).count();
+    assert!(lit > 10_000, "{lit} lit pixels");
+    let differing = last[0].pixels().zip(last[1].pixels()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "pixels differing between the CPU's and the GPU's frame");
+}
+
+#[test]
 fn a_jittery_display_runs_the_steps_its_frame_times_add_up_to() {
     // 50 frames of a jittery 50 Hz display (+-50%, seed 1) on the scene's
     // 240 Hz clock: as many steps as fit in the frames' total duration.

@@ -373,6 +373,39 @@ fn a_bad_option_in_the_url_shows_the_native_error() {
 }
 
 #[test]
+fn the_fountain_steps_on_the_gpu_under_webgpu_and_draws_its_golden_frame() {
+    // `gpu` in the query is `--gpu`: the fountain's world steps in compute
+    // shaders under WebGPU, drawn from the GPU's buffers. The page cannot
+    // wait for a read-back, so it ends without a checksum, and says so;
+    // the frame is the native golden image (demos.rs: seed 3, 120 frames,
+    // 480x270), within the golden tolerance.
+    let (page, _) = page_frame_matches_golden(
+        "fountain/index.html?gpu&no-panel&seed=3&frames=120&size=480x270",
+        "demo_fountain",
+        "webgpu",
+        Tolerance::default(),
+    );
+    assert_eq!(page.dimensions(), (480, 270));
+}
+
+#[test]
+fn the_gpu_step_under_webgl2_is_refused_with_the_reason() {
+    let site = site();
+    let server = Server::start(&site).expect("the file server starts");
+    let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
+    let mut page = browser
+        .open(&server.url("fountain/index.html?gpu&backend=webgl2"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let shown = page
+        .wait_console(|l| l.starts_with("error"), PAGE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        shown.contains("world \"fountain\": the GPU step needs compute shaders, which this adapter (WebGL2) lacks"),
+        "{shown}"
+    );
+}
+
+#[test]
 fn a_page_whose_gpu_cannot_start_says_so() {
     let site = site();
     let server = Server::start(&site).expect("the file server starts");

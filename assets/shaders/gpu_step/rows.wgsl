@@ -17,6 +17,11 @@ struct Rows {
     // Workgroups along x of each dispatch (past 65 535 they fold into y).
     moves_groups_x: u32,
     spawns_groups_x: u32,
+    // 1 where the method keeps a history (the `history` buffer a particle).
+    history: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 struct Spawn {
@@ -37,6 +42,9 @@ struct Spawn {
 // (dst, src) a move.
 @group(0) @binding(5) var<storage, read> moves: array<vec2<u32>>;
 @group(0) @binding(6) var<storage, read> spawns: array<Spawn>;
+// The method's history a particle (one record for a method without: then
+// `rows.history` is 0 and it is left alone).
+@group(0) @binding(7) var<storage, read_write> history: array<vec4<f32>>;
 
 @compute @workgroup_size(256)
 fn relocate(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -49,6 +57,9 @@ fn relocate(@builtin(global_invocation_id) id: vec3<u32>) {
     velocities[m.x] = velocities[m.y];
     previous[m.x] = previous[m.y];
     colours[m.x] = colours[m.y];
+    if (rows.history != 0u) {
+        history[m.x] = history[m.y];
+    }
 }
 
 @compute @workgroup_size(256)
@@ -62,4 +73,8 @@ fn place(@builtin(global_invocation_id) id: vec3<u32>) {
     velocities[s.row] = s.velocity;
     previous[s.row] = s.previous;
     colours[s.row] = s.colour;
+    // A new particle has no history.
+    if (rows.history != 0u) {
+        history[s.row] = vec4<f32>(0.0);
+    }
 }

@@ -73,10 +73,77 @@ struct Motion {
 @group(0) @binding(3) var<storage, read> colliders: array<Collider>;
 // G sum_j m_j d_j / (...)^(3/2) of each particle at the step's start (xyz).
 @group(0) @binding(4) var<storage, read_write> nbody_accel: array<vec4<f32>>;
+// The methods that remember (HISTORY, written for the method below: 0
+// none, 1 the last acceleration, 2 the last position): velocity Verlet's
+// and leapfrog's last end acceleration (xyz); position Verlet's position
+// before the step (xyz) and whether the particle continues (w: 1) or
+// starts afresh (0: new, or changed after its step).
+@group(0) @binding(5) var<storage, read_write> history: array<vec4<f32>>;
+// flags[0], what this step reads of the last: bit 0 every particle starts
+// afresh (the CPU sets it: the first step, a new step length, rows added
+// or removed); bit 1 some particle's state was changed after its step (a
+// collider, the subnormal flush), which restarts velocity Verlet's and
+// leapfrog's cached accelerations for every particle, as the CPU's
+// history does. flags[1] collects this step's bit 1 (atomicOr: the same
+// word whatever the order); `rotate` moves it into flags[0].
+@group(0) @binding(6) var<storage, read_write> flags: array<atomic<u32>, 2>;
 
 // The particle this invocation steps (for `acceleration` to read its
 // n-body term).
 var<private> row: u32;
+
+// Whether every particle starts afresh this step (bit 0), or the cached
+// accelerations restart (any bit: velocity Verlet, leapfrog).
+fn all_start() -> bool {
+    return (atomicLoad(&flags[0]) & 1u) != 0u;
+}
+
+fn accelerations_restart() -> bool {
+    return atomicLoad(&flags[0]) != 0u;
+}
+
+// Particle `i`'s state was changed after its step: its history ends.
+fn broke(i: u32) {
+    history[i].w = 0.0;
+    atomicOr(&flags[1], 2u);
+}
+
+// Classical RK4 from (x0, v0) with the first stage's acceleration `a1`
+// given, summed in the CPU's order (integrators/src/methods/rk4.rs); the
+// start of position Verlet's particles without history too, as on the CPU.
+fn rk4_from(x0: vec3<f32>, v0: vec3<f32>, a1: vec3<f32>, w: f32, h: f32) -> Motion {
+    let half = h * 0.5;
+    var sx = v0;
+    var sv = a1;
+    var tx = x0 + v0 * half;
+    var tv = v0 + a1 * half;
+    // k2 then k3: each summed twice, and the next stage's trial point.
+    for (var stage = 0u; stage < 2u; stage++) {
+        var offset = half;
+        if (stage == 1u) {
+            offset = h;
+        }
+        let kx = tv;
+        let kv = acceleration(tx, tv, w);
+        sx = sx + kx * 2.0;
+        sv = sv + kv * 2.0;
+        tx = x0 + kx * offset;
+        tv = v0 + kv * offset;
+    }
+    sx = sx + tv;
+    sv = sv + acceleration(tx, tv, w);
+    // 1/6 rounded to f32 (0x3e2aaaab), as the CPU's `c(1.0 / 6.0)`.
+    let h6 = h * bitcast<f32>(0x3e2aaaabu);
+    return Motion(x0 + sx * h6, v0 + sv * h6);
+}
+
+// `d`, rounded before it is added to anything: a choice made at run time
+// (on `params.infinity`, never negative) that no compiler can fold, so
+// that `x + kept(a + b)` is not reassociated into `(x + a) + b`, as
+// lavapipe does to an expression WGSL cannot mark exact.
+fn kept(d: vec3<f32>) -> vec3<f32> {
+    return select(d, vec3<f32>(params.infinity), params.infinity < 0.0);
+}
 
 // x^2 + y^2 + z^2 summed as glam's dot product sums it.
 fn length_squared(d: vec3<f32>) -> f32 {
@@ -203,9 +270,21 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     row = i;
     let p = positions[i];
     let q = velocities[i];
-    let moved = resolve_colliders(advance(p.xyz, q.xyz, q.w, params.dt), p.w, q.w);
+    let stepped = advance(p.xyz, q.xyz, q.w, params.dt);
+    let moved = resolve_colliders(stepped, p.w, q.w);
+    if (HISTORY != 0u && (any(moved.x != stepped.x) || any(moved.v != stepped.v))) {
+        broke(i);
+    }
     positions[i] = vec4<f32>(moved.x, p.w);
     velocities[i] = vec4<f32>(moved.v, q.w);
+}
+
+// After each step of a method with history: its news become what the
+// next step reads.
+@compute @workgroup_size(1)
+fn rotate() {
+    atomicStore(&flags[0], atomicLoad(&flags[1]));
+    atomicStore(&flags[1], 0u);
 }
 
 // The n-body sums of the tile loaded into workgroup memory: positions and
@@ -258,10 +337,15 @@ fn flush(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     var q = velocities[i];
+    var flushed = false;
     for (var k = 0u; k < 3u; k++) {
         if (abs(q[k]) < bitcast<f32>(0x00800000u) && q[k] != 0.0) {
             q[k] = 0.0;
+            flushed = true;
         }
     }
     velocities[i] = q;
+    if (HISTORY != 0u && flushed) {
+        broke(i);
+    }
 }

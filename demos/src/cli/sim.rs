@@ -126,7 +126,8 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
         ProgressBar::hidden()
     };
     let mut backend = "cpu".to_owned();
-    let summary = if args.gpu {
+    // `--gpu`, or a scene whose backend is the GPU.
+    let summary = if args.gpu || world.config().backend == tickwork_engine::world::Backend::Gpu {
         let (summary, adapter) = run_on_gpu(&mut world, rate, steps, |done| bar.set_position(done))?;
         backend = format!("gpu: {adapter} (read back once, at the end)");
         summary

@@ -150,7 +150,7 @@ impl<G: Game> PageRun<G> {
     /// the recording.
     fn end(&mut self) -> Result<(), RunError> {
         self.ended = true;
-        let title = self.session.game().title();
+        let title = self.session.game().title().to_owned();
         let ticks = FrameSource::ticks(&self.session);
         if let Some(path) = self.session.save_recording()? {
             say(&format!(
@@ -165,7 +165,9 @@ impl<G: Game> PageRun<G> {
                 title,
                 self.session.checksum()
             )),
-            Err(why) => say(&format!("tickwork: {title}: no checksum of the final state: {why}")),
+            Err(why) => say(&format!(
+                "tickwork: {title}: the final state at tick {ticks} stays on the GPU, without a checksum: {why}"
+            )),
         }
         if let Some(outcome) = self.session.outcome() {
             say(&format!("{title}: {outcome}"));
@@ -236,6 +238,14 @@ impl<G: Game> FrameSource for PageRun<G> {
 
     fn camera_mut(&mut self) -> &mut crate::render::Camera {
         self.session.camera_mut()
+    }
+
+    fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
+        self.session.attach_gpu(gpu);
+    }
+
+    fn needs_gpu(&self) -> bool {
+        self.session.needs_gpu()
     }
 
     fn with_view(

@@ -363,6 +363,10 @@ impl FrameSource for Playback {
         &mut self.camera
     }
 
+    fn needs_gpu(&self) -> bool {
+        self.world.config().backend == crate::world::Backend::Gpu
+    }
+
     fn attach_gpu(&mut self, gpu: &Gpu) {
         // The first GPU given stays: the world's buffers live on it.
         if self.gpu.is_none() {

@@ -633,6 +633,13 @@ impl<G: Game> FrameSource for GameSession<G> {
         &mut self.stage.camera
     }
 
+    fn needs_gpu(&self) -> bool {
+        self.stage
+            .worlds
+            .iter()
+            .any(|w| w.world.config().backend == Backend::Gpu)
+    }
+
     fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
         // The first GPU given stays: the worlds' buffers live on it.
         if self.stage.gpu.is_none() {

@@ -78,6 +78,13 @@ pub trait FrameSource {
         let _ = gpu;
     }
 
+    /// Whether the source steps a world on the GPU, so that a runner whose
+    /// GPU is not there yet (a page's, a window's, which the platform
+    /// gives later) holds its frames until it is. Default: no.
+    fn needs_gpu(&self) -> bool {
+        false
+    }
+
     /// Calls `render` with the view of the current frame, for a target of
     /// `size` pixels (`hud`: with its HUD text).
     ///

@@ -32,7 +32,23 @@ const METHODS: &[(&str, &str)] = &[
         "forest_ruth",
         include_str!("../../../assets/shaders/gpu_step/forest_ruth.wgsl"),
     ),
+    (
+        "velocity_verlet",
+        include_str!("../../../assets/shaders/gpu_step/velocity_verlet.wgsl"),
+    ),
+    (
+        "leapfrog",
+        include_str!("../../../assets/shaders/gpu_step/leapfrog.wgsl"),
+    ),
+    (
+        "position_verlet",
+        include_str!("../../../assets/shaders/gpu_step/position_verlet.wgsl"),
+    ),
 ];
+
+/// The methods of [`METHODS`] that keep a history between steps (a
+/// `history` buffer, restarted as the CPU's `History` restarts).
+const HISTORY_METHODS: &[&str] = &["velocity_verlet", "leapfrog", "position_verlet"];
 
 /// An f32 as WGSL reads back its exact bits (written without allocating).
 struct Bits(f32);
@@ -142,6 +158,8 @@ pub(super) struct Plan {
     pub nbody: Option<(f32, f32)>,
     /// The colliders, in the order they act.
     pub colliders: Vec<ColliderRecord>,
+    /// Whether the method keeps a history between steps.
+    pub history: bool,
 }
 
 impl Plan {
@@ -153,6 +171,7 @@ impl Plan {
             affine: (Vec3A::ZERO, 0.0),
             nbody: None,
             colliders: Vec::new(),
+            history: false,
         }
     }
 }
@@ -187,7 +206,8 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         let reason = if info.implicit || info.variable_cost {
             "implicit and adaptive methods stay on the CPU"
         } else {
-            "not on the GPU yet (explicit and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth are)"
+            "not on the GPU yet (explicit and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity \
+             Verlet, leapfrog and position Verlet are)"
         };
         return Err(GpuStepError::Method {
             method: info.name.to_owned(),
@@ -296,6 +316,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         }
     }
     plan.method = method;
+    plan.history = HISTORY_METHODS.contains(&method);
     plan.affine = affine;
     plan.nbody = nbody;
     Ok(())

@@ -44,6 +44,9 @@ struct RowParams {
     spawns: u32,
     moves_groups_x: u32,
     spawns_groups_x: u32,
+    /// 1 where the method keeps a history to move with the rows.
+    history: u32,
+    _pad: [u32; 3],
 }
 
 /// What a log of row changes does to the rows (reused, step after step).
@@ -127,6 +130,7 @@ pub(super) struct StateBuffers<'a> {
     pub velocities: &'a wgpu::Buffer,
     pub previous: &'a wgpu::Buffer,
     pub colours: &'a wgpu::Buffer,
+    pub history: &'a wgpu::Buffer,
 }
 
 /// The `relocate` and `place` kernels with their buffers.
@@ -182,6 +186,7 @@ impl RowKernel {
                 storage(4, false),
                 storage(5, true),
                 storage(6, true),
+                storage(7, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -222,7 +227,7 @@ impl RowKernel {
     }
 
     /// Records `plan` into `encoder`: its moves, then its new records, on
-    /// `state`. Its records are written to the queue now, so the encoder
+    /// `state` (and its history records where the method keeps them). Its records are written to the queue now, so the encoder
     /// must be submitted before the next call.
     ///
     /// # Errors
@@ -233,6 +238,7 @@ impl RowKernel {
         encoder: &mut wgpu::CommandEncoder,
         plan: &RowPlan,
         state: &StateBuffers<'_>,
+        history: bool,
     ) -> Result<(), GpuStepError> {
         if plan.moves.is_empty() && plan.spawns.is_empty() {
             return Ok(());
@@ -259,6 +265,8 @@ impl RowKernel {
             spawns,
             moves_groups_x: moves_groups.0,
             spawns_groups_x: spawns_groups.0,
+            history: u32::from(history),
+            _pad: [0; 3],
         };
         gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         if !plan.moves.is_empty() {
@@ -278,6 +286,7 @@ impl RowKernel {
                 state.colours.as_entire_binding(),
                 self.moves.as_entire_binding(),
                 self.spawns.as_entire_binding(),
+                state.history.as_entire_binding(),
             ];
             let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
                 .into_iter()

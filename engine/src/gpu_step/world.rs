@@ -12,8 +12,9 @@ use crate::render::Gpu;
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
 
-/// Storage buffers the row kernels bind (`rows.wgsl`).
-const STORAGE_BUFFERS: u32 = 6;
+/// Storage buffers the row kernels and the step bind (`rows.wgsl`,
+/// `step.wgsl`).
+const STORAGE_BUFFERS: u32 = 7;
 
 /// Invocations a workgroup (`@workgroup_size` in `step.wgsl`).
 pub const WORKGROUP: u32 = 256;
@@ -61,6 +62,18 @@ pub struct GpuWorld {
     /// Each particle's n-body acceleration at the step's start, where the
     /// world has an n-body force.
     nbody_accel: wgpu::Buffer,
+    /// What a step of a method with history reads of the last (`flags` in
+    /// `step.wgsl`).
+    flags: wgpu::Buffer,
+    /// What the next step of a method with history is told (`flags[0]` in
+    /// `step.wgsl`), as the CPU's `History` decides it: bit 0, every
+    /// particle starts afresh (the first step, a new step length, a new
+    /// method); bit 1, rows were added or removed (which restarts velocity
+    /// Verlet's and leapfrog's cached accelerations; position Verlet's new
+    /// rows start alone).
+    restart: u32,
+    /// The last step's length.
+    last_dt: Option<f32>,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: Pipelines,
@@ -98,11 +111,15 @@ struct State {
     previous: wgpu::Buffer,
     /// Each particle's colour, for drawing.
     colours: wgpu::Buffer,
+    /// Each particle's history, for methods that keep one (`history` in
+    /// `step.wgsl`; one record otherwise).
+    history: wgpu::Buffer,
 }
 
 impl State {
-    /// Empty buffers for `capacity` particles.
-    fn new(device: &wgpu::Device, capacity: u32) -> Self {
+    /// Empty buffers for `capacity` particles (`history`: with a history
+    /// record each).
+    fn new(device: &wgpu::Device, capacity: u32, history: bool) -> Self {
         let vec4s = |label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -121,6 +138,7 @@ impl State {
                 usage: STATE_USAGE,
                 mapped_at_creation: false,
             }),
+            history: history_buffer(device, history, capacity),
         }
     }
 
@@ -130,8 +148,19 @@ impl State {
             velocities: &self.velocities,
             previous: &self.previous,
             colours: &self.colours,
+            history: &self.history,
         }
     }
+}
+
+/// A vec4 a particle for a method with history; one otherwise.
+fn history_buffer(device: &wgpu::Device, history: bool, capacity: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork gpu step history"),
+        size: if history { 16 * u64::from(capacity.max(1)) } else { 16 },
+        usage: STATE_USAGE,
+        mapped_at_creation: false,
+    })
 }
 
 /// The state buffers: stepped, drawn, copied in and out.
@@ -147,6 +176,8 @@ struct Pipelines {
     nbody: Option<wgpu::ComputePipeline>,
     /// Subnormal velocities to 0, after the ticks the CPU's step flushes.
     flush: wgpu::ComputePipeline,
+    /// After each step of a method with history: its news to the next.
+    rotate: Option<wgpu::ComputePipeline>,
 }
 
 impl Pipelines {
@@ -169,12 +200,17 @@ impl Pipelines {
             step: pipeline_of("step"),
             nbody: plan.nbody.map(|_| pipeline_of("nbody")),
             flush: pipeline_of("flush"),
+            rotate: plan.history.then(|| pipeline_of("rotate")),
         }
     }
 }
 
 impl GpuWorld {
-    /// Uploads `world`'s particles to `gpu` and builds its step.
+    /// Uploads `world`'s particles to `gpu` and builds its step. A method
+    /// with history (velocity Verlet's and leapfrog's last acceleration,
+    /// position Verlet's last position) starts it afresh here, as a new
+    /// integrator would: a world that has stepped on the CPU goes on as
+    /// after [`World::set_integrator`].
     ///
     /// # Errors
     /// [`GpuStepError`]: what of the world the GPU step does not do (its
@@ -192,7 +228,7 @@ impl GpuWorld {
         }
         if gpu.device.limits().max_storage_buffers_per_shader_stage < STORAGE_BUFFERS {
             return Err(GpuStepError::Unsupported(
-                "an adapter with fewer than 6 storage buffers a compute shader \
+                "an adapter with fewer than 7 storage buffers a compute shader \
                  (wgpu::Limits::max_storage_buffers_per_shader_stage)",
             ));
         }
@@ -201,7 +237,7 @@ impl GpuWorld {
         let count = p.len();
         let (n, groups) = dispatch(count, &gpu.device.limits())?;
         let device = &gpu.device;
-        let state = State::new(device, n);
+        let state = State::new(device, n, plan.history);
         let mut positions = Vec::with_capacity(count);
         let mut previous = Vec::with_capacity(count);
         let mut velocities = Vec::with_capacity(count);
@@ -243,6 +279,12 @@ impl GpuWorld {
             mapped_at_creation: false,
         });
         let nbody_accel = nbody_buffer(device, plan.nbody.is_some(), n);
+        let flags = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tickwork gpu step flags"),
+            size: 8,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -269,6 +311,8 @@ impl GpuWorld {
                 entry(2, storage(false)),
                 entry(3, storage(true)),
                 entry(4, storage(false)),
+                entry(5, storage(false)),
+                entry(6, storage(false)),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -277,7 +321,7 @@ impl GpuWorld {
             immediate_size: 0,
         });
         let pipelines = Pipelines::new(device, &pipeline_layout, &plan);
-        let bind_group = step_bind_group(device, &layout, &params, &state, &colliders, &nbody_accel);
+        let bind_group = step_bind_group(device, &layout, &params, &state, [&colliders, &nbody_accel, &flags]);
         Ok(Self {
             scratch: plan.clone(),
             plan,
@@ -288,6 +332,9 @@ impl GpuWorld {
             colliders,
             params,
             nbody_accel,
+            flags,
+            restart: 1,
+            last_dt: None,
             layout,
             pipeline_layout,
             pipelines,
@@ -424,6 +471,9 @@ impl GpuWorld {
         }
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.params(dt)));
+        if steps > 0 {
+            self.start_history(gpu, dt);
+        }
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step"),
         });
@@ -522,6 +572,7 @@ impl GpuWorld {
         let dt = step.dt as f32;
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.params(dt)));
+        self.start_history(gpu, dt);
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step"),
         });
@@ -533,6 +584,24 @@ impl GpuWorld {
         gpu.queue.submit([encoder.finish()]);
         self.took(dt, 1);
         Ok(report)
+    }
+
+    /// Before steps of `dt`: tells a method with history, through its
+    /// flags, whether every particle starts afresh (the first step, a new
+    /// step length, a new method) or rows changed, as the CPU's history
+    /// decides it.
+    fn start_history(&mut self, gpu: &Gpu, dt: f32) {
+        if self.last_dt.is_none_or(|last| last.to_bits() != dt.to_bits()) {
+            self.restart |= 1;
+            self.last_dt = Some(dt);
+        }
+        // (Bit 1 may already be set by the last step: kept, or implied by
+        // bit 0.)
+        if self.plan.history && self.restart != 0 {
+            gpu.queue
+                .write_buffer(&self.flags, 0, bytemuck::cast_slice(&[self.restart, 0]));
+        }
+        self.restart = 0;
     }
 
     /// Records into `encoder` what `log` did to the rows, leaving the
@@ -547,11 +616,14 @@ impl GpuWorld {
         if log.is_empty() {
             return Ok(());
         }
+        // Rows added or removed: the next step is told.
+        self.restart |= 2;
         let (n, groups) = dispatch(world.len(), &gpu.device.limits())?;
         self.reserve(gpu, encoder, n)?;
         self.row_plan.plan(log, self.n, world);
         self.max_radius = self.row_plan.max_radius().max(self.max_radius);
-        self.rows.encode(gpu, encoder, &self.row_plan, &self.state.buffers())?;
+        self.rows
+            .encode(gpu, encoder, &self.row_plan, &self.state.buffers(), self.plan.history)?;
         (self.n, self.groups) = (n, groups);
         Ok(())
     }
@@ -571,12 +643,13 @@ impl GpuWorld {
             rows
         };
         let device = &gpu.device;
-        let state = State::new(device, capacity);
+        let state = State::new(device, capacity, self.plan.history);
         for (from, to) in [
             (&self.state.positions, &state.positions),
             (&self.state.velocities, &state.velocities),
             (&self.state.previous, &state.previous),
             (&self.state.colours, &state.colours),
+            (&self.state.history, &state.history),
         ] {
             encoder.copy_buffer_to_buffer(from, 0, to, 0, from.size());
         }
@@ -596,8 +669,7 @@ impl GpuWorld {
             &self.layout,
             &self.params,
             &self.state,
-            &self.colliders,
-            &self.nbody_accel,
+            [&self.colliders, &self.nbody_accel, &self.flags],
         );
         self.rows.unbind();
     }
@@ -610,6 +682,14 @@ impl GpuWorld {
         if self.scratch.nbody.is_some() && self.nbody_accel.size() < u64::from(self.capacity) * 16 {
             self.nbody_accel = nbody_buffer(device, true, self.capacity);
             rebind = true;
+        }
+        if self.scratch.history && self.state.history.size() < u64::from(self.capacity) * 16 {
+            self.state.history = history_buffer(device, true, self.capacity);
+            rebind = true;
+        }
+        if self.scratch.method != self.plan.method {
+            // A new method starts without history, as `set_integrator`'s.
+            self.restart |= 1;
         }
         if self.scratch.source != self.plan.source {
             self.pipelines = Pipelines::new(device, &self.pipeline_layout, &self.scratch);
@@ -673,6 +753,10 @@ impl GpuWorld {
                 pass.set_pipeline(&p.flush);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             }
+            if let Some(rotate) = &p.rotate {
+                pass.set_pipeline(rotate);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
         }
     }
 
@@ -696,7 +780,9 @@ impl GpuWorld {
     /// CPU adds it), which [`advance`](Self::advance) has booked already
     /// (then `last` is not read). Its checksum is then the CPU run's where
     /// the GPU's states are the CPU's (on lavapipe, tested), and the
-    /// adapter's own elsewhere. Costs a read-back of three buffers (48
+    /// adapter's own elsewhere; for a method with history it differs even
+    /// so: the checksum covers the method's history, which stays on the
+    /// GPU (the world's integrator keeps none). Costs a read-back of three buffers (48
     /// bytes a particle) and a wait.
     ///
     /// # Errors
@@ -831,16 +917,24 @@ fn nbody_buffer(device: &wgpu::Device, nbody: bool, capacity: u32) -> wgpu::Buff
     })
 }
 
-/// The step's bind group over these buffers.
+/// The step's bind group over these buffers (`[colliders, n-body, flags]`
+/// with the state's).
 fn step_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     params: &wgpu::Buffer,
     state: &State,
-    colliders: &wgpu::Buffer,
-    nbody_accel: &wgpu::Buffer,
+    [colliders, nbody_accel, flags]: [&wgpu::Buffer; 3],
 ) -> wgpu::BindGroup {
-    let resources = [params, &state.positions, &state.velocities, colliders, nbody_accel];
+    let resources = [
+        params,
+        &state.positions,
+        &state.velocities,
+        colliders,
+        nbody_accel,
+        &state.history,
+        flags,
+    ];
     let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
         .iter()
         .enumerate()

@@ -547,6 +547,14 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
         self.session.camera_mut()
     }
 
+    fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
+        self.session.attach_gpu(gpu);
+    }
+
+    fn needs_gpu(&self) -> bool {
+        self.session.needs_gpu()
+    }
+
     fn with_view(
         &mut self,
         hud: bool,

@@ -311,7 +311,8 @@ impl App<'_> {
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), RunError> {
         let holding = self.hold_started.is_some();
         self.hand_over()?;
-        if !holding {
+        // A source that steps on the GPU waits for the runner's.
+        if !holding && (self.state.is_some() || !self.source.needs_gpu()) {
             let seconds = self.time.next_frame();
             self.source.advance(seconds)?;
         }
