@@ -578,14 +578,14 @@ fn sim_on_the_gpu_ends_in_the_cpus_checksum_and_refuses_what_it_does_not_do_by_n
         }
     }
     let projectile = scene("projectile.ron");
-    let refused = tickwork(&["sim", &projectile, "--gpu", "--integrator", "beeman"]);
+    let refused = tickwork(&["sim", &projectile, "--gpu", "--integrator", "predictor_corrector_euler"]);
     assert!(!refused.status.success());
     assert_eq!(
         String::from_utf8_lossy(&refused.stderr).lines().next(),
         Some(
-            "tickwork: --gpu: the GPU step has no method \"beeman\": not on the GPU yet (explicit and \
-             semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity Verlet, leapfrog and position Verlet \
-             are)"
+            "tickwork: --gpu: the GPU step has no method \"predictor_corrector_euler\": not on the GPU yet (these \
+             are: explicit and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity Verlet, leapfrog, \
+             position Verlet, Beeman and Adams-Bashforth 2-4)"
         )
     );
 }

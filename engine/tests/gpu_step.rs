@@ -152,6 +152,20 @@ fn differences(a: &[Vec3], b: &[Vec3]) -> (usize, f32) {
     (count, largest)
 }
 
+/// Whether `method` keeps a history between steps (the checksum covers
+/// it; it stays on the GPU).
+fn with_history(method: &str) -> bool {
+    ![
+        "explicit_euler",
+        "semi_implicit_euler",
+        "midpoint",
+        "heun",
+        "rk4",
+        "forest_ruth",
+    ]
+    .contains(&method)
+}
+
 fn matches_the_cpu(method: &str) {
     let gpu = gpu();
     let mut cpu = world(method);
@@ -185,7 +199,7 @@ fn matches_the_cpu(method: &str) {
     assert_eq!(stored.tick(), cpu.tick());
     // The checksum covers the method's history too, which stays on the
     // GPU (not stored): the methods without compare checksums.
-    let has_history = ["velocity_verlet", "leapfrog", "position_verlet"].contains(&method);
+    let has_history = with_history(method);
     if !has_history {
         assert_eq!(
             format!("{:016x}", stored.state_hash()),
@@ -280,6 +294,22 @@ fn position_verlet_on_the_gpu_is_the_cpus_bit_for_bit() {
     matches_the_cpu("position_verlet");
 }
 
+// Beeman keeps a(t) and a(t - h); Adams-Bashforth 2-4 the past velocities
+// and accelerations, a particle with too few taking RK4 steps until it
+// has them.
+
+#[test]
+fn beeman_on_the_gpu_is_the_cpus_bit_for_bit() {
+    matches_the_cpu("beeman");
+}
+
+#[test]
+fn adams_bashforth_2_to_4_on_the_gpu_are_the_cpus_bit_for_bit() {
+    for method in ["adams_bashforth2", "adams_bashforth3", "adams_bashforth4"] {
+        matches_the_cpu(method);
+    }
+}
+
 /// 1 000 particles of the seeded cloud pulling on one another (and a
 /// floor), `method` stepping them: the GPU's tiled all-pairs sum against
 /// the CPU's, bit for bit after 60 steps.
@@ -367,9 +397,10 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     let gpu = gpu();
     let refused = |world: &World| GpuWorld::new(&gpu, world).expect_err("refused").to_string();
     assert_eq!(
-        refused(&world("beeman")),
-        "the GPU step has no method \"beeman\": not on the GPU yet (explicit and semi-implicit Euler, \
-         midpoint, Heun, RK4, Forest-Ruth, velocity Verlet, leapfrog and position Verlet are)"
+        refused(&world("predictor_corrector_euler")),
+        "the GPU step has no method \"predictor_corrector_euler\": not on the GPU yet (these are: explicit \
+         and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity Verlet, leapfrog, position Verlet, \
+         Beeman and Adams-Bashforth 2-4)"
     );
     assert_eq!(
         refused(&world("implicit_euler")),
@@ -405,7 +436,7 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         refused(&reporting),
         "the GPU step does not resolve this plane: its contact events are not read back yet"
     );
-    let error = GpuWorld::new(&gpu, &world("beeman")).expect_err("refused");
+    let error = GpuWorld::new(&gpu, &world("exponential_euler")).expect_err("refused");
     assert!(matches!(error, GpuStepError::Method { .. }), "{error}");
     // The rest of what the CPU's step does that the GPU's does not.
     let with = |change: &dyn Fn(&mut World)| {
@@ -676,7 +707,7 @@ fn a_fountain_matches_the_cpu(method: &str) {
     assert_eq!(differences(&x, &cpu_x), (0, 0.0), "{method}: positions");
     assert_eq!(differences(&v, &cpu_v), (0, 0.0), "{method}: velocities");
     // (The checksum covers a method's history too, which stays on the GPU.)
-    let has_history = ["velocity_verlet", "leapfrog", "position_verlet"].contains(&method);
+    let has_history = with_history(method);
     if !has_history {
         assert_eq!(on_gpu_world.state_hash(), cpu.state_hash(), "{method}: checksum");
     }
@@ -717,11 +748,12 @@ fn a_fountain_under_rk4_follows_the_cpus_rows_bit_for_bit() {
 }
 
 #[test]
-fn a_fountain_under_velocity_verlet_and_position_verlet_follows_the_cpus_rows_bit_for_bit() {
+fn a_fountain_under_the_methods_with_history_follows_the_cpus_rows_bit_for_bit() {
     // Rows come and go every step: histories move with their rows, new
     // rows start without.
-    a_fountain_matches_the_cpu("velocity_verlet");
-    a_fountain_matches_the_cpu("position_verlet");
+    for method in ["velocity_verlet", "position_verlet", "beeman", "adams_bashforth4"] {
+        a_fountain_matches_the_cpu(method);
+    }
 }
 
 #[test]

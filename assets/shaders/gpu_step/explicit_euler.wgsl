@@ -7,6 +7,3 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let v = v0 + acceleration(x0, v0, w) * h;
     return Motion(x0 + v0 * h, v);
 }
-
-// No history between steps (see `HISTORY` in step.wgsl).
-const HISTORY: u32 = 0u;

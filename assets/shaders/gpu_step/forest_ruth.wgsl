@@ -21,6 +21,3 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     }
     return Motion(x, v);
 }
-
-// No history between steps (see `HISTORY` in step.wgsl).
-const HISTORY: u32 = 0u;

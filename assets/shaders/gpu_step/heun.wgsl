@@ -13,6 +13,3 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let v2 = v0 + acceleration(end, v1, w) * h;
     return Motion(x0 + (v0 + v1) * half, (v1 + v2) * 0.5);
 }
-
-// No history between steps (see `HISTORY` in step.wgsl).
-const HISTORY: u32 = 0u;

@@ -9,8 +9,6 @@
 // afresh for every particle when any restarts (the CPU's rule,
 // integrators/src/methods/leapfrog.rs).
 
-const HISTORY: u32 = 1u;
-
 fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     var a0 = history[row].xyz;
     if (accelerations_restart()) {

@@ -13,6 +13,3 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let am = acceleration(xm, vm, w);
     return Motion(x0 + vm * h, v0 + am * h);
 }
-
-// No history between steps (see `HISTORY` in step.wgsl).
-const HISTORY: u32 = 0u;

@@ -7,8 +7,6 @@
 // of them after a new step length) starts by one RK4 step from the same
 // a(t), as on the CPU (integrators/src/methods/position_verlet.rs).
 
-const HISTORY: u32 = 2u;
-
 fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let a = acceleration(x0, v0, w);
     let last = history[row];

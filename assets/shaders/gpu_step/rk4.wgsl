@@ -11,6 +11,3 @@
 fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     return rk4_from(x0, v0, acceleration(x0, v0, w), w, h);
 }
-
-// No history between steps (see `HISTORY` in step.wgsl).
-const HISTORY: u32 = 0u;

@@ -42,8 +42,8 @@ struct Spawn {
 // (dst, src) a move.
 @group(0) @binding(5) var<storage, read> moves: array<vec2<u32>>;
 @group(0) @binding(6) var<storage, read> spawns: array<Spawn>;
-// The method's history a particle (one record for a method without: then
-// `rows.history` is 0 and it is left alone).
+// The method's history, `rows.history` records a particle (0 for a method
+// without: then it is left alone).
 @group(0) @binding(7) var<storage, read_write> history: array<vec4<f32>>;
 
 @compute @workgroup_size(256)
@@ -57,8 +57,8 @@ fn relocate(@builtin(global_invocation_id) id: vec3<u32>) {
     velocities[m.x] = velocities[m.y];
     previous[m.x] = previous[m.y];
     colours[m.x] = colours[m.y];
-    if (rows.history != 0u) {
-        history[m.x] = history[m.y];
+    for (var k = 0u; k < rows.history; k++) {
+        history[m.x * rows.history + k] = history[m.y * rows.history + k];
     }
 }
 
@@ -74,7 +74,7 @@ fn place(@builtin(global_invocation_id) id: vec3<u32>) {
     previous[s.row] = s.previous;
     colours[s.row] = s.colour;
     // A new particle has no history.
-    if (rows.history != 0u) {
-        history[s.row] = vec4<f32>(0.0);
+    for (var k = 0u; k < rows.history; k++) {
+        history[s.row * rows.history + k] = vec4<f32>(0.0);
     }
 }

@@ -73,11 +73,13 @@ struct Motion {
 @group(0) @binding(3) var<storage, read> colliders: array<Collider>;
 // G sum_j m_j d_j / (...)^(3/2) of each particle at the step's start (xyz).
 @group(0) @binding(4) var<storage, read_write> nbody_accel: array<vec4<f32>>;
-// The methods that remember (HISTORY, written for the method below: 0
-// none, 1 the last acceleration, 2 the last position): velocity Verlet's
-// and leapfrog's last end acceleration (xyz); position Verlet's position
-// before the step (xyz) and whether the particle continues (w: 1) or
-// starts afresh (0: new, or changed after its step).
+// The methods that remember: HISTORY records a particle (a constant
+// written for the method, from kernel.rs's table; 0: none), the first one's w saying whether the particle
+// continues (above 0: Adams-Bashforth's count of steps) or starts afresh
+// (0: new, or changed after its step). Velocity Verlet's and leapfrog's
+// last end acceleration; position Verlet's position before the step;
+// Beeman's a(t) and a(t - h); Adams-Bashforth's past velocities and
+// accelerations.
 @group(0) @binding(5) var<storage, read_write> history: array<vec4<f32>>;
 // flags[0], what this step reads of the last: bit 0 every particle starts
 // afresh (the CPU sets it: the first step, a new step length, rows added
@@ -104,7 +106,7 @@ fn accelerations_restart() -> bool {
 
 // Particle `i`'s state was changed after its step: its history ends.
 fn broke(i: u32) {
-    history[i].w = 0.0;
+    history[i * HISTORY].w = 0.0;
     atomicOr(&flags[1], 2u);
 }
 

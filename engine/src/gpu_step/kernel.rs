@@ -44,11 +44,33 @@ const METHODS: &[(&str, &str)] = &[
         "position_verlet",
         include_str!("../../../assets/shaders/gpu_step/position_verlet.wgsl"),
     ),
+    ("beeman", include_str!("../../../assets/shaders/gpu_step/beeman.wgsl")),
+    (
+        "adams_bashforth2",
+        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+    ),
+    (
+        "adams_bashforth3",
+        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+    ),
+    (
+        "adams_bashforth4",
+        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+    ),
 ];
 
-/// The methods of [`METHODS`] that keep a history between steps (a
-/// `history` buffer, restarted as the CPU's `History` restarts).
-const HISTORY_METHODS: &[&str] = &["velocity_verlet", "leapfrog", "position_verlet"];
+/// The methods of [`METHODS`] that keep a history between steps, and its
+/// records (`vec4`s) a particle: `HISTORY` in the shader, written there
+/// from this table (restarted as the CPU's `History` restarts).
+const HISTORY_RECORDS: &[(&str, u32)] = &[
+    ("velocity_verlet", 1),
+    ("leapfrog", 1),
+    ("position_verlet", 1),
+    ("beeman", 2),
+    ("adams_bashforth2", 2),
+    ("adams_bashforth3", 4),
+    ("adams_bashforth4", 6),
+];
 
 /// An f32 as WGSL reads back its exact bits (written without allocating).
 struct Bits(f32);
@@ -108,8 +130,20 @@ fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), 
 /// A method's step coefficients for a step of `h` seconds, `(drift,
 /// kick)` as `Params` carries them: Forest-Ruth's weights times `h`, in
 /// f64 then rounded, as `integrators/src/methods/forest_ruth.rs` does;
-/// unused (zero) for the others.
+/// Adams-Bashforth's `beta` in `drift`; unused (zero) for the others.
 pub(super) fn coefficients(method: &str, h: f32) -> ([f32; 4], [f32; 4]) {
+    // Adams-Bashforth's b_j h, formed in f64 and rounded, as
+    // `integrators/src/methods/adams_bashforth.rs` forms its beta.
+    let adams: &[f64] = match method {
+        "adams_bashforth2" => &[3.0 / 2.0, -1.0 / 2.0],
+        "adams_bashforth3" => &[23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0],
+        "adams_bashforth4" => &[55.0 / 24.0, -59.0 / 24.0, 37.0 / 24.0, -9.0 / 24.0],
+        _ => &[],
+    };
+    if !adams.is_empty() {
+        let beta = std::array::from_fn(|j| adams.get(j).map_or(0.0, |b| (b * f64::from(h)) as f32));
+        return (beta, [0.0; 4]);
+    }
     if method != "forest_ruth" {
         return ([0.0; 4], [0.0; 4]);
     }
@@ -158,8 +192,8 @@ pub(super) struct Plan {
     pub nbody: Option<(f32, f32)>,
     /// The colliders, in the order they act.
     pub colliders: Vec<ColliderRecord>,
-    /// Whether the method keeps a history between steps.
-    pub history: bool,
+    /// The method's history records (`vec4`s) a particle (0: none).
+    pub history: u32,
 }
 
 impl Plan {
@@ -171,7 +205,7 @@ impl Plan {
             affine: (Vec3A::ZERO, 0.0),
             nbody: None,
             colliders: Vec::new(),
-            history: false,
+            history: 0,
         }
     }
 }
@@ -206,8 +240,8 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         let reason = if info.implicit || info.variable_cost {
             "implicit and adaptive methods stay on the CPU"
         } else {
-            "not on the GPU yet (explicit and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity \
-             Verlet, leapfrog and position Verlet are)"
+            "not on the GPU yet (these are: explicit and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, \
+             velocity Verlet, leapfrog, position Verlet, Beeman and Adams-Bashforth 2-4)"
         };
         return Err(GpuStepError::Method {
             method: info.name.to_owned(),
@@ -226,6 +260,12 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     acceleration_into(world.forces(), &mut plan.source)?;
     plan.source.push('\n');
     plan.source.push_str(wgsl);
+    let history = HISTORY_RECORDS
+        .iter()
+        .find(|(name, _)| *name == method)
+        .map_or(0, |&(_, records)| records);
+    // Writing into a String cannot fail.
+    let _ = core::fmt::Write::write_fmt(&mut plan.source, format_args!("\nconst HISTORY: u32 = {history}u;\n"));
     let mut nbodies = world.forces().iter().filter_map(|f| f.as_any().downcast_ref::<NBody>());
     let nbody = nbodies.next().map(|n| (n.g, n.softening * n.softening));
     if nbodies.next().is_some() {
@@ -316,7 +356,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         }
     }
     plan.method = method;
-    plan.history = HISTORY_METHODS.contains(&method);
+    plan.history = history;
     plan.affine = affine;
     plan.nbody = nbody;
     Ok(())

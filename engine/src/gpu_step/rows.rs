@@ -44,7 +44,7 @@ struct RowParams {
     spawns: u32,
     moves_groups_x: u32,
     spawns_groups_x: u32,
-    /// 1 where the method keeps a history to move with the rows.
+    /// The method's history records a particle (0: none).
     history: u32,
     _pad: [u32; 3],
 }
@@ -238,7 +238,7 @@ impl RowKernel {
         encoder: &mut wgpu::CommandEncoder,
         plan: &RowPlan,
         state: &StateBuffers<'_>,
-        history: bool,
+        history: u32,
     ) -> Result<(), GpuStepError> {
         if plan.moves.is_empty() && plan.spawns.is_empty() {
             return Ok(());
@@ -265,7 +265,7 @@ impl RowKernel {
             spawns,
             moves_groups_x: moves_groups.0,
             spawns_groups_x: spawns_groups.0,
-            history: u32::from(history),
+            history,
             _pad: [0; 3],
         };
         gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -117,9 +117,9 @@ struct State {
 }
 
 impl State {
-    /// Empty buffers for `capacity` particles (`history`: with a history
-    /// record each).
-    fn new(device: &wgpu::Device, capacity: u32, history: bool) -> Self {
+    /// Empty buffers for `capacity` particles (with `history` records
+    /// each of a method's history).
+    fn new(device: &wgpu::Device, capacity: u32, history: u32) -> Self {
         let vec4s = |label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -153,11 +153,11 @@ impl State {
     }
 }
 
-/// A vec4 a particle for a method with history; one otherwise.
-fn history_buffer(device: &wgpu::Device, history: bool, capacity: u32) -> wgpu::Buffer {
+/// `records` vec4s a particle for a method with history; one otherwise.
+fn history_buffer(device: &wgpu::Device, records: u32, capacity: u32) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("tickwork gpu step history"),
-        size: if history { 16 * u64::from(capacity.max(1)) } else { 16 },
+        size: 16 * u64::from(records.max(1)) * if records > 0 { u64::from(capacity.max(1)) } else { 1 },
         usage: STATE_USAGE,
         mapped_at_creation: false,
     })
@@ -200,7 +200,7 @@ impl Pipelines {
             step: pipeline_of("step"),
             nbody: plan.nbody.map(|_| pipeline_of("nbody")),
             flush: pipeline_of("flush"),
-            rotate: plan.history.then(|| pipeline_of("rotate")),
+            rotate: (plan.history > 0).then(|| pipeline_of("rotate")),
         }
     }
 }
@@ -597,7 +597,7 @@ impl GpuWorld {
         }
         // (Bit 1 may already be set by the last step: kept, or implied by
         // bit 0.)
-        if self.plan.history && self.restart != 0 {
+        if self.plan.history > 0 && self.restart != 0 {
             gpu.queue
                 .write_buffer(&self.flags, 0, bytemuck::cast_slice(&[self.restart, 0]));
         }
@@ -683,8 +683,9 @@ impl GpuWorld {
             self.nbody_accel = nbody_buffer(device, true, self.capacity);
             rebind = true;
         }
-        if self.scratch.history && self.state.history.size() < u64::from(self.capacity) * 16 {
-            self.state.history = history_buffer(device, true, self.capacity);
+        let records = u64::from(self.scratch.history);
+        if self.state.history.size() < records * u64::from(self.capacity) * 16 {
+            self.state.history = history_buffer(device, self.scratch.history, self.capacity);
             rebind = true;
         }
         if self.scratch.method != self.plan.method {
