@@ -157,6 +157,36 @@ fn fountain_on_the_gpu_ends_in_the_cpus_checksum_and_matches_the_same_golden_fra
 }
 
 #[test]
+fn the_fountain_takes_its_size_and_a_timing_run_writes_no_frames() {
+    // 30 600 droplets when full: 3 jets of 3 000 a second; after one
+    // second (60 steps) 9 000, none expired (3.4 s).
+    let output = Command::new(env!("CARGO_BIN_EXE_fountain"))
+        .args(["--headless", "--gpu", "--particles", "30600", "--frames", "60", "--size", "160x90"])
+        .arg("--no-frames")
+        .output()
+        .expect("runs");
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{stdout}\n{}", text(&output.stderr));
+    assert!(stdout.contains("fountain: 9000 droplets alive"), "{stdout}");
+    assert!(
+        stdout.contains("tickwork: drew 60 frames in ") && stdout.contains("none written: --no-frames"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("wrote"), "{stdout}");
+    // Frames written and none: a contradiction, refused.
+    let output = Command::new(env!("CARGO_BIN_EXE_fountain"))
+        .args(["--headless", "--no-frames", "--out", "somewhere"])
+        .output()
+        .expect("runs");
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("'--no-frames' cannot be used with '--out <OUT>'"),
+        "{}",
+        text(&output.stderr)
+    );
+}
+
+#[test]
 fn cloth_blows_up_under_explicit_euler_and_stays_stable_under_implicit_methods() {
     let (stdout, last) = run_demo(env!("CARGO_BIN_EXE_cloth"), "cloth", 90, &[]);
     let line = stdout

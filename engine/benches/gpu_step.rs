@@ -1,6 +1,7 @@
 //! The fixed step on the GPU against the adapter's own copy of the same
-//! bytes: semi-implicit Euler (gravity, linear drag, a floor) at 100k, 1M
-//! and 10M particles (`TICKWORK_GPU_BENCH_SIZES=100000,1000000` to choose),
+//! bytes: semi-implicit Euler and RK4 (gravity, linear drag, a floor) at
+//! 100k, 1M and 10M particles (`TICKWORK_GPU_BENCH_SIZES=100000,1000000`
+//! to choose),
 //! each step reading 32 bytes a particle and writing 32, and in the same
 //! run `copy_buffer_to_buffer` of the state's 32 bytes a particle (read
 //! once, written once). Both report their throughput in bytes moved a
@@ -8,8 +9,12 @@
 //! ratio of the two (`scripts/gpu-bench` prints it). Then the all-pairs
 //! n-body kernel (workgroup tiles of 256) at 4k, 16k and 64k particles
 //! (`TICKWORK_GPU_NBODY_SIZES`), its throughput in pair interactions a
-//! second (n^2 a step: each particle sums every other). On lavapipe these
-//! are CPU figures and show only that it runs.
+//! second (n^2 a step: each particle sums every other). Then the cost of a
+//! rollback-style snapshot of a GPU world at 1M particles
+//! (`TICKWORK_GPU_READBACK_SIZES`): its state read back into its world and
+//! the world's checksum, against the CPU world's own snapshot and checksum
+//! in the same run. On lavapipe these are CPU figures and show only that
+//! it runs.
 
 use std::time::{Duration, Instant};
 
@@ -90,7 +95,10 @@ fn gpu_step(c: &mut Criterion) {
                 continue;
             }
         };
-        drop(cpu);
+        let mut rk4 = cpu;
+        rk4.set_integrator("rk4").expect("rk4");
+        let mut on_gpu_rk4 = GpuWorld::new(&gpu, &rk4).expect("the same world under RK4");
+        drop(rk4);
         let mut group = c.benchmark_group(format!("gpu_step_{n}"));
         group.throughput(Throughput::Bytes(on_gpu.bytes_per_step()));
         group.sample_size(10);
@@ -99,6 +107,10 @@ fn gpu_step(c: &mut Criterion) {
         group.bench_function("semi_implicit_euler", |b| {
             b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu, iters));
         });
+        group.bench_function("rk4", |b| {
+            b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu_rk4, iters));
+        });
+        drop(on_gpu_rk4);
         // The same bytes copied: both state buffers into a scratch pair.
         let (positions, velocities) = on_gpu.buffers();
         let bytes = positions.size();
@@ -174,5 +186,50 @@ fn gpu_nbody(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, gpu_step, gpu_nbody);
+/// A rollback's snapshot of a GPU world: the state read back into the
+/// world (`store_into`: 48 bytes a particle copied out and a wait) and the
+/// world's checksum; beside it the CPU world's snapshot and checksum.
+fn gpu_readback(c: &mut Criterion) {
+    let gpu = Gpu::headless().unwrap_or_else(|e| panic!("the GPU step bench needs an adapter: {e}"));
+    let sizes: Vec<usize> = std::env::var("TICKWORK_GPU_READBACK_SIZES").map_or_else(
+        |_| vec![1_000_000],
+        |list| list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
+    );
+    for n in sizes {
+        let mut cpu = world(n);
+        let mut on_gpu = match GpuWorld::new(&gpu, &cpu) {
+            Ok(world) => world,
+            Err(error) => {
+                println!("gpu_readback_{n}: not run: {error}");
+                continue;
+            }
+        };
+        let step = tickwork_engine::FixedStep {
+            tick: 0,
+            time: 0.0,
+            dt: 1.0 / 60.0,
+        };
+        on_gpu.advance(&gpu, &mut cpu, step).expect("a step");
+        let mut group = c.benchmark_group(format!("gpu_readback_{n}"));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        group.bench_function("store_and_checksum", |b| {
+            b.iter(|| {
+                on_gpu.store_into(&gpu, &mut cpu, step).expect("stored");
+                cpu.state_hash()
+            });
+        });
+        let mut snapshot = cpu.snapshot();
+        group.bench_function("cpu_snapshot_and_checksum", |b| {
+            b.iter(|| {
+                cpu.snapshot_into(&mut snapshot);
+                cpu.state_hash()
+            });
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, gpu_step, gpu_nbody, gpu_readback);
 criterion_main!(benches);

@@ -34,6 +34,10 @@ pub struct RunOptions {
     /// directory).
     #[arg(long)]
     pub gif: Option<PathBuf>,
+    /// Off-screen: draw every frame but write none, and say how long a
+    /// frame took (a timing run).
+    #[arg(long, conflicts_with_all = ["out", "gif"])]
+    pub no_frames: bool,
     /// Window or frame size, WIDTHxHEIGHT (default: 1280x720 in a window,
     /// 640x360 off-screen).
     #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
@@ -121,6 +125,7 @@ impl Default for RunOptions {
             frames: None,
             out: None,
             gif: None,
+            no_frames: false,
             size: None,
             seed: 0,
             record: None,

@@ -33,6 +33,8 @@ pub(super) struct WorldRow<'a> {
     pub(super) fixed: bool,
     pub(super) particles: usize,
     pub(super) energy: &'a EnergyTrace,
+    /// Whether its particles step on the GPU (their energy stays there).
+    pub(super) on_gpu: bool,
 }
 
 /// What the panel shows of the clock.
@@ -153,7 +155,11 @@ pub(super) fn lay_out(ctx: &egui::Context, clock: &ClockRow, worlds: &[WorldRow<
                             .labelled_by(name);
                     });
                     ui.label(row.particles.to_string());
-                    ui.label(format!("{:+.2e}", row.energy.latest()));
+                    if row.on_gpu {
+                        ui.label("on the GPU");
+                    } else {
+                        ui.label(format!("{:+.2e}", row.energy.latest()));
+                    }
                     ui.end_row();
                 }
             });

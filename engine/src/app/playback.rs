@@ -355,6 +355,7 @@ impl FrameSource for Playback {
             fixed: false,
             particles: self.world.len(),
             energy: &self.energy_trace,
+            on_gpu: self.world.config().backend == crate::world::Backend::Gpu,
         }];
         super::panel::lay_out(ctx, &clock, &rows, chosen);
     }

@@ -452,11 +452,14 @@ fn show<G: Game>(
             }
             (None, None) => 300,
         };
-        let out = options.out.clone().unwrap_or_else(|| fresh_output_dir(&title));
-        let gif = options
-            .gif
-            .clone()
-            .or_else(|| Some(out.join(format!("{}.gif", slug(&title)))));
+        let out = (!options.no_frames).then(|| options.out.clone().unwrap_or_else(|| fresh_output_dir(&title)));
+        let gif = match &out {
+            Some(out) => options
+                .gif
+                .clone()
+                .or_else(|| Some(out.join(format!("{}.gif", slug(&title))))),
+            None => None,
+        };
         let gpu = Gpu::headless()?;
         let mut runner = OffscreenRun::new(&gpu, width, height, renderer_config(session.stage(), height))?;
         crate::say!(
@@ -464,12 +467,13 @@ fn show<G: Game>(
             if options.headless { " wanted (--headless)" } else { "" },
             gpu.describe()
         );
+        let started = crate::platform::Instant::now();
         let done = runner.run(
             session,
             &mut FixedCadence::hz(display_hz),
             frames,
             &FrameOutput {
-                dir: Some(out.clone()),
+                dir: out.clone(),
                 gif: gif.clone(),
                 overwrite: options.force,
                 hud: true,
@@ -477,13 +481,24 @@ fn show<G: Game>(
             &mut |_| {},
         )?;
         summary.frames = done.frames;
-        crate::say!(
-            "tickwork: wrote {} frames to {}/ and the GIF {}",
-            done.frames,
-            out.display(),
-            gif.as_deref().map_or_else(String::new, |g| g.display().to_string())
-        );
-        summary.out = Some(out);
+        match &out {
+            Some(dir) => crate::say!(
+                "tickwork: wrote {} frames to {}/ and the GIF {}",
+                done.frames,
+                dir.display(),
+                gif.as_deref().map_or_else(String::new, |g| g.display().to_string())
+            ),
+            None => {
+                let seconds = started.elapsed().as_secs_f64();
+                crate::say!(
+                    "tickwork: drew {} frames in {seconds:.2} s ({:.2} ms a frame, stepping and drawing, each \
+                     frame read back; none written: --no-frames)",
+                    done.frames,
+                    1000.0 * seconds / done.frames.max(1) as f64
+                );
+            }
+        }
+        summary.out = out;
         summary.gif = gif;
     }
     Ok(())

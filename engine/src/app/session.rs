@@ -731,6 +731,7 @@ impl<G: Game> FrameSource for GameSession<G> {
                 fixed: w.fixed_integrator || !self.stage.switch_integrators,
                 particles: w.world.len(),
                 energy: &w.energy,
+                on_gpu: w.world.config().backend == Backend::Gpu,
             })
             .collect();
         super::panel::lay_out(ctx, &clock, &rows, chosen);
