@@ -44,8 +44,9 @@ struct Params {
     infinity: f32,
 }
 
-// A plane (kind 0: axis, sign, offset) or a box (1 a container, 2 solid:
-// min, max), with its material.
+// A plane (kind 0: axis, sign, offset; 3 moving along its normal, the
+// normal in min) or a box (1 a container, 2 solid: min, max), with its
+// material and its velocity (u: a kinematic collider's, zero at rest).
 struct Collider {
     kind: u32,
     axis: u32,
@@ -59,6 +60,10 @@ struct Collider {
     max_x: f32,
     max_y: f32,
     max_z: f32,
+    u_x: f32,
+    u_y: f32,
+    u_z: f32,
+    moving: u32,
 }
 
 struct Motion {
@@ -250,14 +255,41 @@ fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
     }
 }
 
+// A plane moving along its normal (the CPU's `resolve_range` for a
+// moving plane): the general contact at `n . x - offset - r`.
+fn resolve_moving_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
+    let n = vec3<f32>(p.min_x, p.min_y, p.min_z);
+    let x = (*m).x;
+    let gap = ((n.x * x.x + n.y * x.y) + n.z * x.z - p.offset) - r;
+    resolve(m, n, gap, w > 0.0, p);
+}
+
 fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
     var m = moved;
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
-        if (c.kind == 0u) {
-            resolve_plane(&m, c, r, w);
+        if (c.moving == 0u) {
+            if (c.kind == 0u) {
+                resolve_plane(&m, c, r, w);
+            } else {
+                resolve_box(&m, c, r, w);
+            }
+            continue;
+        }
+        // Kinematic: the contact in the collider's frame, where it is at
+        // rest (v - u), and the velocity back in the world's only where
+        // the contact changed it, as the CPU does.
+        let u = vec3<f32>(c.u_x, c.u_y, c.u_z);
+        let before = m.v - u;
+        var relative = Motion(m.x, before);
+        if (c.kind == 3u) {
+            resolve_moving_plane(&relative, c, r, w);
         } else {
-            resolve_box(&m, c, r, w);
+            resolve_box(&relative, c, r, w);
+        }
+        m.x = relative.x;
+        if (any(relative.v != before)) {
+            m.v = relative.v + u;
         }
     }
     return m;

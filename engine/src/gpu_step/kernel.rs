@@ -160,9 +160,13 @@ pub(super) const PLANE: u32 = 0;
 pub(super) const CONTAINER: u32 = 1;
 /// A box that keeps particles out.
 pub(super) const SOLID: u32 = 2;
+/// A plane moving along its normal (the normal in `min`).
+pub(super) const MOVING_PLANE: u32 = 3;
 
 /// A collider as the shader reads it (`Collider` in `step.wgsl`): a plane
-/// (`axis`, `sign`, `offset`) or a box (`min`, `max`), with its material.
+/// (`axis`, `sign`, `offset`; moving: its normal in `min`) or a box
+/// (`min`, `max`), with its material and, kinematic, its velocity `u`
+/// (`moving` 1), where it stands after the step's move.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct ColliderRecord {
@@ -174,9 +178,11 @@ pub(super) struct ColliderRecord {
     pub friction: f32,
     pub min: [f32; 3],
     pub max: [f32; 3],
+    pub u: [f32; 3],
+    pub moving: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 48);
+const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 64);
 
 /// A world's step as the GPU runs it.
 #[derive(Clone, Debug)]
@@ -194,6 +200,8 @@ pub(super) struct Plan {
     pub colliders: Vec<ColliderRecord>,
     /// The method's history records (`vec4`s) a particle (0: none).
     pub history: u32,
+    /// Whether a collider moves (kinematic): its record changes every step.
+    pub moving: bool,
 }
 
 impl Plan {
@@ -206,6 +214,7 @@ impl Plan {
             nbody: None,
             colliders: Vec::new(),
             history: 0,
+            moving: false,
         }
     }
 }
@@ -280,6 +289,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     }
     let colliders = &mut plan.colliders;
     colliders.clear();
+    plan.moving = false;
     for (id, collider) in world.colliders() {
         let name = collider.name();
         let refuse = |reason| GpuStepError::Collider { collider: name, reason };
@@ -290,9 +300,8 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             return Err(refuse("contacts inside the step stay on the CPU"));
         }
         if let Some(b) = collider.as_any().downcast_ref::<BoxCollider>() {
-            if b.velocity != glam::Vec3::ZERO {
-                return Err(refuse("a moving box is not on the GPU yet"));
-            }
+            let moving = b.velocity != glam::Vec3::ZERO;
+            plan.moving |= moving;
             colliders.push(ColliderRecord {
                 kind: if b.inside { CONTAINER } else { SOLID },
                 axis: 0,
@@ -302,6 +311,8 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
                 friction: b.material.friction,
                 min: b.min.to_array(),
                 max: b.max.to_array(),
+                u: b.velocity.to_array(),
+                moving: u32::from(moving),
             });
             continue;
         }
@@ -315,24 +326,27 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         if plane.contact != ContactRule::EndOfStep {
             return Err(refuse("contacts inside the step stay on the CPU"));
         }
-        if plane.speed != 0.0 {
-            return Err(refuse("a moving plane is not on the GPU yet"));
-        }
         let n = plane.normal;
         let axis = [n.x, n.y, n.z]
             .iter()
             .position(|c| c.abs() == 1.0)
             .filter(|&a| (0..3).all(|k| k == a || n[k] == 0.0))
             .ok_or(refuse("its normal is not an axis"))?;
+        let moving = plane.speed != 0.0;
+        plan.moving |= moving;
         colliders.push(ColliderRecord {
-            kind: PLANE,
+            kind: if moving { MOVING_PLANE } else { PLANE },
             axis: axis as u32,
             sign: n[axis],
             offset: plane.offset,
             restitution: plane.material.restitution,
             friction: plane.material.friction,
-            min: [0.0; 3],
+            // A moving plane's contact is the general one, along its normal.
+            min: if moving { n.to_array() } else { [0.0; 3] },
             max: [0.0; 3],
+            // u = n speed, as the CPU forms it (f32, lane by lane).
+            u: (glam::Vec3A::from(n) * plane.speed).to_array(),
+            moving: u32::from(moving),
         });
     }
     if world.sensors().next().is_some() {

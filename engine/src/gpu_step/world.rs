@@ -371,11 +371,12 @@ impl GpuWorld {
     }
 
     /// Whether [`step`](Self::step) takes this world: its rows stay as
-    /// they are (no emitters, lifetimes or queued commands); otherwise it
-    /// steps by [`advance`](Self::advance).
+    /// they are (no emitters, lifetimes or queued commands) and its
+    /// colliders where they are (none kinematic); otherwise it steps by
+    /// [`advance`](Self::advance).
     #[must_use]
     pub fn steps_in_batches(&self) -> bool {
-        !self.changes_rows
+        !self.changes_rows && !self.plan.moving
     }
 
     /// The fixed steps taken.
@@ -467,6 +468,12 @@ impl GpuWorld {
             return Err(GpuStepError::Unsupported(
                 "steps in a batch of a world whose rows change (emitters, lifetimes, queued spawns or \
                  despawns): step it with GpuWorld::advance, which follows them",
+            ));
+        }
+        if self.plan.moving {
+            return Err(GpuStepError::Unsupported(
+                "steps in a batch of a world with a moving collider: step it with GpuWorld::advance, which \
+                 moves it step by step",
             ));
         }
         gpu.queue
@@ -562,6 +569,10 @@ impl GpuWorld {
             gpu.queue.submit([encoder.finish()]);
             log.clear();
         }
+        // The step's checks, then its first change, as on the CPU: the
+        // kinematic colliders move, and their records follow.
+        world.check_step(step).map_err(GpuStepError::Simulation)?;
+        world.advance_colliders(step.dt as f32);
         refresh(world, &mut self.scratch)?;
         self.adopt_plan(gpu);
         // The rest of the world's step, logging the rows it changes.

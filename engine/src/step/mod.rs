@@ -131,9 +131,7 @@ impl World {
             return Err(self.non_finite(tick, row, NonFiniteCause::Start));
         }
         self.removed.clear();
-        for collider in &mut self.colliders.colliders {
-            collider.advance(dt);
-        }
+        self.advance_colliders(dt);
         self.integrate(t, dt, tick, &mut report)?;
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
             flush_subnormals(self.particles.velocity.blocks_mut());
@@ -147,10 +145,18 @@ impl World {
     /// What a step does once the particles and bodies have stepped: the
     /// lifetimes, expiry, emitters, queued commands, the tick and time,
     /// the game's systems, the sensors.
+    /// Moves the kinematic colliders by their velocity over `dt` (a step's
+    /// first change: its contacts meet them where they end).
+    pub(crate) fn advance_colliders(&mut self, dt: f32) {
+        for collider in &mut self.colliders.colliders {
+            collider.advance(dt);
+        }
+    }
+
     /// What a step refuses before it changes anything: a time or length
     /// that is not finite, an invalid emitter or one due too many, a force
     /// past its pairs.
-    fn check_step(&self, step: FixedStep) -> Result<(), SimulationError> {
+    pub(crate) fn check_step(&self, step: FixedStep) -> Result<(), SimulationError> {
         if !(step.time.is_finite() && step.dt.is_finite()) {
             return Err(SimulationError::InvalidStep {
                 tick: step.tick,
