@@ -161,7 +161,16 @@ fn the_fountain_takes_its_size_and_a_timing_run_writes_no_frames() {
     // 30 600 droplets when full: 3 jets of 3 000 a second; after one
     // second (60 steps) 9 000, none expired (3.4 s).
     let output = Command::new(env!("CARGO_BIN_EXE_fountain"))
-        .args(["--headless", "--gpu", "--particles", "30600", "--frames", "60", "--size", "160x90"])
+        .args([
+            "--headless",
+            "--gpu",
+            "--particles",
+            "30600",
+            "--frames",
+            "60",
+            "--size",
+            "160x90",
+        ])
         .arg("--no-frames")
         .output()
         .expect("runs");

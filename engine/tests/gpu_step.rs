@@ -431,12 +431,20 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         refused(&tilted),
         "the GPU step does not resolve this plane: its normal is not an axis"
     );
+    // A world whose colliders report contacts steps by advance, which
+    // reads them back each step; a batch would lose them.
     let mut reporting = world("semi_implicit_euler");
     let floor = reporting.colliders().next().map(|(id, _)| id).expect("a floor");
     reporting.report_contacts(floor).expect("reports");
+    let mut on_gpu = GpuWorld::new(&gpu, &reporting).expect("a GPU world");
+    assert!(!on_gpu.steps_in_batches());
     assert_eq!(
-        refused(&reporting),
-        "the GPU step does not resolve this plane: its contact events are not read back yet"
+        on_gpu.step(&gpu, DT as f32, 1).map_err(|e| e.to_string()),
+        Err(
+            "the GPU step does not do steps in a batch of a world whose colliders report contacts: step it \
+             with GpuWorld::advance, which reads them back step by step"
+                .to_owned()
+        )
     );
     let error = GpuWorld::new(&gpu, &world("exponential_euler")).expect_err("refused");
     assert!(matches!(error, GpuStepError::Method { .. }), "{error}");
@@ -856,7 +864,10 @@ fn kinematic_colliders_match_the_cpu(method: &str) {
     // The kinematic colliders met particles: without them, another state.
     let without: Vec<Vec3> = still.particles().position.iter().map(Vec3::from).collect();
     let (moved, _) = differences(&cx, &without);
-    assert!(moved > 300, "{method}: only {moved} components differ without the kinematic colliders");
+    assert!(
+        moved > 300,
+        "{method}: only {moved} components differ without the kinematic colliders"
+    );
 }
 
 #[test]
@@ -864,4 +875,51 @@ fn kinematic_planes_and_boxes_on_the_gpu_are_the_cpus_bit_for_bit() {
     for method in ["semi_implicit_euler", "rk4", "velocity_verlet"] {
         kinematic_colliders_match_the_cpu(method);
     }
+}
+
+#[test]
+fn contacts_of_reporting_colliders_are_the_cpus_step_by_step() {
+    // The fountain's floor reports its contacts, and so does a paddle
+    // sweeping through the jets; rows come and go every step, and each
+    // contact is named by the entity it had when the step found it.
+    let gpu = gpu();
+    let mut cpu = fountain("semi_implicit_euler");
+    let floor = cpu.colliders().next().map(|(id, _)| id).expect("a floor");
+    cpu.report_contacts(floor).expect("reports");
+    let paddle = cpu.add_collider(BoxCollider {
+        velocity: Vec3::new(1.5, 0.0, 0.0),
+        ..BoxCollider::solid(
+            Vec3::new(-2.5, 1.0, -1.0),
+            Vec3::new(-1.5, 1.3, 1.0),
+            Material {
+                restitution: 0.9,
+                friction: 0.2,
+            },
+        )
+    });
+    cpu.report_contacts(paddle).expect("reports");
+    let mut on_gpu_world = cpu.clone();
+    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    let (mut on_floor, mut on_paddle) = (0, 0);
+    for tick in 0..90 {
+        let step = FixedStep {
+            tick,
+            time: tick as f64 * DT,
+            dt: DT,
+        };
+        cpu.step(step).expect("a step");
+        on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        assert_eq!(on_gpu_world.contacts(), cpu.contacts(), "tick {tick}");
+        for contact in cpu.contacts() {
+            match contact.touched {
+                tickwork_engine::colliders::Touched::Collider(id) if id == floor => on_floor += 1,
+                tickwork_engine::colliders::Touched::Collider(id) if id == paddle => on_paddle += 1,
+                _ => {}
+            }
+        }
+    }
+    assert!(
+        on_floor > 100 && on_paddle > 20,
+        "{on_floor} floor and {on_paddle} paddle contacts"
+    );
 }

@@ -42,6 +42,8 @@ struct Params {
     nbody_eps2: f32,
     // +inf (WGSL has no infinite constant).
     infinity: f32,
+    // Room in `touches`: a reporting collider's contact a particle.
+    touch_room: u32,
 }
 
 // A plane (kind 0: axis, sign, offset; 3 moving along its normal, the
@@ -63,7 +65,20 @@ struct Collider {
     u_x: f32,
     u_y: f32,
     u_z: f32,
-    moving: u32,
+    // 1: kinematic (moves); 2: reports its contacts.
+    flags: u32,
+}
+
+// A contact of a collider that reports them (the CPU's `diff_touches`):
+// the collider's index, the particle's row, the point on its surface, the
+// normal and (w) the normal impulse.
+struct Touch {
+    collider: u32,
+    row: u32,
+    pad0: u32,
+    pad1: u32,
+    point: vec4<f32>,
+    normal: vec4<f32>,
 }
 
 struct Motion {
@@ -93,7 +108,10 @@ struct Motion {
 // leapfrog's cached accelerations for every particle, as the CPU's
 // history does. flags[1] collects this step's bit 1 (atomicOr: the same
 // word whatever the order); `rotate` moves it into flags[0].
-@group(0) @binding(6) var<storage, read_write> flags: array<atomic<u32>, 2>;
+// flags[2] counts the step's contacts in `touches` (atomicAdd: their order
+// is the GPU's, the CPU sorts them as it sorts its own).
+@group(0) @binding(6) var<storage, read_write> flags: array<atomic<u32>, 4>;
+@group(0) @binding(7) var<storage, read_write> touches: array<Touch>;
 
 // The particle this invocation steps (for `acceleration` to read its
 // n-body term).
@@ -264,35 +282,76 @@ fn resolve_moving_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
     resolve(m, n, gap, w > 0.0, p);
 }
 
+// A reporting collider changed the particle from `before` to `after`:
+// its contact, as the CPU's `diff_touches` reads it off the change.
+fn report(k: u32, before: Motion, after: Motion, r: f32, w: f32) {
+    if (all(bitcast<vec3<u32>>(after.x) == bitcast<vec3<u32>>(before.x))
+        && all(bitcast<vec3<u32>>(after.v) == bitcast<vec3<u32>>(before.v))) {
+        return;
+    }
+    let dx = after.x - before.x;
+    let dv = after.v - before.v;
+    // glam's `try_normalize`: by the reciprocal of the length, if finite
+    // and above 0; dx first, then dv, else 0.
+    var normal = vec3<f32>(0.0);
+    let rx = 1.0 / sqrt(length_squared(dx));
+    let rv = 1.0 / sqrt(length_squared(dv));
+    if (rx > 0.0 && rx < params.infinity) {
+        normal = dx * rx;
+    } else if (rv > 0.0 && rv < params.infinity) {
+        normal = dv * rv;
+    }
+    var impulse = 0.0;
+    if (w > 0.0) {
+        impulse = ((dv.x * normal.x + dv.y * normal.y) + dv.z * normal.z) / w;
+    }
+    let slot = atomicAdd(&flags[2], 1u);
+    if (slot < params.touch_room) {
+        touches[slot] = Touch(k, row, 0u, 0u, vec4<f32>(after.x - normal * r, 0.0), vec4<f32>(normal, impulse));
+    }
+}
+
 fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
     var m = moved;
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
-        if (c.moving == 0u) {
-            if (c.kind == 0u) {
-                resolve_plane(&m, c, r, w);
-            } else {
-                resolve_box(&m, c, r, w);
-            }
-            continue;
-        }
-        // Kinematic: the contact in the collider's frame, where it is at
-        // rest (v - u), and the velocity back in the world's only where
-        // the contact changed it, as the CPU does.
-        let u = vec3<f32>(c.u_x, c.u_y, c.u_z);
-        let before = m.v - u;
-        var relative = Motion(m.x, before);
-        if (c.kind == 3u) {
-            resolve_moving_plane(&relative, c, r, w);
-        } else {
-            resolve_box(&relative, c, r, w);
-        }
-        m.x = relative.x;
-        if (any(relative.v != before)) {
-            m.v = relative.v + u;
+        let before = m;
+        resolve_collider(&m, c, r, w);
+        if ((c.flags & 2u) != 0u) {
+            report(k, before, m, r, w);
         }
     }
     return m;
+}
+
+// One collider's contact, at rest or kinematic.
+fn resolve_collider(mm: ptr<function, Motion>, c: Collider, r: f32, w: f32) {
+    var m = *mm;
+    if ((c.flags & 1u) == 0u) {
+        if (c.kind == 0u) {
+            resolve_plane(&m, c, r, w);
+        } else {
+            resolve_box(&m, c, r, w);
+        }
+        *mm = m;
+        return;
+    }
+    // Kinematic: the contact in the collider's frame, where it is at rest
+    // (v - u), and the velocity back in the world's only where the contact
+    // changed it, as the CPU does.
+    let u = vec3<f32>(c.u_x, c.u_y, c.u_z);
+    let before = m.v - u;
+    var relative = Motion(m.x, before);
+    if (c.kind == 3u) {
+        resolve_moving_plane(&relative, c, r, w);
+    } else {
+        resolve_box(&relative, c, r, w);
+    }
+    m.x = relative.x;
+    if (any(relative.v != before)) {
+        m.v = relative.v + u;
+    }
+    *mm = m;
 }
 
 @compute @workgroup_size(256)

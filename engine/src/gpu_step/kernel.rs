@@ -165,8 +165,8 @@ pub(super) const MOVING_PLANE: u32 = 3;
 
 /// A collider as the shader reads it (`Collider` in `step.wgsl`): a plane
 /// (`axis`, `sign`, `offset`; moving: its normal in `min`) or a box
-/// (`min`, `max`), with its material and, kinematic, its velocity `u`
-/// (`moving` 1), where it stands after the step's move.
+/// (`min`, `max`), with its material and, kinematic, its velocity `u`,
+/// where it stands after the step's move; `flags`: [`MOVES`], [`REPORTS`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct ColliderRecord {
@@ -179,8 +179,13 @@ pub(super) struct ColliderRecord {
     pub min: [f32; 3],
     pub max: [f32; 3],
     pub u: [f32; 3],
-    pub moving: u32,
+    pub flags: u32,
 }
+
+/// `ColliderRecord::flags`: the collider is kinematic.
+pub(super) const MOVES: u32 = 1;
+/// `ColliderRecord::flags`: the collider reports its contacts.
+pub(super) const REPORTS: u32 = 2;
 
 const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 64);
 
@@ -202,6 +207,8 @@ pub(super) struct Plan {
     pub history: u32,
     /// Whether a collider moves (kinematic): its record changes every step.
     pub moving: bool,
+    /// How many colliders report their contacts (read back every step).
+    pub reporting: u32,
 }
 
 impl Plan {
@@ -215,6 +222,7 @@ impl Plan {
             colliders: Vec::new(),
             history: 0,
             moving: false,
+            reporting: 0,
         }
     }
 }
@@ -290,12 +298,13 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     let colliders = &mut plan.colliders;
     colliders.clear();
     plan.moving = false;
+    plan.reporting = 0;
     for (id, collider) in world.colliders() {
         let name = collider.name();
         let refuse = |reason| GpuStepError::Collider { collider: name, reason };
-        if world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]) {
-            return Err(refuse("its contact events are not read back yet"));
-        }
+        let reports = world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]);
+        plan.reporting += u32::from(reports);
+        let reports = if reports { REPORTS } else { 0 };
         if collider.in_step() {
             return Err(refuse("contacts inside the step stay on the CPU"));
         }
@@ -312,7 +321,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
                 min: b.min.to_array(),
                 max: b.max.to_array(),
                 u: b.velocity.to_array(),
-                moving: u32::from(moving),
+                flags: if moving { MOVES } else { 0 } | reports,
             });
             continue;
         }
@@ -346,7 +355,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             max: [0.0; 3],
             // u = n speed, as the CPU forms it (f32, lane by lane).
             u: (glam::Vec3A::from(n) * plane.speed).to_array(),
-            moving: u32::from(moving),
+            flags: if moving { MOVES } else { 0 } | reports,
         });
     }
     if world.sensors().next().is_some() {

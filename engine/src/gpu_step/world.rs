@@ -8,6 +8,7 @@ use super::error::GpuStepError;
 use super::kernel::{ColliderRecord, Plan, changes_rows, coefficients, plan, refresh};
 use super::rows::{RowKernel, RowPlan, StateBuffers};
 use crate::clock::FixedStep;
+use crate::colliders::RowTouch;
 use crate::render::Gpu;
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
@@ -36,8 +37,8 @@ struct Params {
     nbody_eps2: f32,
     /// `+inf`: WGSL has no infinite constant.
     infinity: f32,
-    /// WGSL rounds a uniform struct's size up to 16 bytes.
-    _pad: f32,
+    /// Room in the touches buffer (and the size a 16-byte multiple).
+    touch_room: u32,
 }
 
 const _: () = assert!(std::mem::size_of::<Params>() == 80 && std::mem::offset_of!(Params, drift) == 32);
@@ -62,9 +63,11 @@ pub struct GpuWorld {
     /// Each particle's n-body acceleration at the step's start, where the
     /// world has an n-body force.
     nbody_accel: wgpu::Buffer,
-    /// What a step of a method with history reads of the last (`flags` in
-    /// `step.wgsl`).
+    /// What a step of a method with history reads of the last, and the
+    /// count of the step's contacts (`flags` in `step.wgsl`).
     flags: wgpu::Buffer,
+    /// The step's contacts of colliders that report them (`touches`).
+    touches: wgpu::Buffer,
     /// What the next step of a method with history is told (`flags[0]` in
     /// `step.wgsl`), as the CPU's `History` decides it: bit 0, every
     /// particle starts afresh (the first step, a new step length, a new
@@ -281,10 +284,11 @@ impl GpuWorld {
         let nbody_accel = nbody_buffer(device, plan.nbody.is_some(), n);
         let flags = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu step flags"),
-            size: 8,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let touches = touches_buffer(device, u64::from(n) * u64::from(plan.reporting));
         let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -313,6 +317,7 @@ impl GpuWorld {
                 entry(4, storage(false)),
                 entry(5, storage(false)),
                 entry(6, storage(false)),
+                entry(7, storage(false)),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -321,7 +326,13 @@ impl GpuWorld {
             immediate_size: 0,
         });
         let pipelines = Pipelines::new(device, &pipeline_layout, &plan);
-        let bind_group = step_bind_group(device, &layout, &params, &state, [&colliders, &nbody_accel, &flags]);
+        let bind_group = step_bind_group(
+            device,
+            &layout,
+            &params,
+            &state,
+            [&colliders, &nbody_accel, &flags, &touches],
+        );
         Ok(Self {
             scratch: plan.clone(),
             plan,
@@ -333,6 +344,7 @@ impl GpuWorld {
             params,
             nbody_accel,
             flags,
+            touches,
             restart: 1,
             last_dt: None,
             layout,
@@ -371,12 +383,12 @@ impl GpuWorld {
     }
 
     /// Whether [`step`](Self::step) takes this world: its rows stay as
-    /// they are (no emitters, lifetimes or queued commands) and its
-    /// colliders where they are (none kinematic); otherwise it steps by
-    /// [`advance`](Self::advance).
+    /// they are (no emitters, lifetimes or queued commands), its colliders
+    /// where they are (none kinematic) and none reports contacts;
+    /// otherwise it steps by [`advance`](Self::advance).
     #[must_use]
     pub fn steps_in_batches(&self) -> bool {
-        !self.changes_rows && !self.plan.moving
+        !self.changes_rows && !self.plan.moving && self.plan.reporting == 0
     }
 
     /// The fixed steps taken.
@@ -432,7 +444,7 @@ impl GpuWorld {
             nbody_g,
             nbody_eps2,
             infinity: f32::INFINITY,
-            _pad: 0.0,
+            touch_room: self.touch_room(),
         }
     }
 
@@ -474,6 +486,12 @@ impl GpuWorld {
             return Err(GpuStepError::Unsupported(
                 "steps in a batch of a world with a moving collider: step it with GpuWorld::advance, which \
                  moves it step by step",
+            ));
+        }
+        if self.plan.reporting > 0 {
+            return Err(GpuStepError::Unsupported(
+                "steps in a batch of a world whose colliders report contacts: step it with GpuWorld::advance, \
+                 which reads them back step by step",
             ));
         }
         gpu.queue
@@ -575,15 +593,14 @@ impl GpuWorld {
         world.advance_colliders(step.dt as f32);
         refresh(world, &mut self.scratch)?;
         self.adopt_plan(gpu);
-        // The rest of the world's step, logging the rows it changes.
-        world.row_log = Some(core::mem::take(log));
-        let report = world.step_bookkeeping(step);
-        *log = world.row_log.take().unwrap_or_default();
-        let report = report.map_err(GpuStepError::Simulation)?;
+        // The particles' step.
         let dt = step.dt as f32;
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&self.params(dt)));
         self.start_history(gpu, dt);
+        if self.plan.reporting > 0 {
+            gpu.queue.write_buffer(&self.flags, 8, bytemuck::bytes_of(&0u32));
+        }
         let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tickwork gpu step"),
         });
@@ -591,10 +608,63 @@ impl GpuWorld {
             self.keep_previous(&mut encoder);
             self.encode_steps(&mut encoder, step.tick, 1);
         }
-        self.follow_rows(gpu, &mut encoder, log, world)?;
         gpu.queue.submit([encoder.finish()]);
         self.took(dt, 1);
+        // Its contacts, named while the rows are still the step's.
+        world.contacts.clear();
+        if self.plan.reporting > 0 && self.n > 0 {
+            self.read_touches(gpu, world)?;
+        }
+        // The rest of the world's step, logging the rows it changes, which
+        // the GPU's rows then follow.
+        world.row_log = Some(core::mem::take(log));
+        let report = world.step_bookkeeping(step);
+        *log = world.row_log.take().unwrap_or_default();
+        let report = report.map_err(GpuStepError::Simulation)?;
+        if !log.is_empty() {
+            let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tickwork gpu rows"),
+            });
+            self.follow_rows(gpu, &mut encoder, log, world)?;
+            gpu.queue.submit([encoder.finish()]);
+        }
         Ok(report)
+    }
+
+    /// Room for contacts in the touches buffer: a reporting collider's a
+    /// particle (a collider changes a particle at most once a step).
+    fn touch_room(&self) -> u32 {
+        u32::try_from(self.touches.size() / TOUCH_BYTES).unwrap_or(u32::MAX)
+    }
+
+    /// Reads the step's contacts back (a wait for the GPU) into the world's
+    /// touches, and names them as the CPU's step does (sorted by collider
+    /// and row, whatever order the GPU found them in).
+    fn read_touches(&self, gpu: &Gpu, world: &mut World) -> Result<(), GpuStepError> {
+        let [count] = map_words(gpu, [(&self.flags, 8, 4)])?;
+        let count = f32_at(&count, 0).to_bits();
+        let count = count.min(self.touch_room());
+        world.touches.clear();
+        if count > 0 {
+            let [records] = map_words(gpu, [(&self.touches, 0, u64::from(count) * TOUCH_BYTES)])?;
+            world
+                .touches
+                .extend(records.chunks_exact(TOUCH_BYTES as usize).map(|t| {
+                    let f = |k: usize| f32_at(t, k);
+                    RowTouch {
+                        collider: f(0).to_bits(),
+                        row: f(1).to_bits(),
+                        other: u32::MAX,
+                        point: Vec3A::new(f(4), f(5), f(6)),
+                        normal: Vec3A::new(f(8), f(9), f(10)),
+                        impulse: f(11),
+                        fraction: 1.0,
+                        event: u32::MAX,
+                    }
+                }));
+        }
+        world.name_contacts(false);
+        Ok(())
     }
 
     /// Before steps of `dt`: tells a method with history, through its
@@ -669,6 +739,9 @@ impl GpuWorld {
         if self.plan.nbody.is_some() {
             self.nbody_accel = nbody_buffer(device, true, capacity);
         }
+        if self.plan.reporting > 0 {
+            self.touches = touches_buffer(device, u64::from(capacity) * u64::from(self.plan.reporting));
+        }
         self.rebind(device);
         Ok(())
     }
@@ -680,7 +753,7 @@ impl GpuWorld {
             &self.layout,
             &self.params,
             &self.state,
-            [&self.colliders, &self.nbody_accel, &self.flags],
+            [&self.colliders, &self.nbody_accel, &self.flags, &self.touches],
         );
         self.rows.unbind();
     }
@@ -692,6 +765,11 @@ impl GpuWorld {
         let mut rebind = false;
         if self.scratch.nbody.is_some() && self.nbody_accel.size() < u64::from(self.capacity) * 16 {
             self.nbody_accel = nbody_buffer(device, true, self.capacity);
+            rebind = true;
+        }
+        let room = u64::from(self.capacity) * u64::from(self.scratch.reporting);
+        if self.touches.size() < TOUCH_BYTES * room {
+            self.touches = touches_buffer(device, room);
             rebind = true;
         }
         let records = u64::from(self.scratch.history);
@@ -857,50 +935,11 @@ impl GpuWorld {
 
     /// Copies `buffers` out and waits: their `xyz`, a particle each.
     fn read<const N: usize>(&self, gpu: &Gpu, buffers: [&wgpu::Buffer; N]) -> Result<[Vec<Vec3>; N], GpuStepError> {
-        let bytes = u64::from(self.n.max(1)) * 16;
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tickwork gpu step read-back"),
-            size: N as u64 * bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("tickwork gpu step read-back"),
-        });
-        for (k, buffer) in buffers.iter().enumerate() {
-            encoder.copy_buffer_to_buffer(buffer, 0, &staging, k as u64 * bytes, bytes);
-        }
-        gpu.queue.submit([encoder.finish()]);
-        let slice = staging.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
-        // Natively the wait has run the callback; a page cannot wait (its
-        // GPU answers once its script yields), and is told so.
-        receiver
-            .try_recv()
-            .map_err(|_| {
-                GpuStepError::ReadBack(
-                    "the GPU has not answered: a page cannot wait for a read-back (read a GPU world back natively)"
-                        .into(),
-                )
-            })?
-            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
-        let mapped = slice
-            .get_mapped_range()
-            .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
-        let records: &[[f32; 4]] = bytemuck::cast_slice(&mapped);
-        let each = records.len() / N;
-        let n = self.len();
-        Ok(std::array::from_fn(|k| {
-            records[k * each..(k + 1) * each]
-                .iter()
-                .take(n)
-                .map(|r| Vec3::new(r[0], r[1], r[2]))
+        let bytes = u64::from(self.n) * 16;
+        let parts = map_words(gpu, buffers.map(|buffer| (buffer, 0, bytes)))?;
+        Ok(parts.map(|part| {
+            part.chunks_exact(16)
+                .map(|r| Vec3::new(f32_at(r, 0), f32_at(r, 1), f32_at(r, 2)))
                 .collect()
         }))
     }
@@ -918,6 +957,75 @@ fn colliders_buffer(device: &wgpu::Device, colliders: &[ColliderRecord]) -> wgpu
     })
 }
 
+/// Copies each `(buffer, offset, bytes)` out and waits: their bytes. A
+/// page cannot wait, and is told so.
+fn map_words<const N: usize>(gpu: &Gpu, parts: [(&wgpu::Buffer, u64, u64); N]) -> Result<[Vec<u8>; N], GpuStepError> {
+    let total: u64 = parts.iter().map(|p| p.2).sum();
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork gpu step read-back"),
+        size: total.max(4),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("tickwork gpu step read-back"),
+    });
+    let mut at = 0;
+    for (buffer, offset, bytes) in parts {
+        encoder.copy_buffer_to_buffer(buffer, offset, &staging, at, bytes);
+        at += bytes;
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let slice = staging.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+    // Natively the wait has run the callback; a page cannot wait (its GPU
+    // answers once its script yields), and is told so.
+    receiver
+        .try_recv()
+        .map_err(|_| {
+            GpuStepError::ReadBack(
+                "the GPU has not answered: a page cannot wait for a read-back (read a GPU world back natively)".into(),
+            )
+        })?
+        .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+    let mapped = slice
+        .get_mapped_range()
+        .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
+    let mut at = 0usize;
+    Ok(parts.map(|(_, _, bytes)| {
+        let part = mapped[at..at + bytes as usize].to_vec();
+        at += bytes as usize;
+        part
+    }))
+}
+
+/// The `k`th 4-byte word of `bytes` as an f32 (0 past the end).
+fn f32_at(bytes: &[u8], k: usize) -> f32 {
+    bytes
+        .get(4 * k..4 * k + 4)
+        .and_then(|w| w.try_into().ok())
+        .map_or(0.0, f32::from_le_bytes)
+}
+
+/// Room for `room` contacts (48 bytes each; one for none).
+fn touches_buffer(device: &wgpu::Device, room: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tickwork gpu step touches"),
+        size: TOUCH_BYTES * room.max(1),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// A contact's record (`Touch` in `step.wgsl`).
+const TOUCH_BYTES: u64 = 48;
+
 /// A vec4 a particle where the world has an n-body force; one otherwise
 /// (a binding is never empty).
 fn nbody_buffer(device: &wgpu::Device, nbody: bool, capacity: u32) -> wgpu::Buffer {
@@ -929,14 +1037,14 @@ fn nbody_buffer(device: &wgpu::Device, nbody: bool, capacity: u32) -> wgpu::Buff
     })
 }
 
-/// The step's bind group over these buffers (`[colliders, n-body, flags]`
-/// with the state's).
+/// The step's bind group over these buffers (`[colliders, n-body, flags,
+/// touches]` with the state's).
 fn step_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     params: &wgpu::Buffer,
     state: &State,
-    [colliders, nbody_accel, flags]: [&wgpu::Buffer; 3],
+    [colliders, nbody_accel, flags, touches]: [&wgpu::Buffer; 4],
 ) -> wgpu::BindGroup {
     let resources = [
         params,
@@ -946,6 +1054,7 @@ fn step_bind_group(
         nbody_accel,
         &state.history,
         flags,
+        touches,
     ];
     let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
         .iter()

@@ -196,7 +196,8 @@ impl World {
     /// The step of a world whose particles are stepped elsewhere (a GPU
     /// world's, `gpu_step`): the same checks, then what the step does
     /// after the particles' integration (lifetimes, expiry, emitters,
-    /// queued commands, tick and time), the particle state untouched. The
+    /// queued commands, tick and time), the particle state and the step's
+    /// contacts (named by the caller, before the rows change) untouched. The
     /// caller has refused what this leaves out (rigid bodies, headings,
     /// sensors, colliders that move or report).
     ///
@@ -207,7 +208,6 @@ impl World {
         self.check_step(step)?;
         self.edited = false;
         self.removed.clear();
-        self.contacts.clear();
         let mut report = StepReport::default();
         self.end_step(step, &mut report, |_, _| {})?;
         Ok(report)
@@ -416,7 +416,9 @@ impl World {
     /// of a fused step, in lane order, or from the plain step), sorted into
     /// the canonical order and named by entity, while the rows are still
     /// those the step found them at.
-    fn name_contacts(&mut self, fused: bool) {
+    /// The step's contacts by entity, from its touches by row (`fused`:
+    /// gathered from the lanes first), sorted as every path sorts them.
+    pub(crate) fn name_contacts(&mut self, fused: bool) {
         self.contacts.clear();
         if !self.colliders.any_reports() {
             return;
