@@ -96,6 +96,8 @@ fn lab_all_writes_every_file_and_the_data_match_theory() {
         "convergence-kepler.png",
         "convergence.csv",
         "convergence.md",
+        "convergence-gpu.csv",
+        "convergence-gpu.md",
         "energy.png",
         "energy.csv",
         "energy.md",
@@ -159,6 +161,33 @@ fn lab_all_writes_every_file_and_the_data_match_theory() {
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+
+    // The GPU column: the projectile in f32 on the CPU and on the GPU, the
+    // same errors on lavapipe (CI's adapter), and the slopes of the
+    // registry where the errors are above f32 round-off.
+    let gpu = std::fs::read_to_string(dir.join("convergence-gpu.md")).expect("convergence-gpu.md");
+    assert!(gpu.contains("Adapter: "), "{gpu}");
+    assert!(report.contains("### On the GPU"), "report.md has the GPU column");
+    let mut gpu_methods = 0;
+    for line in gpu
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| method"))
+    {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // | method | stated / CPU f32 / GPU | same errors |
+        let numbers: Vec<&str> = cells[2].split(" / ").collect();
+        let (stated, cpu, on_gpu) = (numbers[0], numbers[1], numbers[2]);
+        assert_eq!(cpu, on_gpu, "{line}");
+        assert_eq!(cells[3], "yes", "{line}");
+        if let (Ok(stated), Ok(fitted)) = (stated.parse::<f64>(), on_gpu.parse::<f64>()) {
+            assert!((fitted - stated).abs() <= 0.25, "{line}");
+        }
+        gpu_methods += 1;
+    }
+    assert_eq!(gpu_methods, 13, "{gpu}");
+    let gpu_points = csv(&dir.join("convergence-gpu.csv"));
+    assert_eq!(gpu_points.len(), 13 * 5);
+    assert!(gpu_points.iter().all(|row| row[3] == row[4]), "CPU f32 and GPU errors");
 
     // Stability: measured against theory within 2%.
     let mut checked = 0;

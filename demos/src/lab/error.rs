@@ -47,6 +47,8 @@ pub enum LabError {
     },
     /// A method of the registry could not be built.
     Method(UnknownMethod),
+    /// The GPU column's step failed (the adapter's message).
+    Gpu(String),
 }
 
 impl fmt::Display for LabError {
@@ -66,6 +68,7 @@ impl fmt::Display for LabError {
             Self::Font => f.write_str("the shipped font assets/fonts/DejaVuSans.ttf could not be read"),
             Self::Plot { path, .. } => write!(f, "cannot draw the chart {}", path.display()),
             Self::Method(e) => write!(f, "cannot build the method '{}'", e.name),
+            Self::Gpu(message) => write!(f, "the GPU column: {message}"),
         }
     }
 }
@@ -76,7 +79,7 @@ impl Error for LabError {
             Self::CreateDir { source, .. } | Self::Write { source, .. } => Some(source),
             Self::Plot { source, .. } => Some(source.as_ref()),
             Self::Method(e) => Some(e),
-            Self::UnknownProblem { .. } | Self::OutIsFile(_) | Self::Exists(_) | Self::Font => None,
+            Self::UnknownProblem { .. } | Self::OutIsFile(_) | Self::Exists(_) | Self::Font | Self::Gpu(_) => None,
         }
     }
 }

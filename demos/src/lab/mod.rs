@@ -10,6 +10,7 @@ pub mod convergence;
 pub mod cost;
 pub mod energy;
 pub mod error;
+pub mod gpu;
 pub mod plot;
 pub mod problems;
 pub mod stability;
@@ -123,6 +124,7 @@ pub fn run(args: &LabArgs) -> Result<Written, LabError> {
     }
     if all || args.study == Study::Convergence {
         write_convergence(&mut out, &runs)?;
+        write_gpu_convergence(&mut out, &problems)?;
     }
     if all || args.study == Study::Energy {
         write_energy(&mut out)?;
@@ -208,6 +210,77 @@ fn write_convergence(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(),
     }
     out.text("convergence.csv", &csv)?;
     out.text("convergence.md", &md)?;
+    out.written.markdown.push(md);
+    Ok(())
+}
+
+/// The GPU column of the convergence study (`gpu.rs`), for the problems it
+/// takes among `problems`: a table of fitted slopes, the CPU's f32 world's
+/// beside the GPU's, and whether their errors are the same numbers, and the
+/// points as CSV. Without an adapter the section says why (natively a
+/// user's machine may have none; CI installs lavapipe, and its test fails
+/// if the section is missing).
+fn write_gpu_convergence(out: &mut Out<'_>, problems: &[Problem]) -> Result<(), LabError> {
+    let problems: Vec<Problem> = gpu::PROBLEMS.into_iter().filter(|p| problems.contains(p)).collect();
+    if problems.is_empty() {
+        return Ok(());
+    }
+    let mut md = String::from(
+        "### On the GPU\n\nThe projectile under quadratic drag (gravity and quadratic drag are the GPU \
+         step's own forces), one particle in f32, stepped by every method the GPU step takes, at the \
+         convergence study's steps: the fitted slope of the CPU's f32 world and of the GPU (errors below \
+         1e-5 are f32 round-off, left out of the fits: `-` where fewer than three points remain, as for \
+         RK4), and whether the two errors are the same numbers at every step. (The orbit needs \
+         thousands of steps, whose f32 round-off passes the truncation error of every method above \
+         first order: it stays in the f64 table.)\n\n",
+    );
+    let gpu = match tickwork_engine::render::Gpu::headless() {
+        Ok(gpu) => gpu,
+        Err(error) => {
+            let _ = writeln!(md, "Not run: {error}\n");
+            out.text("convergence-gpu.md", &md)?;
+            out.written.markdown.push(md);
+            return Ok(());
+        }
+    };
+    let info = gpu.adapter.get_info();
+    let _ = writeln!(md, "Adapter: {} ({:?}).\n", info.name, info.backend);
+    let mut runs = Vec::new();
+    for &problem in &problems {
+        runs.push(gpu::study(&gpu, problem)?);
+    }
+    let mut csv = String::from("problem,method,dt,cpu_f32_error,gpu_error\n");
+    let _ = write!(md, "| method |");
+    for problem_runs in &runs {
+        let _ = write!(
+            md,
+            " {}: stated / CPU f32 / GPU | same errors |",
+            problem_runs[0].problem.name()
+        );
+    }
+    let _ = write!(md, "\n|---|{}\n", "---|---|".repeat(runs.len()));
+    let fitted = |s: Option<f64>| s.map_or("-".to_owned(), |s| format!("{s:.2}"));
+    for (k, first) in runs[0].iter().enumerate() {
+        let _ = write!(md, "| {} |", first.method);
+        for problem_runs in &runs {
+            let r = &problem_runs[k];
+            let same = r.points.iter().all(|p| p.1.to_bits() == p.2.to_bits());
+            let _ = write!(
+                md,
+                " {} / {} / {} | {} |",
+                r.stated,
+                fitted(r.slopes.0),
+                fitted(r.slopes.1),
+                if same { "yes" } else { "no" }
+            );
+            for p in &r.points {
+                let _ = writeln!(csv, "{},{},{},{:e},{:e}", r.problem.name(), r.method, p.0, p.1, p.2);
+            }
+        }
+        md.push('\n');
+    }
+    out.text("convergence-gpu.csv", &csv)?;
+    out.text("convergence-gpu.md", &md)?;
     out.written.markdown.push(md);
     Ok(())
 }
