@@ -420,6 +420,13 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         "the GPU step does not evaluate the force \"springs\": it takes gravity, wind, linear and quadratic \
          drag, attractors and n-body"
     );
+    let mut spheres = world("semi_implicit_euler");
+    spheres.add_collider(tickwork_engine::SphereCollisions::new(Material::default()));
+    assert_eq!(
+        refused(&spheres),
+        "the GPU step does not resolve this spheres: sphere-sphere collisions stay on the CPU (the GPU step \
+         resolves planes and boxes)"
+    );
     // A moving plane whose normal is no axis.
     let mut tilted = world("semi_implicit_euler");
     tilted.add_collider(Plane {

@@ -325,6 +325,11 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             });
             continue;
         }
+        if name == "spheres" {
+            return Err(refuse(
+                "sphere-sphere collisions stay on the CPU (the GPU step resolves planes and boxes)",
+            ));
+        }
         let plane = collider
             .as_any()
             .downcast_ref::<Plane>()

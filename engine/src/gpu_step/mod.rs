@@ -12,14 +12,17 @@
 //! a world here when its `WorldConfig::backend` says so (`app/backend.rs`).
 //! What the GPU step does not do (yet) is refused when the world is made,
 //! with an error naming it ([`GpuStepError`]): the methods are explicit
-//! and semi-implicit Euler, midpoint, Heun, RK4 and Forest-Ruth; the
-//! forces gravity, wind, linear and quadratic drag and attractors (their
-//! values written into the world's shader as exact bits) and n-body (a
-//! tiled all-pairs kernel before each step, under the Euler methods); the
-//! colliders planes at rest whose normal is an axis and boxes at rest
-//! (containers and solid), with restitution and friction, resolved at the
-//! end of the step in their order. Subnormal velocities are
-//! flushed to 0 after the same ticks as on the CPU (every 64th).
+//! and semi-implicit Euler, midpoint, Heun, RK4, Forest-Ruth, velocity
+//! Verlet, leapfrog, position Verlet, Beeman and Adams-Bashforth 2-4 (the
+//! history ones with their history in a buffer, restarted as the CPU's);
+//! the forces gravity, wind, linear and quadratic drag and attractors
+//! (their values written into the world's shader as exact bits) and n-body
+//! (a tiled all-pairs kernel before each step, under the Euler methods);
+//! the colliders planes whose normal is an axis and boxes (containers and
+//! solid), at rest or kinematic, with restitution and friction, resolved
+//! at the end of the step in their order, their contacts read back where
+//! they report them. Subnormal velocities are flushed to 0 after the same
+//! ticks as on the CPU (every 64th).
 //!
 //! Bits: for every method the GPU performs the CPU's operations in the
 //! CPU's order (coefficients the CPU computes in f64, Forest-Ruth's, come
