@@ -107,6 +107,8 @@ engine_errors!(
     crate::world::EntityError,
     crate::colliders::ColliderError,
     super::stage::StageError,
+    super::stage::ReadBackError,
+    crate::gpu_step::GpuStepError,
     crate::world::WorldError,
     crate::scene::SceneError,
     crate::clock::ClockError,

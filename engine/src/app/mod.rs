@@ -52,6 +52,8 @@ pub use session::GameSession;
 pub use session_options::SessionOptions;
 pub use sound::{Sound, SoundError};
 pub use source::FrameSource;
-pub use stage::{EnergyTrace, OnFailure, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId};
+pub use stage::{
+    EnergyTrace, OnFailure, ReadBackError, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId,
+};
 pub use start::run;
 pub use window::{WindowOptions, WindowSummary, run_window};

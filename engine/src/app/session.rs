@@ -437,7 +437,7 @@ impl<G: Game> GameSession<G> {
     /// # Errors
     /// [`RunError::Game`] if a read-back fails.
     pub fn read_back(&mut self) -> Result<(), RunError> {
-        self.stage.read_back_all().map_err(RunError::Game)
+        self.stage.read_back_all().map_err(|e| RunError::Game(e.into()))
     }
 
     /// The checksum of every world's state, in stage order, and of the

@@ -10,7 +10,6 @@ use glam::{Vec2, Vec3};
 
 use super::backend::{StepFailure, Stepper};
 use super::draw::Viewport;
-use super::game::GameError;
 use super::sound::Sound;
 use crate::clock::{FixedStep, Rate};
 use crate::gpu_step::GpuStepError;
@@ -69,6 +68,31 @@ impl fmt::Display for StageError {
 }
 
 impl std::error::Error for StageError {}
+
+/// Why [`Stage::read_back`] failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReadBackError {
+    /// The id names no world of the stage.
+    Stage(StageError),
+    /// The world's state could not be read back from the GPU.
+    Gpu {
+        /// The world's label.
+        world: String,
+        /// Why.
+        error: GpuStepError,
+    },
+}
+
+impl fmt::Display for ReadBackError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Stage(e) => e.fmt(f),
+            Self::Gpu { world, error } => write!(f, "world \"{world}\": {error}"),
+        }
+    }
+}
+
+impl std::error::Error for ReadBackError {}
 
 /// A world on the stage, with what the runner keeps for it.
 #[derive(Debug)]
@@ -468,27 +492,29 @@ impl Stage {
     /// the CPU is returned as it is.
     ///
     /// # Errors
-    /// [`GameError::Message`] for an unknown id or a failed read-back.
-    pub fn read_back(&mut self, id: WorldId) -> Result<&World, GameError> {
+    /// [`ReadBackError`] for an unknown id or a failed read-back.
+    pub fn read_back(&mut self, id: WorldId) -> Result<&World, ReadBackError> {
         let gpu = self.gpu.as_ref();
         let worlds = self.worlds.len();
         let shown = self
             .worlds
             .get_mut(id.0)
-            .ok_or_else(|| GameError::Message(StageError::Unknown { id, worlds }.to_string()))?;
-        shown
-            .sync(gpu)
-            .map_err(|error| GameError::Message(format!("world \"{}\": {error}", shown.label)))?;
+            .ok_or(ReadBackError::Stage(StageError::Unknown { id, worlds }))?;
+        shown.sync(gpu).map_err(|error| ReadBackError::Gpu {
+            world: shown.label.clone(),
+            error,
+        })?;
         Ok(&shown.world)
     }
 
     /// Reads every world on the GPU back (see [`read_back`](Self::read_back)).
-    pub(crate) fn read_back_all(&mut self) -> Result<(), GameError> {
+    pub(crate) fn read_back_all(&mut self) -> Result<(), ReadBackError> {
         let gpu = self.gpu.as_ref();
         for shown in &mut self.worlds {
-            shown
-                .sync(gpu)
-                .map_err(|error| GameError::Message(format!("world \"{}\": {error}", shown.label)))?;
+            shown.sync(gpu).map_err(|error| ReadBackError::Gpu {
+                world: shown.label.clone(),
+                error,
+            })?;
         }
         Ok(())
     }

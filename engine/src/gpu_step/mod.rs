@@ -35,10 +35,12 @@
 //! same adapter and driver, run to run: no result depends on the order of
 //! atomic operations (there are none).
 
+mod dispatch;
 mod error;
 mod kernel;
 mod rows;
 mod world;
 
+pub use dispatch::WORKGROUP;
 pub use error::GpuStepError;
-pub use world::{GpuWorld, WORKGROUP};
+pub use world::GpuWorld;

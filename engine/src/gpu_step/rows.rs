@@ -13,8 +13,8 @@
 
 use std::collections::HashMap;
 
+use super::dispatch::dispatch;
 use super::error::GpuStepError;
-use super::world::dispatch;
 use crate::render::Gpu;
 use crate::world::{RowChange, World};
 
