@@ -1,8 +1,10 @@
 // A GPU world's particles into the frame's instance records: each
 // particle's previous and current position, radius and colour, read from
 // the world's own buffers (engine/src/gpu_step) and written after the CPU
-// worlds' records, so the quads and the splat draw them as any world's.
-// One invocation a particle; nothing leaves the GPU.
+// worlds' records, so the quads and the splat draw them as any world's;
+// under Hermite interpolation its velocities too, into the velocity
+// records (`gather_velocities`, a group of its own). One invocation a
+// particle; nothing leaves the GPU.
 
 struct Gather {
     // The first record written, the particles, and the workgroups along x
@@ -37,4 +39,22 @@ fn gather_particles(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = previous[k];
     let c = current[k];
     instances[gather.first + k] = Instance(p.xyz, c.w, c.xyz, colours[k]);
+}
+
+// (x, y, z, inverse mass) a particle now, and the renderer's velocity
+// records (`Velocity` in hermite.rs: three floats a particle).
+@group(1) @binding(0) var<storage, read> velocities: array<vec4<f32>>;
+@group(1) @binding(1) var<storage, read_write> records: array<f32>;
+
+@compute @workgroup_size(64)
+fn gather_velocities(@builtin(global_invocation_id) id: vec3<u32>) {
+    let k = id.x + id.y * gather.groups_x * 64u;
+    if (k >= gather.count) {
+        return;
+    }
+    let v = velocities[k];
+    let at = 3u * (gather.first + k);
+    records[at] = v.x;
+    records[at + 1u] = v.y;
+    records[at + 2u] = v.z;
 }

@@ -595,6 +595,59 @@ fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
     );
 }
 
+#[test]
+fn a_gpu_world_is_drawn_along_hermite_curves_by_quads_and_by_the_splat_as_its_cpu_twin() {
+    use tickwork_engine::interpolation::Interpolation;
+    use tickwork_engine::render::{Camera, FrameView, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
+    let gpu = gpu();
+    let mut cpu = world("velocity_verlet");
+    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    cpu_steps(&mut cpu, 0..30);
+    on_gpu.step(&gpu, DT as f32, 30).expect("steps");
+    let camera = Camera::TwoD {
+        center: glam::Vec2::new(0.0, 5.0),
+        height: 12.0,
+    };
+    let empty = World::default();
+    let particles = [on_gpu.particles()];
+    for (path, splat_threshold) in [("quads", usize::MAX), ("the splat", 0)] {
+        let config = RendererConfig {
+            splat_threshold: Some(splat_threshold),
+            interpolation: Interpolation::Hermite { dt: DT as f32 },
+            ..RendererConfig::default()
+        };
+        let draw = |view: &FrameView<'_>| {
+            let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config.clone()).expect("a renderer");
+            let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
+            target.render(&gpu, &mut renderer, view).expect("a frame")
+        };
+        let from_cpu = draw(&FrameView::new(&cpu, 0.3, camera));
+        let from_gpu = draw(&FrameView {
+            gpu_particles: &particles,
+            ..FrameView::new(&empty, 0.3, camera)
+        });
+        // The curve differs from the straight line: Hermite was drawn.
+        let linear = {
+            let config = RendererConfig {
+                interpolation: Interpolation::Interpolate,
+                ..config.clone()
+            };
+            let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config).expect("a renderer");
+            let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
+            target
+                .render(&gpu, &mut renderer, &FrameView::new(&cpu, 0.3, camera))
+                .expect("a frame")
+        };
+        let curved = from_cpu.pixels().zip(linear.pixels()).filter(|(a, b)| a != b).count();
+        assert!(curved > 50, "{path}: Hermite and linear differ in {curved} pixels");
+        let differing = from_cpu.pixels().zip(from_gpu.pixels()).filter(|(a, b)| a != b).count();
+        assert_eq!(
+            differing, 0,
+            "{path}: the GPU world's Hermite frame against its CPU twin's"
+        );
+    }
+}
+
 /// A fountain's world: two jets of particles living 0.3 s and 0.55 s (so
 /// expiry removes rows all through the columns), 300 particles of a
 /// lattice, a third of them living 1 s, under gravity, wind and

@@ -411,6 +411,7 @@ impl GpuWorld {
         crate::render::GpuParticles {
             previous: &self.state.previous,
             current: &self.state.positions,
+            velocities: &self.state.velocities,
             colours: &self.state.colours,
             count: self.n,
             max_radius: self.max_radius,

@@ -49,11 +49,11 @@ pub struct FrameView<'a> {
     /// is drawn in that sRGB colour (default: none, all light grey).
     pub hud_colours: &'a [(usize, [u8; 4])],
     /// Particles stepped on the GPU, drawn from their own buffers after
-    /// the worlds' (on `particle_layer`), interpolated linearly between
-    /// their previous and current positions (Hermite interpolation is not
-    /// theirs yet: an error), as quads or by the splat as any world's: a
-    /// compute pass gathers them into the frame's particle records on the
-    /// GPU, nothing is uploaded.
+    /// the worlds' (on `particle_layer`), interpolated between their
+    /// previous and current positions as any world's (Hermite too, from
+    /// their velocities), as quads or by the splat: a compute pass gathers
+    /// them into the frame's particle records on the GPU, nothing is
+    /// uploaded.
     pub gpu_particles: &'a [GpuParticles<'a>],
 }
 
@@ -66,6 +66,8 @@ pub struct GpuParticles<'a> {
     pub previous: &'a wgpu::Buffer,
     /// `(x, y, z, radius)` now.
     pub current: &'a wgpu::Buffer,
+    /// `(vx, vy, vz, inverse mass)` now (Hermite interpolation's).
+    pub velocities: &'a wgpu::Buffer,
     /// sRGB RGBA colours, one `u32` (little-endian bytes) a particle.
     pub colours: &'a wgpu::Buffer,
     /// How many particles.

@@ -21,10 +21,14 @@ struct GatherParams {
     pad: u32,
 }
 
-/// The gather pipeline and a uniform a GPU world.
+/// The gather pipelines and a uniform a GPU world.
 pub(crate) struct Gather {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    /// Velocities into the Hermite records (group 1: the world's
+    /// velocities, the records).
+    velocity_layout: wgpu::BindGroupLayout,
+    velocity_pipeline: wgpu::ComputePipeline,
     /// One a GPU world of the frame, kept from frame to frame.
     params: Vec<wgpu::Buffer>,
 }
@@ -56,30 +60,49 @@ impl Gather {
                 buffer(4, Storage { read_only: false }),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("tickwork gather"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
+        let velocity_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tickwork gather velocities"),
+            entries: &[
+                buffer(0, Storage { read_only: true }),
+                buffer(1, Storage { read_only: false }),
+            ],
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("tickwork gather"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("gather_particles"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = |layouts: &[Option<&wgpu::BindGroupLayout>], entry_point| {
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry_point),
+                bind_group_layouts: layouts,
+                immediate_size: 0,
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
         Self {
+            pipeline: pipeline(&[Some(&layout)], "gather_particles"),
+            velocity_pipeline: pipeline(&[Some(&layout), Some(&velocity_layout)], "gather_velocities"),
             layout,
-            pipeline,
+            velocity_layout,
             params: Vec::new(),
         }
     }
 
     /// Writes `worlds`' particles into `instances` from record `first` on,
-    /// one after the other, and submits the pass (before the frame's own
+    /// one after the other (and their velocities into `hermite`'s velocity
+    /// records, if given), and submits the pass (before the frame's own
     /// commands, which draw them).
-    pub(crate) fn gather(&mut self, gpu: &Gpu, instances: &wgpu::Buffer, first: u32, worlds: &[GpuParticles<'_>]) {
+    pub(crate) fn gather(
+        &mut self,
+        gpu: &Gpu,
+        instances: &wgpu::Buffer,
+        hermite: Option<&wgpu::Buffer>,
+        first: u32,
+        worlds: &[GpuParticles<'_>],
+    ) {
         let device = &gpu.device;
         while self.params.len() < worlds.len() {
             self.params.push(device.create_buffer(&wgpu::BufferDescriptor {
@@ -130,6 +153,25 @@ impl Gather {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(x, y, 1);
+            if let Some(records) = hermite {
+                let velocities = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("tickwork gather velocities"),
+                    layout: &self.velocity_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: world.velocities.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: records.as_entire_binding(),
+                        },
+                    ],
+                });
+                pass.set_pipeline(&self.velocity_pipeline);
+                pass.set_bind_group(1, &velocities, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
         }
         gpu.queue.submit([encoder.finish()]);
     }

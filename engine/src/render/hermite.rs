@@ -66,20 +66,23 @@ impl HermiteParticles {
     }
 
     /// Uploads the velocities of `view`'s worlds if they changed since the
-    /// last upload; returns whether the velocity buffer was replaced (the
-    /// splat's bind groups then are stale).
-    pub(crate) fn upload(&mut self, gpu: &Gpu, view: &FrameView<'_>) -> bool {
+    /// last upload, with room for `extra` rows after them (the GPU worlds'
+    /// velocities, gathered there on the GPU); returns whether the velocity
+    /// buffer was replaced (the splat's bind groups then are stale).
+    pub(crate) fn upload(&mut self, gpu: &Gpu, view: &FrameView<'_>, extra: usize) -> bool {
         let mut replaced = false;
+        let n: usize = view.worlds().map(|w| w.world.len()).sum();
+        if ((n + extra) * std::mem::size_of::<Velocity>()) as u64 > self.velocities.size() {
+            self.velocities =
+                record_buffer::<Velocity>(&gpu.device, "tickwork velocities", (n + extra).next_power_of_two());
+            self.uploaded.clear();
+            replaced = true;
+        }
         self.upload_key.clear();
         self.upload_key
             .extend(view.worlds().map(|w| (w.world.id(), w.world.revision())));
         if self.uploaded != self.upload_key {
             std::mem::swap(&mut self.uploaded, &mut self.upload_key);
-            let n: usize = view.worlds().map(|w| w.world.len()).sum();
-            if (n * std::mem::size_of::<Velocity>()) as u64 > self.velocities.size() {
-                self.velocities = record_buffer::<Velocity>(&gpu.device, "tickwork velocities", n.next_power_of_two());
-                replaced = true;
-            }
             if n > 0 {
                 write_records(
                     gpu,

@@ -371,12 +371,6 @@ impl Renderer {
             .gpu_particles
             .iter()
             .fold(self.cpu_max_radius, |m, g| m.max(g.max_radius));
-        if gpu_count > 0 {
-            let gather = self
-                .gather
-                .get_or_insert_with(|| super::gather::Gather::new(&gpu.device));
-            gather.gather(gpu, &self.instances, self.cpu_instances, view.gpu_particles);
-        }
         self.plan_worlds(view, gpu_count);
         let dt = match self.config.interpolation {
             Interpolation::Hermite { dt } => Some(dt),
@@ -391,11 +385,23 @@ impl Renderer {
                     particle_pipeline(&gpu.device, layout, shader, entry, buffers, format, config)
                 })
             });
-            if hermite.upload(gpu, view)
+            if hermite.upload(gpu, view, usize::try_from(gpu_count).unwrap_or(usize::MAX))
                 && let Some(splat) = &mut self.splat
             {
                 splat.invalidate();
             }
+        }
+        // The GPU worlds' records (and velocities) after the CPU's, on the GPU.
+        if gpu_count > 0 {
+            let hermite = self
+                .hermite
+                .as_ref()
+                .filter(|_| self.hermite_active)
+                .map(HermiteParticles::velocities);
+            let gather = self
+                .gather
+                .get_or_insert_with(|| super::gather::Gather::new(&gpu.device));
+            gather.gather(gpu, &self.instances, hermite, self.cpu_instances, view.gpu_particles);
         }
         self.splat_active = self.splat.is_some()
             && self.instance_count as usize >= self.splat_threshold
@@ -845,8 +851,7 @@ impl Renderer {
     }
 
     /// The particles of the frame's GPU worlds, checked against their
-    /// buffers (and refused under Hermite interpolation, which needs
-    /// velocities their records do not carry).
+    /// buffers.
     fn gather_count(&self, view: &FrameView<'_>) -> Result<u64, RenderError> {
         let mut total = 0u64;
         for (k, g) in view.gpu_particles.iter().enumerate() {
@@ -858,13 +863,6 @@ impl Renderer {
                 )));
             }
             total += count;
-        }
-        if total > 0 && matches!(self.config.interpolation, Interpolation::Hermite { .. }) {
-            return Err(RenderError::Config(
-                "Hermite interpolation of particles stepped on the GPU is not there yet: draw them with \
-                 Interpolation::Interpolate"
-                    .into(),
-            ));
         }
         Ok(total)
     }
