@@ -33,6 +33,7 @@ fn every_shipped_scene_loads_builds_and_steps() {
             "bounce rules",
             "bouncing ball",
             "crowd",
+            "downpour",
             "fountain",
             "kepler",
             "pendulum chain",
