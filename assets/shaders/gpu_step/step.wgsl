@@ -315,6 +315,18 @@ fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
     var m = moved;
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
+        // At rest and silent (the common case): resolved in place. Where no
+        // collider of the world moves or reports (KINEMATIC and REPORTING,
+        // written for the world), the rest is compiled out: a software
+        // rasteriser runs both sides of a branch it cannot prove uniform.
+        if ((!KINEMATIC && !REPORTING) || c.flags == 0u) {
+            if (c.kind == 0u) {
+                resolve_plane(&m, c, r, w);
+            } else {
+                resolve_box(&m, c, r, w);
+            }
+            continue;
+        }
         let before = m;
         resolve_collider(&m, c, r, w);
         if ((c.flags & 2u) != 0u) {

@@ -383,6 +383,15 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             });
         }
     }
+    // What the colliders' loop compiles in (see `resolve_colliders`).
+    let _ = core::fmt::Write::write_fmt(
+        &mut plan.source,
+        format_args!(
+            "const KINEMATIC: bool = {};\nconst REPORTING: bool = {};\n",
+            plan.moving,
+            plan.reporting > 0
+        ),
+    );
     plan.method = method;
     plan.history = history;
     plan.affine = affine;
