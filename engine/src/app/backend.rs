@@ -44,10 +44,15 @@ pub(crate) struct Stepper {
 
 impl Stepper {
     /// One fixed step of `world` where its configuration says, on `gpu`
-    /// (a headless one is made into it if the runner gave none).
+    /// (a headless one is made into it if the runner gave none). A world
+    /// moved back to the CPU after steps on the GPU takes its state back
+    /// first (and its method starts its history afresh).
     pub fn step(&mut self, gpu: &mut Option<Gpu>, world: &mut World, step: FixedStep) -> Result<(), StepFailure> {
         if world.config().backend != Backend::Gpu {
-            self.on_gpu = None;
+            if self.on_gpu.is_some() {
+                self.sync(gpu.as_ref(), world)?;
+                self.on_gpu = None;
+            }
             world.step(step).map_err(StepFailure::Simulation)?;
             return Ok(());
         }

@@ -234,7 +234,8 @@ impl World {
     }
 
     /// Sets where a runner steps the particles (see
-    /// [`WorldConfig::backend`]); for a world that has not stepped yet.
+    /// [`WorldConfig::backend`]): from the next step on (a world moved
+    /// back to the CPU takes the GPU's state back first).
     pub fn set_backend(&mut self, backend: super::Backend) {
         self.config.backend = backend;
     }
