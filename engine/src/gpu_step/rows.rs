@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use super::dispatch::dispatch;
 use super::error::GpuStepError;
-use crate::render::Gpu;
+use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline};
 use crate::world::{RowChange, World};
 
 /// Where a row's particle comes from: a row before the changes, or new.
@@ -157,29 +157,17 @@ impl RowKernel {
             label: Some("tickwork gpu rows"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gpu_step/rows.wgsl").into()),
         });
-        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
+        let storage = |binding, read_only| {
+            buffer_entry(
+                binding,
+                wgpu::ShaderStages::COMPUTE,
+                wgpu::BufferBindingType::Storage { read_only },
+            )
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu rows"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                buffer_entry(0, wgpu::ShaderStages::COMPUTE, wgpu::BufferBindingType::Uniform),
                 storage(1, false),
                 storage(2, false),
                 storage(3, false),
@@ -194,16 +182,7 @@ impl RowKernel {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry_point| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry_point| compute_pipeline(device, &pipeline_layout, &module, entry_point);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu rows params"),
             size: std::mem::size_of::<RowParams>() as u64,
@@ -278,29 +257,17 @@ impl RowKernel {
                 .write_buffer(&self.spawns, 0, bytemuck::cast_slice(&plan.spawns));
         }
         let bind_group = self.bind_group.get_or_insert_with(|| {
-            let entries = [
-                self.params.as_entire_binding(),
-                state.positions.as_entire_binding(),
-                state.velocities.as_entire_binding(),
-                state.previous.as_entire_binding(),
-                state.colours.as_entire_binding(),
-                self.moves.as_entire_binding(),
-                self.spawns.as_entire_binding(),
-                state.history.as_entire_binding(),
+            let buffers = [
+                &self.params,
+                state.positions,
+                state.velocities,
+                state.previous,
+                state.colours,
+                &self.moves,
+                &self.spawns,
+                state.history,
             ];
-            let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
-                .into_iter()
-                .enumerate()
-                .map(|(binding, resource)| wgpu::BindGroupEntry {
-                    binding: binding as u32,
-                    resource,
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("tickwork gpu rows"),
-                layout: &self.layout,
-                entries: &entries,
-            })
+            bind_buffers(device, &self.layout, &buffers)
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("tickwork gpu rows"),

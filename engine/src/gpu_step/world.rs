@@ -10,7 +10,7 @@ use super::kernel::{ColliderRecord, Plan, changes_rows, coefficients, plan, refr
 use super::rows::{RowKernel, RowPlan, StateBuffers};
 use crate::clock::FixedStep;
 use crate::colliders::RowTouch;
-use crate::render::Gpu;
+use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline};
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
 
@@ -187,16 +187,7 @@ impl Pipelines {
             label: Some(plan.method),
             source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
         });
-        let pipeline_of = |entry_point| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(layout),
-                module: &module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline_of = |entry_point| compute_pipeline(device, layout, &module, entry_point);
         Self {
             step: pipeline_of("step"),
             nbody: plan.nbody.map(|_| pipeline_of("nbody")),
@@ -287,35 +278,24 @@ impl GpuWorld {
             mapped_at_creation: false,
         });
         let touches = touches_buffer(device, u64::from(n) * u64::from(plan.reporting));
-        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty,
-            count: None,
-        };
-        let storage = |read_only| wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
+        let storage = |binding, read_only| {
+            buffer_entry(
+                binding,
+                wgpu::ShaderStages::COMPUTE,
+                wgpu::BufferBindingType::Storage { read_only },
+            )
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu step"),
             entries: &[
-                entry(
-                    0,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(1, storage(false)),
-                entry(2, storage(false)),
-                entry(3, storage(true)),
-                entry(4, storage(false)),
-                entry(5, storage(false)),
-                entry(6, storage(false)),
-                entry(7, storage(false)),
+                buffer_entry(0, wgpu::ShaderStages::COMPUTE, wgpu::BufferBindingType::Uniform),
+                storage(1, false),
+                storage(2, false),
+                storage(3, true),
+                storage(4, false),
+                storage(5, false),
+                storage(6, false),
+                storage(7, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -1045,7 +1025,7 @@ fn step_bind_group(
     state: &State,
     [colliders, nbody_accel, flags, touches]: [&wgpu::Buffer; 4],
 ) -> wgpu::BindGroup {
-    let resources = [
+    let buffers = [
         params,
         &state.positions,
         &state.velocities,
@@ -1055,17 +1035,5 @@ fn step_bind_group(
         flags,
         touches,
     ];
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-        .iter()
-        .enumerate()
-        .map(|(binding, buffer)| wgpu::BindGroupEntry {
-            binding: binding as u32,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("tickwork gpu step"),
-        layout,
-        entries: &entries,
-    })
+    bind_buffers(device, layout, &buffers)
 }

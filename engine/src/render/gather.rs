@@ -7,6 +7,7 @@
 
 use super::frame_view::GpuParticles;
 use super::gpu::Gpu;
+use super::pipeline::{bind_buffers, compute_pipeline, entry};
 
 /// Invocations a workgroup (`@workgroup_size` in `gather.wgsl`).
 const WORKGROUP: u32 = 64;
@@ -39,16 +40,7 @@ impl Gather {
             label: Some("tickwork gather"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gather.wgsl").into()),
         });
-        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
+        let buffer = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
         use wgpu::BufferBindingType::{Storage, Uniform};
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gather"),
@@ -73,14 +65,7 @@ impl Gather {
                 bind_group_layouts: layouts,
                 immediate_size: 0,
             });
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            compute_pipeline(device, &pipeline_layout, &module, entry_point)
         };
         Self {
             pipeline: pipeline(&[Some(&layout)], "gather_particles"),
@@ -132,20 +117,11 @@ impl Gather {
                 continue;
             }
             gpu.queue.write_buffer(params, 0, bytemuck::bytes_of(&uniform));
-            let entries = [params, world.previous, world.current, world.colours, instances];
-            let entries: Vec<wgpu::BindGroupEntry<'_>> = entries
-                .iter()
-                .enumerate()
-                .map(|(binding, buffer)| wgpu::BindGroupEntry {
-                    binding: binding as u32,
-                    resource: buffer.as_entire_binding(),
-                })
-                .collect();
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("tickwork gather"),
-                layout: &self.layout,
-                entries: &entries,
-            });
+            let bind_group = bind_buffers(
+                device,
+                &self.layout,
+                &[params, world.previous, world.current, world.colours, instances],
+            );
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("tickwork gather"),
                 timestamp_writes: None,
@@ -154,20 +130,7 @@ impl Gather {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(x, y, 1);
             if let Some(records) = hermite {
-                let velocities = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("tickwork gather velocities"),
-                    layout: &self.velocity_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: world.velocities.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: records.as_entire_binding(),
-                        },
-                    ],
-                });
+                let velocities = bind_buffers(device, &self.velocity_layout, &[world.velocities, records]);
                 pass.set_pipeline(&self.velocity_pipeline);
                 pass.set_bind_group(1, &velocities, &[]);
                 pass.dispatch_workgroups(x, y, 1);

@@ -107,6 +107,23 @@ pub(crate) fn depth_state(write: bool) -> wgpu::DepthStencilState {
     }
 }
 
+/// The compute pipeline of `module`'s `entry_point` over `layout`.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry_point: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry_point),
+        layout: Some(layout),
+        module,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
 /// A render pipeline of `shader`'s `vertex_entry` and `fs_main` over one
 /// bind group `layout`, drawing `topology` into `format` with `blend`, the
 /// depth test (writing with `depth_write`) and `multisample`.
