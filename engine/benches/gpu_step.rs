@@ -8,8 +8,9 @@
 //! second, so the step's bandwidth as a fraction of the copy's is the
 //! ratio of the two (`scripts/gpu-bench` prints it). Then the all-pairs
 //! n-body kernel (workgroup tiles of 256) at 4k, 16k and 64k particles
-//! (`TICKWORK_GPU_NBODY_SIZES`), its throughput in pair interactions a
-//! second (n^2 a step: each particle sums every other). Then the cost of a
+//! (`TICKWORK_GPU_NBODY_SIZES`) under semi-implicit Euler and RK4, its
+//! throughput in pair interactions a second (n^2 an evaluation: each
+//! particle sums every other; RK4 evaluates four times a step). Then the cost of a
 //! rollback-style snapshot of a GPU world at 1M particles
 //! (`TICKWORK_GPU_READBACK_SIZES`): its state read back into its world and
 //! the world's checksum, against the CPU world's own snapshot and checksum
@@ -138,10 +139,11 @@ fn gpu_step(c: &mut Criterion) {
     }
 }
 
-/// `n` particles of a 100 m cube pulling on one another.
-fn cloud(n: usize) -> World {
+/// `n` particles of a 100 m cube pulling on one another, `method`
+/// stepping them.
+fn cloud(n: usize, method: &str) -> World {
     let mut world = World::new(WorldConfig {
-        integrator: "semi_implicit_euler".into(),
+        integrator: method.into(),
         max_particles: n.max(1),
         ..WorldConfig::default()
     })
@@ -166,16 +168,26 @@ fn gpu_nbody(c: &mut Criterion) {
         |_| vec![4_096, 16_384, 65_536],
         |list| list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
     );
-    for n in sizes {
-        let mut on_gpu = match GpuWorld::new(&gpu, &cloud(n)) {
+    // Semi-implicit Euler sums once a step; RK4 four times, at four
+    // stages' trial positions (a round of probe and sums each).
+    for (n, (method, evaluations)) in sizes
+        .iter()
+        .flat_map(|&n| [("semi_implicit_euler", 1), ("rk4", 4)].map(|m| (n, m)))
+    {
+        let name = if method == "rk4" {
+            format!("gpu_nbody_rk4_{n}")
+        } else {
+            format!("gpu_nbody_{n}")
+        };
+        let mut on_gpu = match GpuWorld::new(&gpu, &cloud(n, method)) {
             Ok(world) => world,
             Err(error) => {
-                println!("gpu_nbody_{n}: not run: {error}");
+                println!("{name}: not run: {error}");
                 continue;
             }
         };
-        let mut group = c.benchmark_group(format!("gpu_nbody_{n}"));
-        group.throughput(Throughput::Elements((n as u64) * (n as u64)));
+        let mut group = c.benchmark_group(name);
+        group.throughput(Throughput::Elements(evaluations * (n as u64) * (n as u64)));
         group.sample_size(10);
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(3));

@@ -18,6 +18,6 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let kicked = v0 + a0 * half;
     let x = x0 + kicked * h;
     let a1 = acceleration(x, kicked, w);
-    history[row] = vec4<f32>(a1, 0.0);
+    remember(row, vec4<f32>(a1, 0.0));
     return Motion(x, kicked + a1 * half);
 }

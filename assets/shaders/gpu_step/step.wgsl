@@ -6,9 +6,8 @@
 //                           in force order on the CPU
 //             - k |v| v     each quadratic drag, in force order
 //             + GM d / (|d|^2 + eps^2)^(3/2), d = p - x     each attractor
-//             + G sum_j m_j d_j / (|d_j|^2 + eps^2)^(3/2)    n-body, d_j = x_j - x, from
-//                           `nbody_accel`, which the `nbody` entry point fills at the
-//                           step's start (one evaluation there: Euler's methods only)
+//             + G sum_j m_j d_j / (|d_j|^2 + eps^2)^(3/2)    n-body, d_j = x_j - x_j of the
+//                           same evaluation (see "n-body" below)
 //                           (`acceleration`, written for the world and appended
 //                           below); 0 for an immovable particle
 //   plane (axis e, sign s, offset o, restitution e_r, friction mu), end of step:
@@ -24,6 +23,18 @@
 //
 // The same operations in the same order as the CPU's f32 step
 // (engine/src/colliders/plane.rs, contact_block; integrators/src/methods).
+//
+// n-body: a method's k-th evaluation of a particle needs every particle's
+// k-th trial position. Where the world has an n-body force, a step is
+// STAGES rounds of `probe` (the method run again with the sums of the
+// evaluations before k known, writing each particle's k-th trial position
+// and nothing else) and `nbody` (the sums at those positions), then the
+// step proper with every sum known. A probe's `STAGE` is a pipeline
+// constant; a round whose evaluation no particle reached returns at once.
+// Every particle makes the same evaluations in the same order, as the
+// CPU's whole-array stages do: a method that starts particles without
+// history by RK4 runs those stages for every particle while any starts
+// (`some_start`), as the CPU does for a coupled force.
 
 struct Params {
     c: vec3<f32>,
@@ -91,8 +102,9 @@ struct Motion {
 @group(0) @binding(1) var<storage, read_write> positions: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> velocities: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> colliders: array<Collider>;
-// G sum_j m_j d_j / (...)^(3/2) of each particle at the step's start (xyz).
-@group(0) @binding(4) var<storage, read_write> nbody_accel: array<vec4<f32>>;
+// n-body: the sums of evaluation k at [k n + row] (xyz), k < STAGES, then
+// the trial positions of the evaluation being summed at [STAGES n + row].
+@group(0) @binding(4) var<storage, read_write> nbody: array<vec4<f32>>;
 // The methods that remember: HISTORY records a particle (a constant
 // written for the method, from kernel.rs's table; 0: none), the first one's w saying whether the particle
 // continues (above 0: Adams-Bashforth's count of steps) or starts afresh
@@ -108,14 +120,54 @@ struct Motion {
 // leapfrog's cached accelerations for every particle, as the CPU's
 // history does. flags[1] collects this step's bit 1 (atomicOr: the same
 // word whatever the order); `rotate` moves it into flags[0].
+// Bit 2: some particle is short of history after its step (Adams-Bashforth
+// in a world with n-body: the next step's RK4 starts run for everyone).
 // flags[2] counts the step's contacts in `touches` (atomicAdd: their order
 // is the GPU's, the CPU sorts them as it sorts its own).
+// flags[3] counts the n-body evaluations whose trial positions this step
+// wrote (the last probe's, atomicMax); `rotate` clears it.
 @group(0) @binding(6) var<storage, read_write> flags: array<atomic<u32>, 4>;
 @group(0) @binding(7) var<storage, read_write> touches: array<Touch>;
 
 // The particle this invocation steps (for `acceleration` to read its
 // n-body term).
 var<private> row: u32;
+
+// The n-body evaluation a probe writes the trial positions of; NONE in the
+// step proper, which reads every evaluation's sums.
+override STAGE: u32 = 4294967295u;
+const NONE: u32 = 4294967295u;
+// The particle's n-body evaluations so far in this pass.
+var<private> call: u32;
+
+// The n-body term of this evaluation at `x`: its sum if known; in the
+// probe of this evaluation, `x` is written down for the sums.
+fn nbody_term(x: vec3<f32>) -> vec3<f32> {
+    let k = call;
+    call = call + 1u;
+    if (k < STAGE) {
+        return nbody[k * params.n + row].xyz;
+    }
+    if (k == STAGE) {
+        nbody[STAGES * params.n + row] = vec4<f32>(x, 0.0);
+        atomicMax(&flags[3], STAGE + 1u);
+    }
+    return vec3<f32>(0.0);
+}
+
+// A method's history record `k` becomes `value`, in the step proper only
+// (a probe leaves no trace).
+fn remember(k: u32, value: vec4<f32>) {
+    if (STAGE == NONE) {
+        history[k] = value;
+    }
+}
+
+// Whether some particle starts without history this step (any flag of the
+// last step: a new start, a changed particle, one short of history).
+fn some_start() -> bool {
+    return atomicLoad(&flags[0]) != 0u;
+}
 
 // Whether every particle starts afresh this step (bit 0), or the cached
 // accelerations restart (any bit: velocity Verlet, leapfrog).
@@ -373,6 +425,7 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     row = i;
+    call = 0u;
     let p = positions[i];
     let q = velocities[i];
     let stepped = advance(p.xyz, q.xyz, q.w, params.dt);
@@ -384,35 +437,64 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     velocities[i] = vec4<f32>(moved.v, q.w);
 }
 
-// After each step of a method with history: its news become what the
-// next step reads.
+// n-body, evaluation STAGE: the method run as far as that evaluation, to
+// write down each particle's trial position there (see "n-body" above).
+@compute @workgroup_size(256)
+fn probe(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x + id.y * params.groups_x * 256u;
+    if (i >= params.n || atomicLoad(&flags[3]) < STAGE) {
+        // Out of rows, or the last evaluation was not reached: nor is this.
+        return;
+    }
+    row = i;
+    call = 0u;
+    let p = positions[i];
+    let q = velocities[i];
+    _ = advance(p.xyz, q.xyz, q.w, params.dt);
+}
+
+// After each step of a method with history or with n-body: its news
+// become what the next step reads.
 @compute @workgroup_size(1)
 fn rotate() {
     atomicStore(&flags[0], atomicLoad(&flags[1]));
     atomicStore(&flags[1], 0u);
+    atomicStore(&flags[3], 0u);
 }
 
 // The n-body sums of the tile loaded into workgroup memory: positions and
 // masses (1 / w, 0 for an immovable particle).
 var<workgroup> tile: array<vec4<f32>, 256>;
+// How many evaluations' trial positions the probes wrote (read once for
+// the workgroup, so that its barriers stay uniform).
+var<workgroup> reached: u32;
 
-// Each particle's n-body acceleration at the step's start: every other
-// particle in row order, 256 at a time through workgroup memory, summed
-// as the CPU's `NBody::row` sums them (then times G).
+// Each particle's n-body acceleration of evaluation STAGE at the trial
+// positions the probe wrote: every other particle in row order, 256 at a
+// time through workgroup memory, summed as the CPU's `NBody::row` sums
+// them (then times G).
 @compute @workgroup_size(256)
-fn nbody(
+fn nbody_sums(
     @builtin(global_invocation_id) id: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
+    if (lane == 0u) {
+        reached = atomicLoad(&flags[3]);
+    }
+    if (workgroupUniformLoad(&reached) <= STAGE) {
+        // No particle made this evaluation in this step.
+        return;
+    }
     let i = id.x + id.y * params.groups_x * 256u;
     let n = params.n;
-    let xi = positions[min(i, n - 1u)].xyz;
+    let trials = STAGES * n;
+    let xi = nbody[trials + min(i, n - 1u)].xyz;
     var sum = vec3<f32>(0.0);
     for (var base = 0u; base < n; base += 256u) {
         let j = base + lane;
         if (j < n) {
             let w = velocities[j].w;
-            tile[lane] = vec4<f32>(positions[j].xyz, select(0.0, 1.0 / w, w > 0.0));
+            tile[lane] = vec4<f32>(nbody[trials + j].xyz, select(0.0, 1.0 / w, w > 0.0));
         }
         workgroupBarrier();
         let count = min(256u, n - base);
@@ -427,7 +509,7 @@ fn nbody(
         workgroupBarrier();
     }
     if (i < n) {
-        nbody_accel[i] = vec4<f32>(sum * params.nbody_g, 0.0);
+        nbody[STAGE * n + i] = vec4<f32>(sum * params.nbody_g, 0.0);
     }
 }
 

@@ -18,7 +18,7 @@ fn advance(x0: vec3<f32>, v0: vec3<f32>, w: f32, h: f32) -> Motion {
     let x = x0 + kept(v0 * h + a0 * half_h2);
     let predicted = v0 + a0 * h;
     let a1 = acceleration(x, predicted, w);
-    history[row] = vec4<f32>(a1, 0.0);
+    remember(row, vec4<f32>(a1, 0.0));
     return Motion(x, v0 + (a0 + a1) * half);
 }
 

@@ -8,9 +8,12 @@ pub const WORKGROUP: u32 = 256;
 
 /// The particle count as the shader's `n`, and the workgroups of one
 /// dispatch `(x, y)` (past the per-dimension limit, the rest folds into
-/// y), or the limit the particles are past.
-pub(super) fn dispatch(count: usize, limits: &wgpu::Limits) -> Result<(u32, (u32, u32)), GpuStepError> {
-    let bytes = count as u64 * 16;
+/// y), or the limit the particles are past, in a buffer of `records`
+/// vec4s a particle (the largest the step binds: a method's history, the
+/// n-body rounds).
+pub(super) fn dispatch(count: usize, records: u32, limits: &wgpu::Limits) -> Result<(u32, (u32, u32)), GpuStepError> {
+    let record = 16 * u64::from(records.max(1));
+    let bytes = (count as u64).saturating_mul(record);
     for (limit, value) in [
         (
             "max_storage_buffer_binding_size",
@@ -23,7 +26,7 @@ pub(super) fn dispatch(count: usize, limits: &wgpu::Limits) -> Result<(u32, (u32
                 limit,
                 value,
                 needed: bytes,
-                fits: value / 16,
+                fits: value / record,
             });
         }
     }
@@ -56,18 +59,18 @@ mod tests {
             max_buffer_size: 1 << 30,
             ..wgpu::Limits::downlevel_defaults()
         };
-        assert_eq!(dispatch(0, &limits), Ok((0, (0, 1))));
-        assert_eq!(dispatch(1000, &limits), Ok((1000, (4, 1))));
+        assert_eq!(dispatch(0, 1, &limits), Ok((0, (0, 1))));
+        assert_eq!(dispatch(1000, 1, &limits), Ok((1000, (4, 1))));
         // 10 million: 39 063 workgroups, one row.
-        assert_eq!(dispatch(10_000_000, &limits), Ok((10_000_000, (39_063, 1))));
+        assert_eq!(dispatch(10_000_000, 1, &limits), Ok((10_000_000, (39_063, 1))));
         // 20 million: 78 125 workgroups, two rows of 65 535.
-        assert_eq!(dispatch(20_000_000, &limits), Ok((20_000_000, (65_535, 2))));
+        assert_eq!(dispatch(20_000_000, 1, &limits), Ok((20_000_000, (65_535, 2))));
         let small = wgpu::Limits {
             max_storage_buffer_binding_size: 1 << 20,
             ..limits
         };
         assert_eq!(
-            dispatch(100_000, &small),
+            dispatch(100_000, 1, &small),
             Err(GpuStepError::Limit {
                 limit: "max_storage_buffer_binding_size",
                 value: 1 << 20,
@@ -76,12 +79,22 @@ mod tests {
             })
         );
         assert_eq!(
-            dispatch(100_000, &small).map_err(|e| e.to_string()),
+            dispatch(100_000, 1, &small).map_err(|e| e.to_string()),
             Err(
                 "the particles need 1600000 of the device's max_storage_buffer_binding_size (1048576): at most \
                  65536 particles fit"
                     .to_owned()
             )
+        );
+        // Adams-Bashforth 4's six history records a particle: a sixth fit.
+        assert_eq!(
+            dispatch(20_000, 6, &small),
+            Err(GpuStepError::Limit {
+                limit: "max_storage_buffer_binding_size",
+                value: 1 << 20,
+                needed: 1_920_000,
+                fits: 10_922,
+            })
         );
     }
 }

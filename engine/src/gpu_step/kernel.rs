@@ -12,50 +12,66 @@ use crate::world::World;
 /// The step's shader: the common part, then the method's `advance`.
 const COMMON: &str = include_str!("../../../assets/shaders/gpu_step/step.wgsl");
 
-/// The methods with a GPU form: name and WGSL.
-const METHODS: &[(&str, &str)] = &[
+/// The methods with a GPU form: name, WGSL, and the most evaluations of
+/// the acceleration it makes in one step (where a particle starts by RK4:
+/// one more than RK4's four for Beeman), the n-body rounds of its step.
+const METHODS: &[(&str, &str, u32)] = &[
     (
         "semi_implicit_euler",
         include_str!("../../../assets/shaders/gpu_step/semi_implicit_euler.wgsl"),
+        1,
     ),
     (
         "explicit_euler",
         include_str!("../../../assets/shaders/gpu_step/explicit_euler.wgsl"),
+        1,
     ),
     (
         "midpoint",
         include_str!("../../../assets/shaders/gpu_step/midpoint.wgsl"),
+        2,
     ),
-    ("heun", include_str!("../../../assets/shaders/gpu_step/heun.wgsl")),
-    ("rk4", include_str!("../../../assets/shaders/gpu_step/rk4.wgsl")),
+    ("heun", include_str!("../../../assets/shaders/gpu_step/heun.wgsl"), 2),
+    ("rk4", include_str!("../../../assets/shaders/gpu_step/rk4.wgsl"), 4),
     (
         "forest_ruth",
         include_str!("../../../assets/shaders/gpu_step/forest_ruth.wgsl"),
+        3,
     ),
     (
         "velocity_verlet",
         include_str!("../../../assets/shaders/gpu_step/velocity_verlet.wgsl"),
+        2,
     ),
     (
         "leapfrog",
         include_str!("../../../assets/shaders/gpu_step/leapfrog.wgsl"),
+        2,
     ),
     (
         "position_verlet",
         include_str!("../../../assets/shaders/gpu_step/position_verlet.wgsl"),
+        4,
     ),
-    ("beeman", include_str!("../../../assets/shaders/gpu_step/beeman.wgsl")),
+    (
+        "beeman",
+        include_str!("../../../assets/shaders/gpu_step/beeman.wgsl"),
+        5,
+    ),
     (
         "adams_bashforth2",
         include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        4,
     ),
     (
         "adams_bashforth3",
         include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        4,
     ),
     (
         "adams_bashforth4",
         include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        4,
     ),
 ];
 
@@ -92,9 +108,14 @@ fn bits(value: f32) -> Bits {
 fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), GpuStepError> {
     use core::fmt::Write;
     // Writing into a String cannot fail.
+    let _ = out.write_str("fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {\n");
+    if forces.iter().any(|f| f.as_any().downcast_ref::<NBody>().is_some()) {
+        // Every particle's evaluation counts, an immovable one's too: its
+        // trial position is written down for the others' sums.
+        out.push_str("    let pull = nbody_term(x);\n");
+    }
     let _ = out.write_str(
-        "fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {\n    if (!(w > 0.0)) {\n        \
-         return vec3<f32>(0.0);\n    }\n    var a = params.c - v * params.b;\n",
+        "    if (!(w > 0.0)) {\n        return vec3<f32>(0.0);\n    }\n    var a = params.c - v * params.b;\n",
     );
     for force in forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
         let any = force.as_any();
@@ -117,8 +138,7 @@ fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), 
                 bits(attractor.gm)
             );
         } else if any.downcast_ref::<NBody>().is_some() {
-            // Filled by the `nbody` entry point before the step.
-            out.push_str("    a = a + nbody_accel[row].xyz;\n");
+            out.push_str("    a = a + pull;\n");
         } else {
             return Err(GpuStepError::Force { force: force.name() });
         }
@@ -201,6 +221,9 @@ pub(super) struct Plan {
     pub affine: (Vec3A, f32),
     /// The n-body force's `G` and softening squared, if the world has one.
     pub nbody: Option<(f32, f32)>,
+    /// With n-body, the most evaluations the method makes in a step: the
+    /// rounds of probe and sums before the step proper (0 without).
+    pub stages: u32,
     /// The colliders, in the order they act.
     pub colliders: Vec<ColliderRecord>,
     /// The method's history records (`vec4`s) a particle (0: none).
@@ -212,6 +235,12 @@ pub(super) struct Plan {
 }
 
 impl Plan {
+    /// The most vec4s a particle that a buffer of the step holds (history,
+    /// the n-body rounds): what bounds the particles a device fits.
+    pub(super) fn records(&self) -> u32 {
+        self.history.max(self.stages + 1)
+    }
+
     /// A plan of nothing, to [`refresh`](Self::refresh).
     pub(super) fn empty() -> Self {
         Self {
@@ -219,6 +248,7 @@ impl Plan {
             source: String::new(),
             affine: (Vec3A::ZERO, 0.0),
             nbody: None,
+            stages: 0,
             colliders: Vec::new(),
             history: 0,
             moving: false,
@@ -253,7 +283,7 @@ pub(super) fn changes_rows(world: &World) -> bool {
 /// the error naming what the GPU step does not do of it.
 pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError> {
     let info = world.integrator().info();
-    let Some(&(method, wgsl)) = METHODS.iter().find(|(name, _)| *name == info.name) else {
+    let Some(&(method, wgsl, evaluations)) = METHODS.iter().find(|(name, ..)| *name == info.name) else {
         let reason = if info.implicit || info.variable_cost {
             "implicit and adaptive methods stay on the CPU"
         } else {
@@ -288,13 +318,16 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     if nbodies.next().is_some() {
         return Err(GpuStepError::Unsupported("more than one n-body force"));
     }
-    if nbody.is_some() && !matches!(method, "semi_implicit_euler" | "explicit_euler") {
-        return Err(GpuStepError::Method {
-            method: method.to_owned(),
-            reason: "with an n-body force the GPU step takes explicit and semi-implicit Euler only (one \
-                     evaluation, at the step's start)",
-        });
-    }
+    // A step of a world with n-body is `stages` rounds of sums (1 without).
+    let stages = if nbody.is_some() { evaluations } else { 0 };
+    let _ = core::fmt::Write::write_fmt(
+        &mut plan.source,
+        format_args!(
+            "const COUPLED: bool = {};\nconst STAGES: u32 = {};\n",
+            nbody.is_some(),
+            stages.max(1)
+        ),
+    );
     let colliders = &mut plan.colliders;
     colliders.clear();
     plan.moving = false;
@@ -396,5 +429,6 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     plan.history = history;
     plan.affine = affine;
     plan.nbody = nbody;
+    plan.stages = stages;
     Ok(())
 }

@@ -17,7 +17,8 @@
 //! history ones with their history in a buffer, restarted as the CPU's);
 //! the forces gravity, wind, linear and quadratic drag and attractors
 //! (their values written into the world's shader as exact bits) and n-body
-//! (a tiled all-pairs kernel before each step, under the Euler methods);
+//! (a tiled all-pairs kernel, a round for each evaluation of the method:
+//! every particle's trial positions there, then the sums);
 //! the colliders planes whose normal is an axis and boxes (containers and
 //! solid), at rest or kinematic, with restitution and friction, resolved
 //! at the end of the step in their order, their contacts read back where

@@ -182,7 +182,7 @@ impl RowKernel {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry_point| compute_pipeline(device, &pipeline_layout, &module, entry_point);
+        let pipeline = |entry_point| compute_pipeline(device, &pipeline_layout, &module, entry_point, &[]);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu rows params"),
             size: std::mem::size_of::<RowParams>() as u64,
@@ -223,8 +223,8 @@ impl RowKernel {
             return Ok(());
         }
         let limits = gpu.device.limits();
-        let (moves, moves_groups) = dispatch(plan.moves.len(), &limits)?;
-        let (spawns, spawns_groups) = dispatch(plan.spawns.len(), &limits)?;
+        let (moves, moves_groups) = dispatch(plan.moves.len(), 1, &limits)?;
+        let (spawns, spawns_groups) = dispatch(plan.spawns.len(), 1, &limits)?;
         let device = &gpu.device;
         for (buffer, bytes, label) in [
             (&mut self.moves, plan.moves.len() as u64 * 8, "tickwork gpu rows moves"),

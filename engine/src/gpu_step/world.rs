@@ -58,9 +58,9 @@ pub struct GpuWorld {
     state: State,
     colliders: wgpu::Buffer,
     params: wgpu::Buffer,
-    /// Each particle's n-body acceleration at the step's start, where the
-    /// world has an n-body force.
-    nbody_accel: wgpu::Buffer,
+    /// Where the world has an n-body force, each evaluation's sums and the
+    /// trial positions being summed (`nbody` in `step.wgsl`).
+    nbody: wgpu::Buffer,
     /// What a step of a method with history reads of the last, and the
     /// count of the step's contacts (`flags` in `step.wgsl`).
     flags: wgpu::Buffer,
@@ -174,10 +174,13 @@ const STATE_USAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 #[derive(Debug)]
 struct Pipelines {
     step: wgpu::ComputePipeline,
-    nbody: Option<wgpu::ComputePipeline>,
+    /// With n-body, each evaluation's round: its probe (the trial
+    /// positions) and its sums (`STAGE` set to the evaluation).
+    rounds: Vec<(wgpu::ComputePipeline, wgpu::ComputePipeline)>,
     /// Subnormal velocities to 0, after the ticks the CPU's step flushes.
     flush: wgpu::ComputePipeline,
-    /// After each step of a method with history: its news to the next.
+    /// After each step of a method with history or with n-body: its news
+    /// to the next.
     rotate: Option<wgpu::ComputePipeline>,
 }
 
@@ -187,12 +190,17 @@ impl Pipelines {
             label: Some(plan.method),
             source: wgpu::ShaderSource::Wgsl(plan.source.as_str().into()),
         });
-        let pipeline_of = |entry_point| compute_pipeline(device, layout, &module, entry_point);
+        let pipeline_of = |entry_point| compute_pipeline(device, layout, &module, entry_point, &[]);
+        let round = |stage: u32| {
+            let constants = [("STAGE", f64::from(stage))];
+            let of = |entry_point| compute_pipeline(device, layout, &module, entry_point, &constants);
+            (of("probe"), of("nbody_sums"))
+        };
         Self {
             step: pipeline_of("step"),
-            nbody: plan.nbody.map(|_| pipeline_of("nbody")),
+            rounds: (0..plan.stages).map(round).collect(),
             flush: pipeline_of("flush"),
-            rotate: (plan.history > 0).then(|| pipeline_of("rotate")),
+            rotate: (plan.history > 0 || plan.stages > 0).then(|| pipeline_of("rotate")),
         }
     }
 }
@@ -227,7 +235,7 @@ impl GpuWorld {
         let plan = plan(world)?;
         let p = world.particles();
         let count = p.len();
-        let (n, groups) = dispatch(count, &gpu.device.limits())?;
+        let (n, groups) = dispatch(count, plan.records(), &gpu.device.limits())?;
         let device = &gpu.device;
         let state = State::new(device, n, plan.history);
         let mut positions = Vec::with_capacity(count);
@@ -270,7 +278,7 @@ impl GpuWorld {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let nbody_accel = nbody_buffer(device, plan.nbody.is_some(), n);
+        let nbody = nbody_buffer(device, plan.stages, n);
         let flags = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tickwork gpu step flags"),
             size: 16,
@@ -304,13 +312,7 @@ impl GpuWorld {
             immediate_size: 0,
         });
         let pipelines = Pipelines::new(device, &pipeline_layout, &plan);
-        let bind_group = step_bind_group(
-            device,
-            &layout,
-            &params,
-            &state,
-            [&colliders, &nbody_accel, &flags, &touches],
-        );
+        let bind_group = step_bind_group(device, &layout, &params, &state, [&colliders, &nbody, &flags, &touches]);
         Ok(Self {
             scratch: plan.clone(),
             plan,
@@ -320,7 +322,7 @@ impl GpuWorld {
             state,
             colliders,
             params,
-            nbody_accel,
+            nbody,
             flags,
             touches,
             restart: 1,
@@ -571,7 +573,7 @@ impl GpuWorld {
         world.check_step(step).map_err(GpuStepError::Simulation)?;
         world.advance_colliders(step.dt as f32);
         refresh(world, &mut self.scratch)?;
-        self.adopt_plan(gpu);
+        self.adopt_plan(gpu)?;
         // The particles' step.
         let dt = step.dt as f32;
         gpu.queue
@@ -678,7 +680,7 @@ impl GpuWorld {
         }
         // Rows added or removed: the next step is told.
         self.restart |= 2;
-        let (n, groups) = dispatch(world.len(), &gpu.device.limits())?;
+        let (n, groups) = dispatch(world.len(), self.plan.records(), &gpu.device.limits())?;
         self.reserve(gpu, encoder, n)?;
         self.row_plan.plan(log, self.n, world);
         self.max_radius = self.row_plan.max_radius().max(self.max_radius);
@@ -696,10 +698,10 @@ impl GpuWorld {
         }
         let limits = gpu.device.limits();
         let doubled = self.capacity.saturating_mul(2).max(rows);
-        let capacity = if dispatch(doubled as usize, &limits).is_ok() {
+        let capacity = if dispatch(doubled as usize, self.plan.records(), &limits).is_ok() {
             doubled
         } else {
-            dispatch(rows as usize, &limits)?;
+            dispatch(rows as usize, self.plan.records(), &limits)?;
             rows
         };
         let device = &gpu.device;
@@ -715,8 +717,8 @@ impl GpuWorld {
         }
         self.state = state;
         self.capacity = capacity;
-        if self.plan.nbody.is_some() {
-            self.nbody_accel = nbody_buffer(device, true, capacity);
+        if self.plan.stages > 0 {
+            self.nbody = nbody_buffer(device, self.plan.stages, capacity);
         }
         if self.plan.reporting > 0 {
             self.touches = touches_buffer(device, u64::from(capacity) * u64::from(self.plan.reporting));
@@ -732,18 +734,21 @@ impl GpuWorld {
             &self.layout,
             &self.params,
             &self.state,
-            [&self.colliders, &self.nbody_accel, &self.flags, &self.touches],
+            [&self.colliders, &self.nbody, &self.flags, &self.touches],
         );
         self.rows.unbind();
     }
 
     /// Takes the plan just re-read from the world: a new shader where its
     /// method or forces changed, new collider records where they did.
-    fn adopt_plan(&mut self, gpu: &Gpu) {
+    fn adopt_plan(&mut self, gpu: &Gpu) -> Result<(), GpuStepError> {
         let device = &gpu.device;
+        // A method with more history, or n-body rounds, may not fit.
+        dispatch(self.capacity as usize, self.scratch.records(), &device.limits())?;
         let mut rebind = false;
-        if self.scratch.nbody.is_some() && self.nbody_accel.size() < u64::from(self.capacity) * 16 {
-            self.nbody_accel = nbody_buffer(device, true, self.capacity);
+        let records = u64::from(self.scratch.stages + 1);
+        if self.scratch.stages > 0 && self.nbody.size() < records * u64::from(self.capacity) * 16 {
+            self.nbody = nbody_buffer(device, self.scratch.stages, self.capacity);
             rebind = true;
         }
         let room = u64::from(self.capacity) * u64::from(self.scratch.reporting);
@@ -777,6 +782,7 @@ impl GpuWorld {
         if rebind {
             self.rebind(device);
         }
+        Ok(())
     }
 
     /// Copies the positions into the previous positions (the start of the
@@ -812,8 +818,10 @@ impl GpuWorld {
         pass.set_bind_group(0, &self.bind_group, &[]);
         let p = &self.pipelines;
         for tick in first..first + u64::from(steps) {
-            if let Some(nbody) = &p.nbody {
-                pass.set_pipeline(nbody);
+            for (probe, sums) in &p.rounds {
+                pass.set_pipeline(probe);
+                pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
+                pass.set_pipeline(sums);
                 pass.dispatch_workgroups(self.groups.0, self.groups.1, 1);
             }
             pass.set_pipeline(&p.step);
@@ -1005,12 +1013,17 @@ fn touches_buffer(device: &wgpu::Device, room: u64) -> wgpu::Buffer {
 /// A contact's record (`Touch` in `step.wgsl`).
 const TOUCH_BYTES: u64 = 48;
 
-/// A vec4 a particle where the world has an n-body force; one otherwise
-/// (a binding is never empty).
-fn nbody_buffer(device: &wgpu::Device, nbody: bool, capacity: u32) -> wgpu::Buffer {
+/// Where the world has an n-body force, `stages + 1` vec4s a particle
+/// (each evaluation's sums, and the trial positions being summed); one
+/// vec4 otherwise (a binding is never empty).
+fn nbody_buffer(device: &wgpu::Device, stages: u32, capacity: u32) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("tickwork gpu step n-body"),
-        size: if nbody { 16 * u64::from(capacity.max(1)) } else { 16 },
+        size: if stages > 0 {
+            16 * u64::from(stages + 1) * u64::from(capacity.max(1))
+        } else {
+            16
+        },
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     })
@@ -1023,14 +1036,14 @@ fn step_bind_group(
     layout: &wgpu::BindGroupLayout,
     params: &wgpu::Buffer,
     state: &State,
-    [colliders, nbody_accel, flags, touches]: [&wgpu::Buffer; 4],
+    [colliders, nbody, flags, touches]: [&wgpu::Buffer; 4],
 ) -> wgpu::BindGroup {
     let buffers = [
         params,
         &state.positions,
         &state.velocities,
         colliders,
-        nbody_accel,
+        nbody,
         &state.history,
         flags,
         touches,

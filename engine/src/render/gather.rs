@@ -65,7 +65,7 @@ impl Gather {
                 bind_group_layouts: layouts,
                 immediate_size: 0,
             });
-            compute_pipeline(device, &pipeline_layout, &module, entry_point)
+            compute_pipeline(device, &pipeline_layout, &module, entry_point, &[])
         };
         Self {
             pipeline: pipeline(&[Some(&layout)], "gather_particles"),
