@@ -169,6 +169,7 @@ fn lab_all_writes_every_file_and_the_data_match_theory() {
     assert!(gpu.contains("Adapter: "), "{gpu}");
     assert!(report.contains("### On the GPU"), "report.md has the GPU column");
     let mut gpu_methods = 0;
+    let mut costs = BTreeMap::new();
     for line in gpu
         .lines()
         .filter(|l| l.starts_with("| ") && !l.starts_with("| method"))
@@ -179,12 +180,33 @@ fn lab_all_writes_every_file_and_the_data_match_theory() {
         let (stated, cpu, on_gpu) = (numbers[0], numbers[1], numbers[2]);
         assert_eq!(cpu, on_gpu, "{line}");
         assert_eq!(cells[3], "yes", "{line}");
+        // | evaluations for 1e-3: CPU f32 / GPU | for 1e-4: CPU f32 / GPU |
+        for cost in [cells[4], cells[5]] {
+            let (cpu, on_gpu) = cost.split_once(" / ").unwrap_or_else(|| panic!("{line}"));
+            assert_eq!(cpu, on_gpu, "the GPU's cost is the CPU f32 world's: {line}");
+        }
+        costs.insert(
+            cells[1].to_owned(),
+            cells[5].split(" / ").next().unwrap_or("-").to_owned(),
+        );
         if let (Ok(stated), Ok(fitted)) = (stated.parse::<f64>(), on_gpu.parse::<f64>()) {
             assert!((fitted - stated).abs() <= 0.25, "{line}");
         }
         gpu_methods += 1;
     }
     assert_eq!(gpu_methods, 13, "{gpu}");
+    // At 1e-4, RK4 reaches it in fewer evaluations than midpoint, and
+    // midpoint in fewer than explicit Euler (or Euler not at all).
+    let evaluations = |method: &str| {
+        costs[method]
+            .trim_start_matches("at most ")
+            .parse::<f64>()
+            .unwrap_or(f64::INFINITY)
+    };
+    assert!(
+        evaluations("rk4") < evaluations("midpoint") && evaluations("midpoint") < evaluations("explicit_euler"),
+        "{costs:?}"
+    );
     let gpu_points = csv(&dir.join("convergence-gpu.csv"));
     assert_eq!(gpu_points.len(), 13 * 5);
     assert!(gpu_points.iter().all(|row| row[3] == row[4]), "CPU f32 and GPU errors");

@@ -3,20 +3,14 @@
 
 use tickwork_integrators::math;
 
-use super::convergence::Convergence;
-
 /// Force evaluations a method needs to reach `target` error, interpolated
-/// log-log between the measured runs: `Some((n, false))`; `Some((n, true))`
-/// when even the coarsest run (`n` evaluations) was already below the target,
-/// so `n` is an upper bound; `None` if no run reached it.
+/// log-log between its runs `(evaluations, error)` from the coarsest step
+/// down: `Some((n, false))`; `Some((n, true))` when even the coarsest run
+/// (`n` evaluations) was already below the target, so `n` is an upper
+/// bound; `None` if no run reached it.
 #[must_use]
-pub fn evaluations_for(run: &Convergence, target: f64) -> Option<(f64, bool)> {
-    let points: Vec<(f64, f64)> = run
-        .points
-        .iter()
-        .filter(|p| p.1.is_finite() && p.1 > 0.0)
-        .map(|p| (p.2 as f64, p.1))
-        .collect();
+pub fn evaluations_for(runs: impl IntoIterator<Item = (f64, f64)>, target: f64) -> Option<(f64, bool)> {
+    let points: Vec<(f64, f64)> = runs.into_iter().filter(|p| p.1.is_finite() && p.1 > 0.0).collect();
     if let Some(first) = points.first()
         && first.1 <= target
     {

@@ -3,9 +3,11 @@
 //! `Attractor`, needs more steps than f32 round-off lets show an order
 //! above one, and stays in the f64 table), one particle in f32,
 //! stepped by every method the GPU step takes, on the GPU and in the CPU's
-//! f32 world, at the convergence study's steps, with fitted slopes. On an
-//! adapter that computes as the CPU does (lavapipe) the two errors are the
-//! same numbers; elsewhere they differ by the adapter's roundings.
+//! f32 world, at the convergence study's steps, with fitted slopes and the
+//! cost (force evaluations, counted by the CPU twin: each method's WGSL
+//! makes the CPU's evaluations, call for call). On an adapter that
+//! computes as the CPU does (lavapipe) the two errors are the same
+//! numbers; elsewhere they differ by the adapter's roundings.
 
 use glam::{DVec2, Vec3};
 use tickwork_engine::clock::FixedStep;
@@ -34,8 +36,9 @@ pub struct GpuConvergence {
     pub method: &'static str,
     /// The order the registry states for this problem's error measure.
     pub stated: u32,
-    /// `(dt, CPU f32 error, GPU error)` from the coarsest step down.
-    pub points: Vec<(f64, f64, f64)>,
+    /// `(dt, CPU f32 error, GPU error, force evaluations)` from the
+    /// coarsest step down.
+    pub points: Vec<(f64, f64, f64, u64)>,
     /// Fitted slopes over the points above [`F32_FLOOR`]: the CPU's f32
     /// world's and the GPU's (`None` with fewer than three).
     pub slopes: (Option<f64>, Option<f64>),
@@ -99,6 +102,7 @@ pub fn study(gpu: &Gpu, problem: Problem) -> Result<Vec<GpuConvergence>, LabErro
             let dt = problem.duration() / steps as f64;
             let mut cpu = world(problem, info.name);
             let mut on_gpu = GpuWorld::new(gpu, &cpu).map_err(fail)?;
+            let mut evaluations = 0u64;
             let cpu_error = (0..steps as u64)
                 .try_for_each(|tick| {
                     cpu.step(FixedStep {
@@ -106,7 +110,7 @@ pub fn study(gpu: &Gpu, problem: Problem) -> Result<Vec<GpuConvergence>, LabErro
                         time: tick as f64 * dt,
                         dt,
                     })
-                    .map(|_| ())
+                    .map(|report| evaluations += u64::from(report.evaluations))
                 })
                 .map_or(f64::INFINITY, |()| {
                     let p = cpu.particles();
@@ -127,9 +131,10 @@ pub fn study(gpu: &Gpu, problem: Problem) -> Result<Vec<GpuConvergence>, LabErro
                 dt,
                 cpu_error,
                 if gpu_error.is_nan() { f64::INFINITY } else { gpu_error },
+                evaluations,
             ));
         }
-        let fit = |pick: fn(&(f64, f64, f64)) -> f64| {
+        let fit = |pick: fn(&(f64, f64, f64, u64)) -> f64| {
             let fit: Vec<(f64, f64)> = points
                 .iter()
                 .filter(|p| pick(p).is_finite() && pick(p) > F32_FLOOR)

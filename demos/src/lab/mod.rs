@@ -141,7 +141,7 @@ pub fn run(args: &LabArgs) -> Result<Written, LabError> {
     if all {
         let mut report = String::from(
             "# Integrator lab\n\nEvery method of Tickwork's registry, compared. Regenerate with \
-             `cargo run --release -- lab all --out docs/lab --force`.\n\n",
+             `cargo run --release --bin tickwork -- lab all --out docs/lab --force`.\n\n",
         );
         for section in &out.written.markdown {
             report.push_str(section);
@@ -216,8 +216,8 @@ fn write_convergence(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(),
 
 /// The GPU column of the convergence study (`gpu.rs`), for the problems it
 /// takes among `problems`: a table of fitted slopes, the CPU's f32 world's
-/// beside the GPU's, and whether their errors are the same numbers, and the
-/// points as CSV. Without an adapter the section says why (natively a
+/// beside the GPU's, whether their errors are the same numbers, and the
+/// evaluations each needs for an error of 1e-3 and 1e-4; the points as CSV. Without an adapter the section says why (natively a
 /// user's machine may have none; CI installs lavapipe, and its test fails
 /// if the section is missing).
 fn write_gpu_convergence(out: &mut Out<'_>, problems: &[Problem]) -> Result<(), LabError> {
@@ -230,9 +230,12 @@ fn write_gpu_convergence(out: &mut Out<'_>, problems: &[Problem]) -> Result<(), 
          step's own forces), one particle in f32, stepped by every method the GPU step takes, at the \
          convergence study's steps: the fitted slope of the CPU's f32 world and of the GPU (errors below \
          1e-5 are f32 round-off, left out of the fits: `-` where fewer than three points remain, as for \
-         RK4), and whether the two errors are the same numbers at every step. (The orbit needs \
-         thousands of steps, whose f32 round-off passes the truncation error of every method above \
-         first order: it stays in the f64 table.)\n\n",
+         RK4), and whether the two errors are the same numbers at every step; then the cost, as in \
+         the cost tables: the force evaluations each needs to reach an error of 1e-3 and 1e-4 (f32's \
+         round-off is near 1e-5), interpolated from the CPU f32 world's errors and from the GPU's \
+         (the evaluations are counted by the CPU twin: each method's shader makes the CPU's \
+         evaluations, call for call). (The orbit needs thousands of steps, whose f32 round-off passes \
+         the truncation error of every method above first order: it stays in the f64 table.)\n\n",
     );
     let gpu = match tickwork_engine::render::Gpu::headless() {
         Ok(gpu) => gpu,
@@ -249,17 +252,29 @@ fn write_gpu_convergence(out: &mut Out<'_>, problems: &[Problem]) -> Result<(), 
     for &problem in &problems {
         runs.push(gpu::study(&gpu, problem)?);
     }
-    let mut csv = String::from("problem,method,dt,cpu_f32_error,gpu_error\n");
+    let mut csv = String::from("problem,method,dt,cpu_f32_error,gpu_error,evaluations\n");
     let _ = write!(md, "| method |");
     for problem_runs in &runs {
         let _ = write!(
             md,
-            " {}: stated / CPU f32 / GPU | same errors |",
+            " {}: stated / CPU f32 / GPU | same errors | evaluations for 1e-3: CPU f32 / GPU | for 1e-4: \
+             CPU f32 / GPU |",
             problem_runs[0].problem.name()
         );
     }
-    let _ = write!(md, "\n|---|{}\n", "---|---|".repeat(runs.len()));
+    let _ = write!(md, "\n|---|{}\n", "---|---|---|---|".repeat(runs.len()));
     let fitted = |s: Option<f64>| s.map_or("-".to_owned(), |s| format!("{s:.2}"));
+    let cost = |r: &gpu::GpuConvergence, target: f64| {
+        let of = |pick: fn(&(f64, f64, f64, u64)) -> f64| match cost::evaluations_for(
+            r.points.iter().map(|p| (p.3 as f64, pick(p))),
+            target,
+        ) {
+            Some((n, true)) => format!("at most {n:.0}"),
+            Some((n, false)) => format!("{n:.0}"),
+            None => "-".to_owned(),
+        };
+        format!("{} / {}", of(|p| p.1), of(|p| p.2))
+    };
     for (k, first) in runs[0].iter().enumerate() {
         let _ = write!(md, "| {} |", first.method);
         for problem_runs in &runs {
@@ -267,14 +282,25 @@ fn write_gpu_convergence(out: &mut Out<'_>, problems: &[Problem]) -> Result<(), 
             let same = r.points.iter().all(|p| p.1.to_bits() == p.2.to_bits());
             let _ = write!(
                 md,
-                " {} / {} / {} | {} |",
+                " {} / {} / {} | {} | {} | {} |",
                 r.stated,
                 fitted(r.slopes.0),
                 fitted(r.slopes.1),
-                if same { "yes" } else { "no" }
+                if same { "yes" } else { "no" },
+                cost(r, 1e-3),
+                cost(r, 1e-4)
             );
             for p in &r.points {
-                let _ = writeln!(csv, "{},{},{},{:e},{:e}", r.problem.name(), r.method, p.0, p.1, p.2);
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},{:e},{:e},{}",
+                    r.problem.name(),
+                    r.method,
+                    p.0,
+                    p.1,
+                    p.2,
+                    p.3
+                );
             }
         }
         md.push('\n');
@@ -446,8 +472,8 @@ fn write_cost(out: &mut Out<'_>, runs: &[Vec<Convergence>]) -> Result<(), LabErr
             .map(|r| {
                 (
                     r.method,
-                    cost::evaluations_for(r, targets[0]),
-                    cost::evaluations_for(r, targets[1]),
+                    cost::evaluations_for(r.points.iter().map(|p| (p.2 as f64, p.1)), targets[0]),
+                    cost::evaluations_for(r.points.iter().map(|p| (p.2 as f64, p.1)), targets[1]),
                 )
             })
             .collect();
