@@ -549,6 +549,14 @@ fn in_step_contacts_are_the_same_bits_on_any_threads_and_either_path() {
 /// fused or plain: the state's hash after 2 s, and how many rest on the
 /// floor (exactly on it, no normal velocity).
 fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
+    settling_crowd(threads, plain, 0.3, 0.3)
+}
+
+/// [`resting_crowd`] with the floor's `friction`, dropped from up to
+/// `height`: chunks clear of the floor whole, resting on it whole, and
+/// partly each (the fused path takes the first two whole, the plain path
+/// decides every particle alone).
+fn settling_crowd(threads: usize, plain: bool, friction: f32, height: f32) -> (u64, usize) {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -564,7 +572,7 @@ fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
                     0.0,
                     Material {
                         restitution: 0.5,
-                        friction: 0.3,
+                        friction,
                     },
                 )
             });
@@ -578,7 +586,7 @@ fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
                     w.spawn(Particle {
                         position: Vec3::new(
                             (f * 0.37).sin() * 3.0,
-                            0.02 + (f * 0.11).fract() * 0.3,
+                            0.02 + (f * 0.11).fract() * height,
                             (f * 0.53).cos() * 3.0,
                         ),
                         velocity: Vec3::new((f * 0.7).sin(), (f * 0.3).cos() * 0.5, 0.0),
@@ -605,6 +613,106 @@ fn particles_resting_on_a_lone_floor_are_the_same_bits_on_any_threads_and_either
     assert!(fused.1 > 3_900, "at rest on the floor after 2 s: {} of 4 001", fused.1);
     assert_eq!(fused, resting_crowd(2, false), "fused, 1 and 2 threads");
     assert_eq!(fused, resting_crowd(1, true), "fused and plain");
+}
+
+#[test]
+fn particles_settling_on_a_frictionless_floor_are_the_same_bits_on_either_path() {
+    for height in [0.3, 5.0] {
+        let fused = settling_crowd(1, false, 0.0, height);
+        assert!(
+            fused.1 > 1_000,
+            "from {height} m, at rest after 2 s: {} of 4 001",
+            fused.1
+        );
+        assert_eq!(fused, settling_crowd(2, false, 0.0, height), "fused, 1 and 2 threads");
+        assert_eq!(fused, settling_crowd(1, true, 0.0, height), "fused and plain");
+    }
+}
+
+/// 4 001 particles at rest on a lone frictionless in-step floor, one in
+/// 37 thrown down at it from up to 2 m at 5 m/s, so that in chunks whose
+/// first particles rest a later one strikes the floor fast (the floor
+/// resolves the resting blocks whole and must stop at the striking one),
+/// on `threads` threads; with `reporting`, the floor reports its contacts,
+/// which makes it decide every block alone (no whole chunks): every
+/// particle's state after 1 s as bits, and the fast bounces seen. With
+/// `layered`, every particle is thrown, each chunk of 512 from its own
+/// layer (1 m above the last, half a metre deep), so that whole chunks are
+/// clear of the floor for some steps and then strike it one by one.
+fn rain_on_resting(threads: usize, reporting: bool, layered: bool) -> (Vec<[u32; 6]>, usize) {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool")
+        .install(|| {
+            let mut w = world("semi_implicit_euler");
+            w.add_force(Gravity {
+                acceleration: Vec3::new(0.0, -G as f32, 0.0),
+            });
+            let floor = w.add_collider(Plane {
+                contact: ContactRule::InStep,
+                ..Plane::floor(
+                    0.0,
+                    Material {
+                        restitution: 0.8,
+                        friction: 0.0,
+                    },
+                )
+            });
+            if reporting {
+                w.report_contacts(floor).expect("the floor");
+            }
+            let rows: Vec<_> = (0..4_001)
+                .map(|k| {
+                    let f = k as f32;
+                    let thrown = layered || k % 37 == 5;
+                    let height = if layered {
+                        0.5 + (k / 512) as f32 + (f * 0.11).fract() * 0.5
+                    } else if thrown {
+                        0.02 + (f * 0.11).fract() * 2.0
+                    } else {
+                        0.02
+                    };
+                    w.spawn(Particle {
+                        position: Vec3::new((f * 0.37).sin() * 3.0, height, (f * 0.53).cos() * 3.0),
+                        velocity: Vec3::new(0.0, if thrown { -5.0 } else { 0.0 }, 0.0),
+                        radius: 0.02,
+                        ..Particle::default()
+                    })
+                    .expect("valid")
+                })
+                .collect();
+            let mut bounced = 0;
+            for _ in 0..60 {
+                step_on_path(&mut w, false);
+                // Thrown particles leaving the floor upwards fast: bounced.
+                bounced += rows
+                    .iter()
+                    .filter(|&&e| w.position(e).expect("live").y < 0.2 && w.velocity(e).expect("live").y > 2.0)
+                    .count();
+            }
+            let states = rows
+                .iter()
+                .map(|&e| {
+                    let (x, v) = (w.position(e).expect("live"), w.velocity(e).expect("live"));
+                    [x.x, x.y, x.z, v.x, v.y, v.z].map(f32::to_bits)
+                })
+                .collect();
+            (states, bounced)
+        })
+}
+
+#[test]
+fn fast_particles_among_resting_ones_are_the_same_bits_whole_chunk_or_block_by_block() {
+    for layered in [false, true] {
+        let whole = rain_on_resting(1, false, layered);
+        assert!(whole.1 > 50, "thrown particles bounced: {}", whole.1);
+        assert!(whole == rain_on_resting(2, false, layered), "1 and 2 threads");
+        assert!(
+            whole == rain_on_resting(1, true, layered),
+            "whole chunks and block by block (layered: {layered})"
+        );
+    }
 }
 
 /// A bullet (radius 1 cm) fired at `speed` from x = -5 at a heavy ball of

@@ -2,11 +2,11 @@
 //! rest, or kinematic (moved along its normal each step: a piston, a
 //! rising floor).
 
-use glam::{Mat4, Vec3, Vec3A, Vec4};
+use glam::{BVec4A, Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clear_axis4, resting4, settle_plane};
+use super::sweep::{StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting4, settle_plane};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -319,8 +319,59 @@ impl Plane {
         } * s;
         const ALL: u8 = 0b1111;
         let whole = c.rows / 4;
+        // Most chunks are clear of the plane or rest on it whole, and are
+        // taken whole first (the first block says which): a chunk clear of
+        // it by a test folded over its blocks without a branch a block, a
+        // resting one resolved block after block with no bookkeeping.
+        let mut first = 0;
+        if whole > 1 {
+            let (x, v) = (&c.position[..whole], &c.velocity[..whole]);
+            let start = &start[..whole];
+            let lanes = |b: usize| (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
+            let (d0, d1, dv) = lanes(0);
+            if resting4(d0, d1, dv, 0.0, rest_dt).all() {
+                // Resting, block after block, each resolved by the
+                // end-of-step rule (the in-step one for a resting contact)
+                // while in registers, up to the first that does not rest
+                // whole: from there the blocks are decided one by one.
+                let (x, v) = (&mut c.position[..whole], &mut c.velocity[..whole]);
+                let fixed = c.movable && c.point;
+                first = whole;
+                for b in 0..whole {
+                    let (d0, d1, dv) = (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
+                    if !resting4(d0, d1, dv, 0.0, rest_dt).all() {
+                        first = b;
+                        break;
+                    }
+                    let (r, w) = if fixed {
+                        (Vec4::ZERO, Vec4::ONE)
+                    } else {
+                        (
+                            Vec4::from_slice(&c.radius[b * 4..b * 4 + 4]),
+                            Vec4::from_slice(&c.inverse_mass[b * 4..b * 4 + 4]),
+                        )
+                    };
+                    self.contact_block::<AXIS, NEGATIVE>(&mut x[b], &mut v[b], r, w, c.rest_speed);
+                }
+            } else {
+                let clear = every(whole, |b| {
+                    let (d0, d1, dv) = lanes(b);
+                    let r = if c.point {
+                        Vec4::ZERO
+                    } else {
+                        Vec4::from_slice(&c.radius[b * 4..b * 4 + 4])
+                    };
+                    clear_axis_lanes(d0, d1, dv, r, self.offset, 0.0)
+                });
+                if clear {
+                    // Clear all along the step: the end-of-step rule would
+                    // leave every lane as it is (the same bits).
+                    first = whole;
+                }
+            }
+        }
         let mut resting_first = false;
-        for b in 0..c.rows.div_ceil(4) {
+        for b in first..c.rows.div_ceil(4) {
             let (r, w) = if b < whole {
                 if c.movable && c.point {
                     (Vec4::ZERO, Vec4::ONE)
@@ -369,6 +420,18 @@ impl Plane {
             }
         }
     }
+}
+
+/// Whether `test` holds in every lane of blocks `0..whole`: folded 32
+/// blocks at a time without a branch a block, stopping at the first 32
+/// that fail.
+#[inline(always)]
+fn every(whole: usize, test: impl Fn(usize) -> BVec4A) -> bool {
+    (0..whole).step_by(32).all(|first| {
+        (first..(first + 32).min(whole))
+            .fold(BVec4A::TRUE, |all, b| all & test(b))
+            .all()
+    })
 }
 
 /// The lanes of axis `AXIS` of a block.

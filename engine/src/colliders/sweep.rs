@@ -204,6 +204,14 @@ pub fn settled_axis4(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, travel:
 #[inline(always)]
 #[must_use]
 pub fn clear_axis4(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, travel: f32) -> u8 {
+    clear_axis_lanes(d0, d1, dv, r, offset, travel).bitmask() as u8
+}
+
+/// [`clear_axis4`] as a lane mask, for folding over many blocks without
+/// a branch on each.
+#[inline(always)]
+#[must_use]
+pub fn clear_axis_lanes(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, travel: f32) -> BVec4A {
     let g0 = d0 - Vec4::splat(offset - travel) - r;
     let g1 = d1 - Vec4::splat(offset) - r;
     let a = dv - (d1 - d0);
@@ -211,7 +219,7 @@ pub fn clear_axis4(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, travel: f
     // Each term is rounded once or twice at its own magnitude.
     let fixed = (offset.abs() + travel.abs()) * 1e-6 + f32::MIN_POSITIVE;
     let margin = (d0.abs() + d1.abs() + dv.abs() + r) * 1e-6 + Vec4::splat(fixed);
-    bound.cmpgt(margin).bitmask() as u8
+    bound.cmpgt(margin)
 }
 
 /// Over a chunk, `settled[b]` keeps only the lanes of block `b` that
