@@ -32,7 +32,8 @@
 //! in-step collider settles the lanes of each block of four it can by one
 //! vector test ([`Collider::settle_blocks`]): clear of its surfaces, or
 //! resting on a plane (the path's speed into it below the world's rest
-//! speed at both ends of the step, so all along it). Only the others are
+//! speed at both ends of the step, so all along it); a lone floor takes a
+//! chunk that is clear of it, or rests on it, whole. Only the others are
 //! followed; then the collider's end-of-step rule resolves what rests
 //! (restitution 0) and what started inside. Each particle's result depends
 //! on its own lanes only, so any chunking and any number of threads give
