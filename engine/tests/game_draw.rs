@@ -265,8 +265,12 @@ fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
         "the particle over the panel: {ball:?}"
     );
     // A second world of its own layer (1): its red particle over the
-    // panel, while the first world's stays under it.
-    struct TwoWorlds;
+    // panel, while the first world's stays under it; stepped on the CPU,
+    // and on the GPU (drawn from its buffers, on its layer too).
+    struct TwoWorlds {
+        gpu: bool,
+        sparks: Option<tickwork_engine::app::WorldId>,
+    }
     impl Game for TwoWorlds {
         fn title(&self) -> &str {
             "two worlds"
@@ -280,21 +284,33 @@ fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
                 colour: RED,
                 ..tickwork_engine::Particle::default()
             })?;
-            stage.add_world("sparks", sparks).layer(1);
+            if self.gpu {
+                sparks.set_backend(tickwork_engine::world::Backend::Gpu);
+            }
+            self.sparks = Some(stage.add_world("sparks", sparks).layer(1).id());
             Ok(())
         }
         fn draw(&self, stage: &Stage, alpha: f32, draw: &mut Draw) -> Result<(), GameError> {
             Layers.draw(stage, alpha, draw)
         }
     }
-    let mut session = GameSession::new(TwoWorlds, SessionOptions::default()).expect("a session");
-    let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
-    assert_eq!(at(&image, 0.7, 0.0), YELLOW, "the first world under the panel");
-    let spark = at(&image, 2.5, 0.0);
-    assert!(
-        spark[0] > 150 && spark[1] < 100 && spark[2] < 100,
-        "the second world's particle over the panel: {spark:?}"
-    );
+    for gpu in [false, true] {
+        let game = TwoWorlds { gpu, sparks: None };
+        let mut session = GameSession::new(game, SessionOptions::default()).expect("a session");
+        let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
+        let sparks = session.game().sparks.expect("set up");
+        assert_eq!(
+            session.stage().shown(sparks).map(|w| w.on_gpu()).ok(),
+            Some(gpu),
+            "where the sparks step"
+        );
+        assert_eq!(at(&image, 0.7, 0.0), YELLOW, "the first world under the panel");
+        let spark = at(&image, 2.5, 0.0);
+        assert!(
+            spark[0] > 150 && spark[1] < 100 && spark[2] < 100,
+            "the second world's particle over the panel (on the GPU: {gpu}): {spark:?}"
+        );
+    }
 }
 
 /// Texts and shapes that overlap, over and under one another by call

@@ -850,6 +850,83 @@ fn a_fountain_under_the_methods_with_history_follows_the_cpus_rows_bit_for_bit()
     }
 }
 
+/// A small fountain whose particles pull on one another (n-body) as rows
+/// come and go (two jets, lifetimes, a spawn and a despawn), stepped by
+/// `method` on the CPU and by `GpuWorld::advance`: bit for bit after 60
+/// steps, the GPU's rounds of sums following the rows and growing with
+/// them, and new rows starting by RK4 while the others go on.
+fn an_nbody_fountain_matches_the_cpu(method: &str) {
+    let gpu = gpu();
+    let mut cpu = World::new(WorldConfig {
+        integrator: method.into(),
+        seed: 5,
+        ..WorldConfig::default()
+    })
+    .expect("a world");
+    cpu.add_force(Gravity::EARTH);
+    cpu.add_force(NBody::new(0.5, 0.1));
+    cpu.add_collider(Plane::floor(
+        0.0,
+        Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+    ));
+    for (x, rate, lifetime) in [(-0.5, 240.0, 0.25), (0.5, 180.0, 0.5)] {
+        cpu.add_emitter(tickwork_engine::Emitter {
+            position: Vec3::new(x, 0.1, 0.0),
+            rate,
+            lifetime,
+            speed: 4.0,
+            ..Default::default()
+        })
+        .expect("an emitter");
+    }
+    for k in 0..100 {
+        cpu.spawn(Particle {
+            position: Vec3::new((k % 10) as f32 * 0.3, 1.0 + (k / 10) as f32 * 0.3, 0.0),
+            lifetime: (k % 4 == 0).then_some(0.4),
+            ..Particle::default()
+        })
+        .expect("a particle");
+    }
+    let mut twin = cpu.clone();
+    let mut on_gpu = GpuWorld::new(&gpu, &twin).expect("a GPU world");
+    let (mut expired, mut spawned) = (0, 0);
+    for tick in 0..60 {
+        let step = FixedStep {
+            tick,
+            time: tick as f64 * DT,
+            dt: DT,
+        };
+        if tick == 30 {
+            for world in [&mut cpu, &mut twin] {
+                // A row the last step had: the last row, appended since,
+                // moves into it.
+                let entity = world.entities().rows()[3];
+                world.despawn(entity).expect("a despawn");
+            }
+        }
+        let report = cpu.step(step).expect("a step");
+        on_gpu.advance(&gpu, &mut twin, step).expect("a GPU step");
+        (expired, spawned) = (expired + report.expired, spawned + report.spawned);
+        assert_eq!(on_gpu.len(), cpu.len(), "tick {tick}");
+    }
+    assert!(expired > 50 && spawned > 200, "{expired} expired, {spawned} spawned");
+    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
+    let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
+    assert_eq!(differences(&x, &cpu_x), (0, 0.0), "{method} with n-body: positions");
+    assert_eq!(differences(&v, &cpu_v), (0, 0.0), "{method} with n-body: velocities");
+}
+
+#[test]
+fn an_nbody_fountain_follows_the_cpus_rows_bit_for_bit() {
+    for method in ["semi_implicit_euler", "rk4", "beeman", "adams_bashforth4"] {
+        an_nbody_fountain_matches_the_cpu(method);
+    }
+}
+
 #[test]
 fn a_gpu_worlds_particles_changed_between_steps_are_refused() {
     let gpu = gpu();

@@ -133,13 +133,26 @@ impl<V: Vector> History<V> {
         self.close(dt);
     }
 
-    /// Follows `Vec::swap_remove(index)` on the particle columns.
-    pub(crate) fn swap_remove(&mut self, index: usize) {
-        if index < self.depth.len() {
-            self.depth.swap_remove(index);
-            self.last_positions.swap_remove(index);
-            self.last_velocities.swap_remove(index);
+    /// Follows `Vec::swap_remove(index)` on particle columns of `rows`
+    /// rows, returning whether the history moved (then a method's own
+    /// per-particle buffers follow with [`swap_remove_in`]). The history
+    /// holds the particles of the last step; those appended since have
+    /// none: where one of them moves into `index`, that slot starts afresh
+    /// and nothing moves (the particle that was last at the step keeps its
+    /// history where it is).
+    pub(crate) fn swap_remove(&mut self, index: usize, rows: usize) -> bool {
+        let held = self.depth.len();
+        if index >= held {
+            return false;
         }
+        if rows > held {
+            self.depth[index] = 0;
+            return false;
+        }
+        self.depth.swap_remove(index);
+        self.last_positions.swap_remove(index);
+        self.last_velocities.swap_remove(index);
+        true
     }
 
     /// Forgets everything.

@@ -229,10 +229,12 @@ pub trait Integrator<V: Vector>: Send + IntegratorState<V> {
         self.step(t, dt, positions, velocities, system)
     }
 
-    /// Particle `index` was removed with `Vec::swap_remove` semantics: the last
-    /// particle moved into its slot. History moves with it.
-    fn swap_remove(&mut self, index: usize) {
-        let _ = index;
+    /// Particle `index` was removed from `rows` particles with
+    /// `Vec::swap_remove` semantics: the last (`rows - 1`) moved into its
+    /// slot. History moves with it; a particle appended since the last step
+    /// has none, so where one moved in, that slot starts afresh.
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        let _ = (index, rows);
     }
 
     /// Forgets all history and cached accelerations, for example after the

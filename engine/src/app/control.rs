@@ -86,7 +86,9 @@ pub(crate) fn clock_control(clock: &mut FixedClock, control: Control) -> Result<
 
 /// The integrator `control` gives the world at `world` that now runs
 /// `current`: `None` if it leaves that world alone (not an integrator
-/// control, another world's, or the method it already runs).
+/// control, another world's, or the method it already runs). A world on
+/// the GPU (`gpu`) is offered only the GPU step's methods: Tab skips the
+/// others, and a number picking one is ignored, saying so.
 ///
 /// # Errors
 /// [`UnknownMethod`] for a registry number past the last method.
@@ -94,7 +96,9 @@ pub(crate) fn chosen_integrator(
     control: Control,
     world: usize,
     current: &str,
+    gpu: bool,
 ) -> Result<Option<&'static str>, UnknownMethod> {
+    let offered = |name: &str| !gpu || crate::gpu_step::takes_method(name);
     let by_number = |n: usize| {
         METHODS
             .get(n)
@@ -104,7 +108,13 @@ pub(crate) fn chosen_integrator(
     let chosen = match control {
         Control::NextIntegrator => {
             let index = METHODS.iter().position(|m| m.name == current).map_or(0, |i| i + 1);
-            METHODS[index % METHODS.len()].name
+            let next = (0..METHODS.len())
+                .map(|k| METHODS[(index + k) % METHODS.len()].name)
+                .find(|&name| offered(name));
+            match next {
+                Some(name) => name,
+                None => return Ok(None),
+            }
         }
         Control::Integrator(n) => by_number(n)?,
         Control::WorldIntegrator { world: w, method } => {
@@ -116,6 +126,10 @@ pub(crate) fn chosen_integrator(
         }
         _ => return Ok(None),
     };
+    if !offered(chosen) {
+        crate::say!("tickwork: the GPU step has no method \"{chosen}\" (it stays on the CPU); the switch is ignored");
+        return Ok(None);
+    }
     Ok((chosen != current).then_some(chosen))
 }
 
@@ -127,14 +141,64 @@ mod tests {
     fn integrator_controls_pick_by_number_in_turn_and_per_world() {
         let first = METHODS[0].name;
         let last = METHODS[METHODS.len() - 1].name;
-        assert_eq!(chosen_integrator(Control::NextIntegrator, 0, last), Ok(Some(first)));
-        assert_eq!(chosen_integrator(Control::Integrator(0), 3, first), Ok(None), "already");
+        assert_eq!(
+            chosen_integrator(Control::NextIntegrator, 0, last, false),
+            Ok(Some(first))
+        );
+        assert_eq!(
+            chosen_integrator(Control::Integrator(0), 3, first, false),
+            Ok(None),
+            "already"
+        );
         let pick = Control::WorldIntegrator { world: 1, method: 0 };
-        assert_eq!(chosen_integrator(pick, 0, last), Ok(None), "another world's");
-        assert_eq!(chosen_integrator(pick, 1, last), Ok(Some(first)));
-        let error = chosen_integrator(Control::Integrator(99), 0, first).expect_err("no method 100");
+        assert_eq!(chosen_integrator(pick, 0, last, false), Ok(None), "another world's");
+        assert_eq!(chosen_integrator(pick, 1, last, false), Ok(Some(first)));
+        let error = chosen_integrator(Control::Integrator(99), 0, first, false).expect_err("no method 100");
         assert!(error.to_string().starts_with("unknown integrator '#100'"), "{error}");
-        assert_eq!(chosen_integrator(Control::Faster, 0, first), Ok(None));
+        assert_eq!(chosen_integrator(Control::Faster, 0, first, false), Ok(None));
+    }
+
+    #[test]
+    fn a_gpu_world_is_offered_the_gpu_steps_methods_only() {
+        // Tab from semi-implicit Euler, round the registry: the thirteen
+        // methods of the GPU step, each once, and none of the others.
+        let mut current = "semi_implicit_euler";
+        let mut seen = vec![current];
+        loop {
+            let next = chosen_integrator(Control::NextIntegrator, 0, current, true)
+                .expect("a method")
+                .expect("another method");
+            if next == "semi_implicit_euler" {
+                break;
+            }
+            assert!(!seen.contains(&next), "{next} twice");
+            seen.push(next);
+            current = next;
+        }
+        seen.sort_unstable();
+        let mut gpu: Vec<&str> = METHODS
+            .iter()
+            .map(|m| m.name)
+            .filter(|name| crate::gpu_step::takes_method(name))
+            .collect();
+        gpu.sort_unstable();
+        assert_eq!(seen, gpu);
+        assert_eq!(seen.len(), 13);
+        assert!(!seen.contains(&"implicit_euler") && !seen.contains(&"dormand_prince"));
+        // A number picking a method the GPU does not take is ignored.
+        let implicit = METHODS
+            .iter()
+            .position(|m| m.name == "implicit_euler")
+            .expect("registered");
+        assert_eq!(
+            chosen_integrator(Control::Integrator(implicit), 0, "rk4", true),
+            Ok(None)
+        );
+        let rk4 = METHODS.iter().position(|m| m.name == "rk4").expect("registered");
+        assert_eq!(
+            chosen_integrator(Control::Integrator(rk4), 0, "heun", true),
+            Ok(Some("rk4"))
+        );
     }
 
     #[test]

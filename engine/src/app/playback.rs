@@ -12,7 +12,7 @@ use std::fmt;
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::render::{Camera, FrameView, Trails};
 use crate::scene::Scene;
-use crate::world::{Snapshot, World};
+use crate::world::{Backend, Snapshot, World};
 
 use super::backend::{StepFailure, Stepper};
 use super::control::{Control, chosen_integrator, clock_control};
@@ -113,7 +113,7 @@ impl Playback {
     pub fn from_scene_on(
         scene: &Scene,
         integrator: Option<&str>,
-        backend: Option<crate::world::Backend>,
+        backend: Option<Backend>,
     ) -> Result<Self, PlaybackError> {
         let (mut world, entities) = scene.build().map_err(PlaybackError::Scene)?;
         if let Some(name) = integrator {
@@ -230,7 +230,12 @@ impl Playback {
             self.trails.clear_points();
             self.energy = None;
             self.energy_trace = EnergyTrace::default();
-        } else if let Some(name) = chosen_integrator(control, 0, self.world.integrator().info().name)? {
+        } else if let Some(name) = chosen_integrator(
+            control,
+            0,
+            self.world.integrator().info().name,
+            self.world.config().backend == Backend::Gpu,
+        )? {
             self.world.set_integrator(name)?;
         }
         Ok(())
@@ -355,7 +360,7 @@ impl FrameSource for Playback {
             fixed: false,
             particles: self.world.len(),
             energy: &self.energy_trace,
-            on_gpu: self.world.config().backend == crate::world::Backend::Gpu,
+            on_gpu: self.world.config().backend == Backend::Gpu,
         }];
         super::panel::lay_out(ctx, &clock, &rows, chosen);
     }

@@ -515,7 +515,7 @@ impl<G: Game> GameSession<G> {
     /// integrators.
     fn switch_integrators(&mut self, control: Control) -> Result<(), RunError> {
         // Checked first, so a bad number is an error wherever it is sent.
-        chosen_integrator(control, usize::MAX, "")?;
+        chosen_integrator(control, usize::MAX, "", false)?;
         if !self.stage.switch_integrators {
             return Ok(());
         }
@@ -532,7 +532,8 @@ impl<G: Game> GameSession<G> {
             if shown.fixed_integrator {
                 continue;
             }
-            if let Some(name) = chosen_integrator(control, index, shown.world.integrator().info().name)? {
+            let gpu = shown.world.config().backend == Backend::Gpu;
+            if let Some(name) = chosen_integrator(control, index, shown.world.integrator().info().name, gpu)? {
                 shown.world.set_integrator(name)?;
                 shown.failure = None;
                 if let Some(recording) = record.as_deref_mut() {
@@ -680,8 +681,15 @@ impl<G: Game> FrameSource for GameSession<G> {
         fn columns<'a>(w: &'a StageWorld, empty: &'a crate::world::World) -> &'a crate::world::World {
             if w.gpu_particles().is_some() { empty } else { &w.world }
         }
-        let gpu_particles: Vec<crate::render::GpuParticles<'_>> =
-            self.stage.worlds.iter().filter_map(StageWorld::gpu_particles).collect();
+        let gpu_particles: Vec<crate::render::GpuParticles<'_>> = self
+            .stage
+            .worlds
+            .iter()
+            .filter_map(|w| {
+                w.gpu_particles()
+                    .map(|g| crate::render::GpuParticles { layer: w.layer, ..g })
+            })
+            .collect();
         for shown in &self.stage.worlds {
             if let Some(texture) = &shown.sprite {
                 let layer = shown.layer.unwrap_or(self.draw.particles_on());

@@ -277,6 +277,15 @@ impl StageWorld {
         Ok(())
     }
 
+    /// Whether its particles are stepped on the GPU now (a world whose
+    /// backend is the GPU, from its first step there): then
+    /// [`Stage::world`]'s positions are those of the last read-back
+    /// ([`Stage::read_back`]).
+    #[must_use]
+    pub fn on_gpu(&self) -> bool {
+        self.stepper.on_gpu().is_some()
+    }
+
     /// Its particles stepped on the GPU, drawn from the GPU's buffers
     /// (`None` for a world on the CPU, or before its first step).
     pub(crate) fn gpu_particles(&self) -> Option<crate::render::GpuParticles<'_>> {

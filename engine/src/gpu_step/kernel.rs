@@ -75,6 +75,12 @@ const METHODS: &[(&str, &str, u32)] = &[
     ),
 ];
 
+/// Whether the GPU step has a form of the method `name` (the registry's
+/// canonical name): what the viewer's Tab offers a GPU world.
+pub(crate) fn takes_method(name: &str) -> bool {
+    METHODS.iter().any(|(method, ..)| *method == name)
+}
+
 /// The methods of [`METHODS`] that keep a history between steps, and its
 /// records (`vec4`s) a particle: `HISTORY` in the shader, written there
 /// from this table (restarted as the CPU's `History` restarts).

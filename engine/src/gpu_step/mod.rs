@@ -34,7 +34,9 @@
 //! every step, the GPU's does not: a position or velocity that becomes
 //! infinite or NaN is not reported (read the state back to look). The GPU's states are the same on the
 //! same adapter and driver, run to run: no result depends on the order of
-//! atomic operations (there are none).
+//! atomic operations (the flags' ORs, the n-body rounds' maximum and the
+//! contacts' slots give the same words in any order, and the contacts are
+//! sorted on the CPU).
 
 mod dispatch;
 mod error;
@@ -44,4 +46,5 @@ mod world;
 
 pub use dispatch::WORKGROUP;
 pub use error::GpuStepError;
+pub(crate) use kernel::takes_method;
 pub use world::GpuWorld;

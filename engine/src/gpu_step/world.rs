@@ -397,6 +397,7 @@ impl GpuWorld {
             colours: &self.state.colours,
             count: self.n,
             max_radius: self.max_radius,
+            layer: None,
         }
     }
 

@@ -49,7 +49,7 @@ pub struct FrameView<'a> {
     /// is drawn in that sRGB colour (default: none, all light grey).
     pub hud_colours: &'a [(usize, [u8; 4])],
     /// Particles stepped on the GPU, drawn from their own buffers after
-    /// the worlds' (on `particle_layer`), interpolated between their
+    /// the worlds' (each on its `layer`), interpolated between their
     /// previous and current positions as any world's (Hermite too, from
     /// their velocities), as quads or by the splat: a compute pass gathers
     /// them into the frame's particle records on the GPU, nothing is
@@ -75,6 +75,10 @@ pub struct GpuParticles<'a> {
     /// At least the largest radius among them (the splat path draws
     /// particles up to a few pixels wide).
     pub max_radius: f32,
+    /// The layer they are drawn on, as a world's
+    /// ([`WorldView::layer`]); `None` (default): the frame's
+    /// `particle_layer`.
+    pub layer: Option<i32>,
 }
 
 impl<'a> FrameView<'a> {

@@ -607,16 +607,20 @@ impl Renderer {
                 self.world_layers.push(layer);
             }
         }
-        // The GPU worlds' records, after the CPU's, on the particle layer.
+        // The GPU worlds' records, after the CPU's, in their order, each
+        // on its layer.
         if gpu_count > 0 {
-            let count = u32::try_from(gpu_count).unwrap_or(u32::MAX);
-            self.world_draws.push(WorldDraw {
-                layer: view.particle_layer,
-                instances: first..first.saturating_add(count),
-                lines: 0..0,
-            });
-            if !self.world_layers.contains(&view.particle_layer) {
-                self.world_layers.push(view.particle_layer);
+            for g in view.gpu_particles {
+                let layer = g.layer.unwrap_or(view.particle_layer);
+                self.world_draws.push(WorldDraw {
+                    layer,
+                    instances: first..first.saturating_add(g.count),
+                    lines: 0..0,
+                });
+                first = first.saturating_add(g.count);
+                if !self.world_layers.contains(&layer) {
+                    self.world_layers.push(layer);
+                }
             }
         }
         self.world_layers.sort_unstable();

@@ -77,9 +77,10 @@ impl World {
             }
         }
         self.entities.swap_remove(entity)?;
+        let rows = self.particles.len();
         self.particles.swap_remove(row);
         self.columns.swap_remove(row);
-        self.integrator.swap_remove(row);
+        self.integrator.swap_remove(row, rows);
         if let Some(&moved_body) = self.particles.rigid_row.get(row)
             && moved_body != u32::MAX
         {

@@ -139,10 +139,11 @@ impl<V: Vector, const K: usize> Integrator<V> for AdamsBashforth<V, K> {
         })
     }
 
-    fn swap_remove(&mut self, index: usize) {
-        self.history.swap_remove(index);
-        for slot in self.past_v.iter_mut().chain(self.past_a.iter_mut()) {
-            swap_remove_in(slot, index);
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        if self.history.swap_remove(index, rows) {
+            for slot in self.past_v.iter_mut().chain(self.past_a.iter_mut()) {
+                swap_remove_in(slot, index);
+            }
         }
     }
 

@@ -146,10 +146,11 @@ impl<V: Vector> Integrator<V> for Beeman<V> {
         })
     }
 
-    fn swap_remove(&mut self, index: usize) {
-        self.history.swap_remove(index);
-        swap_remove_in(&mut self.accel, index);
-        swap_remove_in(&mut self.accel_previous, index);
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        if self.history.swap_remove(index, rows) {
+            swap_remove_in(&mut self.accel, index);
+            swap_remove_in(&mut self.accel_previous, index);
+        }
     }
 
     fn reset(&mut self) {

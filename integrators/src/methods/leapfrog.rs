@@ -110,8 +110,8 @@ impl<V: Vector> Integrator<V> for Leapfrog<V> {
         Ok(StepStats::single(evaluations))
     }
 
-    fn swap_remove(&mut self, index: usize) {
-        self.history.swap_remove(index);
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        self.history.swap_remove(index, rows);
     }
 
     fn reset(&mut self) {

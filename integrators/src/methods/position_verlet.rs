@@ -120,9 +120,10 @@ impl<V: Vector> Integrator<V> for PositionVerlet<V> {
         })
     }
 
-    fn swap_remove(&mut self, index: usize) {
-        self.history.swap_remove(index);
-        swap_remove_in(&mut self.previous_x, index);
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        if self.history.swap_remove(index, rows) {
+            swap_remove_in(&mut self.previous_x, index);
+        }
     }
 
     fn reset(&mut self) {

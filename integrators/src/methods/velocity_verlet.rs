@@ -116,8 +116,8 @@ impl<V: Vector> Integrator<V> for VelocityVerlet<V> {
         Ok(StepStats::single(evaluations))
     }
 
-    fn swap_remove(&mut self, index: usize) {
-        self.history.swap_remove(index);
+    fn swap_remove(&mut self, index: usize, rows: usize) {
+        self.history.swap_remove(index, rows);
     }
 
     fn reset(&mut self) {
