@@ -6,7 +6,7 @@ use glam::{BVec4A, Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting4, settle_plane};
+use super::sweep::{StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting_at_rest4, resting4, settle_plane};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -261,14 +261,9 @@ impl Plane {
     ) {
         let sign = if NEGATIVE { -1.0 } else { 1.0 };
         if self.material.friction == 0.0 {
-            let (s, offset) = (Vec4::splat(sign), Vec4::splat(self.offset));
-            let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
-            let gap = *xa * s - offset - r;
-            let vn = *va * s;
-            let dvn = bounce4(vn, self.material.restitution, rest) * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
-            let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-            *va = Vec4::select(hit, (vn + dvn) * s, *va);
-            *xa = Vec4::select(hit, *xa - gap * s, *xa);
+            let vn = *axis_mut::<AXIS>(v) * Vec4::splat(sign);
+            let factor = bounce4(vn, self.material.restitution, rest);
+            self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, factor);
         } else {
             let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
             self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign, rest);
@@ -279,6 +274,30 @@ impl Plane {
 }
 
 impl Plane {
+    /// A frictionless block's contact with the factor `-(1 + e)` or `-1`
+    /// (no bounce) of each lane's normal velocity given: what
+    /// [`contact_block`](Self::contact_block) computes for it, and where
+    /// every lane rests, `-1` throughout.
+    #[inline(always)]
+    fn frictionless_block<const AXIS: usize, const NEGATIVE: bool>(
+        &self,
+        x: &mut Vec3x4,
+        v: &mut Vec3x4,
+        r: Vec4,
+        w: Vec4,
+        factor: Vec4,
+    ) {
+        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
+        let offset = Vec4::splat(self.offset);
+        let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
+        let gap = *xa * s - offset - r;
+        let vn = *va * s;
+        let dvn = factor * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
+        let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+        *va = Vec4::select(hit, (vn + dvn) * s, *va);
+        *xa = Vec4::select(hit, *xa - gap * s, *xa);
+    }
+
     /// [`settle_plane`] on a chunk: which lanes are clear of the plane or
     /// rest on it.
     fn settle(&self, start: &[Vec3x4], c: &BlockColumns<'_>, dt: f32, rest_dt: f32, settled: &mut [u8]) {
@@ -334,24 +353,44 @@ impl Plane {
                 // end-of-step rule (the in-step one for a resting contact)
                 // while in registers, up to the first that does not rest
                 // whole: from there the blocks are decided one by one.
+                // Frictionless, where every lane also approaches no faster
+                // than the rest speed by the end-of-step rule's own test,
+                // that rule's factor is -1 throughout: the block is
+                // resolved with it, not asked for it again.
                 let (x, v) = (&mut c.position[..whole], &mut c.velocity[..whole]);
                 let fixed = c.movable && c.point;
+                let frictionless = self.material.friction == 0.0;
+                let slow = Vec4::splat(-c.rest_speed);
+                let scalars = c.radius[..whole * 4]
+                    .chunks_exact(4)
+                    .zip(c.inverse_mass[..whole * 4].chunks_exact(4));
                 first = whole;
-                for b in 0..whole {
-                    let (d0, d1, dv) = (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
-                    if !resting4(d0, d1, dv, 0.0, rest_dt).all() {
+                for (b, (((s, x), v), (r, w))) in start
+                    .iter()
+                    .zip(x.iter_mut())
+                    .zip(v.iter_mut())
+                    .zip(scalars)
+                    .enumerate()
+                {
+                    let (d0, d1, vn) = (pick(s), pick(x), pick(v));
+                    let mut rests = resting_at_rest4(d0, d1, vn * dt, rest_dt);
+                    if frictionless {
+                        rests &= vn.cmpge(slow);
+                    }
+                    if !rests.all() {
                         first = b;
                         break;
                     }
                     let (r, w) = if fixed {
                         (Vec4::ZERO, Vec4::ONE)
                     } else {
-                        (
-                            Vec4::from_slice(&c.radius[b * 4..b * 4 + 4]),
-                            Vec4::from_slice(&c.inverse_mass[b * 4..b * 4 + 4]),
-                        )
+                        (Vec4::from_slice(r), Vec4::from_slice(w))
                     };
-                    self.contact_block::<AXIS, NEGATIVE>(&mut x[b], &mut v[b], r, w, c.rest_speed);
+                    if frictionless {
+                        self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, Vec4::NEG_ONE);
+                    } else {
+                        self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
+                    }
                 }
             } else {
                 let clear = every(whole, |b| {
@@ -631,6 +670,81 @@ mod tests {
             assert_eq!(rested, rest > 0.0, "rest speed {rest}, normal {normal}");
         }
         assert_eq!(axis_of(Vec3::new(0.6, 0.8, 0.0)), None);
+    }
+
+    /// A lane whose `v dt` passes the resting test's bound while `v` is
+    /// past the rest speed by a rounding: the resting chunk must not
+    /// resolve it without its bounce, as the end-of-step rule gives it.
+    #[test]
+    fn a_resting_chunk_is_resolved_as_the_end_of_step_rule_resolves_it_at_the_rest_speeds_edge() {
+        // (A rest speed of a power of two, as the default 0.5, scales
+        // exactly: no such edge.)
+        let edge = (1..400).map(|k| 0.1 + k as f32 * 0.0137).find_map(|rest| {
+            [1.0f32 / 60.0, 1.0 / 30.0, 1.0 / 240.0, 0.01, 0.003]
+                .into_iter()
+                .find_map(|dt| {
+                    let mut vn = -rest;
+                    for _ in 0..256 {
+                        vn = f32::from_bits(vn.to_bits() + 1);
+                        if vn * dt >= -(rest * dt) && vn < -rest {
+                            return Some((rest, dt, vn));
+                        }
+                    }
+                    None
+                })
+        });
+        let (rest, dt, edge) =
+            edge.expect("a rest speed and step whose rounding puts v dt inside the bound, v outside");
+        let plane = Plane::floor(
+            0.0,
+            Material {
+                restitution: 0.7,
+                friction: 0.0,
+            },
+        );
+        // Eight blocks on the floor, each particle at y = 0 at the start
+        // and sinking at -0.1 m/s (resting), one at the edge speed.
+        let blocks = 8;
+        let lanes = |y: f32| Vec3x4 {
+            x: Vec4::ZERO,
+            y: Vec4::splat(y),
+            z: Vec4::ZERO,
+        };
+        let start = vec![lanes(0.0); blocks];
+        let mut v = vec![lanes(-0.1); blocks];
+        v[5].y = Vec4::new(-0.1, edge, -0.1, -0.1);
+        let mut x: Vec<Vec3x4> = v
+            .iter()
+            .map(|v| Vec3x4 {
+                x: Vec4::ZERO,
+                y: v.y * dt,
+                z: Vec4::ZERO,
+            })
+            .collect();
+        let (mut x_end, mut v_end) = (x.clone(), v.clone());
+        for (x, v) in x_end.iter_mut().zip(v_end.iter_mut()) {
+            plane.contact_block::<1, false>(x, v, Vec4::ZERO, Vec4::ONE, rest);
+        }
+        assert!(v_end[5].y.y > 0.0, "the edge lane bounces by the end-of-step rule");
+        let (radius, inverse_mass) = (vec![0.0; blocks * 4], vec![1.0; blocks * 4]);
+        let mut settled = vec![0b1111u8; blocks];
+        let columns = BlockColumns {
+            position: &mut x,
+            velocity: &mut v,
+            radius: &radius,
+            inverse_mass: &inverse_mass,
+            rows: blocks * 4,
+            movable: true,
+            point: true,
+            rest_speed: rest,
+        };
+        assert!(plane.settle_blocks(&start, columns, dt, true, &mut settled));
+        // Every block as the end-of-step rule left it: the edge lane's
+        // bounces (its block taken block by block, whole blocks of
+        // resting lanes resolved by the rule's own test).
+        for b in 0..blocks {
+            assert_eq!((x[b], v[b]), (x_end[b], v_end[b]), "block {b}");
+        }
     }
 
     #[test]

@@ -180,6 +180,16 @@ pub fn resting4(d0: Vec4, d1: Vec4, dv: Vec4, travel: f32, rest_dt: f32) -> BVec
     start.cmple(Vec4::splat(rest_dt)) & end.cmple(Vec4::splat(rest_dt))
 }
 
+/// [`resting4`] for a surface at rest (`travel` 0), in fewer operations:
+/// `0 - y <= r` is `y >= -r` (negation is exact, and a NaN fails both).
+#[inline(always)]
+#[must_use]
+pub fn resting_at_rest4(d0: Vec4, d1: Vec4, dv: Vec4, rest_dt: f32) -> BVec4A {
+    let moved = d1 - d0;
+    let limit = Vec4::splat(-rest_dt);
+    ((moved + moved) - dv).cmpge(limit) & dv.cmpge(limit)
+}
+
 /// The lanes of a block settled against a plane whose normal is an axis
 /// (`d0`, `d1`, `dv`: start and end positions and `dt` times the end
 /// velocity along the normal; the plane at `offset - travel` at the start
@@ -309,6 +319,42 @@ pub(crate) struct EventOverflow {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_resting_test_at_rest_is_the_general_one_with_no_travel() {
+        let values = [
+            0.0f32,
+            -0.0,
+            1e-3,
+            -1e-3,
+            0.02,
+            -0.02,
+            0.5,
+            -0.5,
+            3.0,
+            -7.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            1e-40,
+            -1e-40,
+        ];
+        let mut checked = 0;
+        for &d0 in &values {
+            for &d1 in &values {
+                for &dv in &values {
+                    for rest_dt in [0.0, 1e-3, 0.0083] {
+                        let (a, b) = (Vec4::splat(d0), Vec4::splat(d1));
+                        let general = resting4(a, b, Vec4::splat(dv), 0.0, rest_dt).bitmask();
+                        let at_rest = resting_at_rest4(a, b, Vec4::splat(dv), rest_dt).bitmask();
+                        assert_eq!(general, at_rest, "d0 {d0}, d1 {d1}, dv {dv}, rest_dt {rest_dt}");
+                        checked += usize::from(general != 0);
+                    }
+                }
+            }
+        }
+        assert!(checked > 100, "some rest: {checked}");
+    }
 
     #[test]
     fn the_path_is_exact_for_constant_acceleration() {
