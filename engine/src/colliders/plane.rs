@@ -298,6 +298,48 @@ impl Plane {
         *xa = Vec4::select(hit, *xa - gap * s, *xa);
     }
 
+    /// The whole blocks of a chunk whose first block rests, resolved block
+    /// after block by the end-of-step rule while each rests whole: the
+    /// first block that does not (`x.len()` if all do). Frictionless
+    /// (`FRICTIONLESS`), a block whose lanes also pass the rule's own rest
+    /// test takes its factor -1 without asking again; `FIXED`: movable
+    /// point particles, no radius or mass read.
+    fn resolve_resting<const AXIS: usize, const NEGATIVE: bool, const FRICTIONLESS: bool, const FIXED: bool>(
+        &self,
+        c: RestingChunk<'_>,
+    ) -> usize {
+        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
+        let pick = |p: &Vec3x4| match AXIS {
+            0 => p.x,
+            1 => p.y,
+            _ => p.z,
+        } * s;
+        let slow = Vec4::splat(-c.rest_speed);
+        let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
+        let blocks = c.start.iter().zip(c.x.iter_mut()).zip(c.v.iter_mut()).zip(scalars);
+        for (b, (((start, x), v), (r, w))) in blocks.enumerate() {
+            let (d0, d1, vn) = (pick(start), pick(x), pick(v));
+            let mut rests = resting_at_rest4(d0, d1, vn * c.dt, c.rest_dt);
+            if FRICTIONLESS {
+                rests &= vn.cmpge(slow);
+            }
+            if !rests.all() {
+                return b;
+            }
+            let (r, w) = if FIXED {
+                (Vec4::ZERO, Vec4::ONE)
+            } else {
+                (Vec4::from_slice(r), Vec4::from_slice(w))
+            };
+            if FRICTIONLESS {
+                self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, Vec4::NEG_ONE);
+            } else {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
+            }
+        }
+        c.x.len()
+    }
+
     /// [`settle_plane`] on a chunk: which lanes are clear of the plane or
     /// rest on it.
     fn settle(&self, start: &[Vec3x4], c: &BlockColumns<'_>, dt: f32, rest_dt: f32, settled: &mut [u8]) {
@@ -357,41 +399,22 @@ impl Plane {
                 // than the rest speed by the end-of-step rule's own test,
                 // that rule's factor is -1 throughout: the block is
                 // resolved with it, not asked for it again.
-                let (x, v) = (&mut c.position[..whole], &mut c.velocity[..whole]);
-                let fixed = c.movable && c.point;
-                let frictionless = self.material.friction == 0.0;
-                let slow = Vec4::splat(-c.rest_speed);
-                let scalars = c.radius[..whole * 4]
-                    .chunks_exact(4)
-                    .zip(c.inverse_mass[..whole * 4].chunks_exact(4));
-                first = whole;
-                for (b, (((s, x), v), (r, w))) in start
-                    .iter()
-                    .zip(x.iter_mut())
-                    .zip(v.iter_mut())
-                    .zip(scalars)
-                    .enumerate()
-                {
-                    let (d0, d1, vn) = (pick(s), pick(x), pick(v));
-                    let mut rests = resting_at_rest4(d0, d1, vn * dt, rest_dt);
-                    if frictionless {
-                        rests &= vn.cmpge(slow);
-                    }
-                    if !rests.all() {
-                        first = b;
-                        break;
-                    }
-                    let (r, w) = if fixed {
-                        (Vec4::ZERO, Vec4::ONE)
-                    } else {
-                        (Vec4::from_slice(r), Vec4::from_slice(w))
-                    };
-                    if frictionless {
-                        self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, Vec4::NEG_ONE);
-                    } else {
-                        self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
-                    }
-                }
+                let rest = RestingChunk {
+                    start: &start[..whole],
+                    x: &mut c.position[..whole],
+                    v: &mut c.velocity[..whole],
+                    radius: &c.radius[..whole * 4],
+                    inverse_mass: &c.inverse_mass[..whole * 4],
+                    dt,
+                    rest_dt,
+                    rest_speed: c.rest_speed,
+                };
+                first = match (self.material.friction == 0.0, c.movable && c.point) {
+                    (true, true) => self.resolve_resting::<AXIS, NEGATIVE, true, true>(rest),
+                    (true, false) => self.resolve_resting::<AXIS, NEGATIVE, true, false>(rest),
+                    (false, true) => self.resolve_resting::<AXIS, NEGATIVE, false, true>(rest),
+                    (false, false) => self.resolve_resting::<AXIS, NEGATIVE, false, false>(rest),
+                };
             } else {
                 let clear = every(whole, |b| {
                     let (d0, d1, dv) = lanes(b);
@@ -459,6 +482,20 @@ impl Plane {
             }
         }
     }
+}
+
+/// The whole blocks of a chunk that [`Plane::resolve_resting`] takes: the
+/// start positions, the end states it resolves, one radius and inverse
+/// mass a particle, the step and the rest speed (and times the step).
+struct RestingChunk<'a> {
+    start: &'a [Vec3x4],
+    x: &'a mut [Vec3x4],
+    v: &'a mut [Vec3x4],
+    radius: &'a [f32],
+    inverse_mass: &'a [f32],
+    dt: f32,
+    rest_dt: f32,
+    rest_speed: f32,
 }
 
 /// Whether `test` holds in every lane of blocks `0..whole`: folded 32
