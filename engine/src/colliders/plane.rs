@@ -307,12 +307,7 @@ impl Plane {
         &self,
         c: RestingChunk<'_>,
     ) -> usize {
-        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
-        let pick = |p: &Vec3x4| match AXIS {
-            0 => p.x,
-            1 => p.y,
-            _ => p.z,
-        } * s;
+        let pick = along::<AXIS, NEGATIVE>;
         let slow = Vec4::splat(-c.rest_speed);
         let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
         let blocks = c.start.iter().zip(c.x.iter_mut()).zip(c.v.iter_mut()).zip(scalars);
@@ -377,12 +372,7 @@ impl Plane {
         rest_dt: f32,
         settled: &mut [u8],
     ) {
-        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
-        let pick = |p: &Vec3x4| match AXIS {
-            0 => p.x,
-            1 => p.y,
-            _ => p.z,
-        } * s;
+        let pick = along::<AXIS, NEGATIVE>;
         const ALL: u8 = 0b1111;
         let whole = c.rows / 4;
         // Most chunks are clear of the plane or rest on it whole, and are
@@ -536,6 +526,17 @@ fn every(whole: usize, test: impl Fn(usize) -> BVec4A) -> bool {
             .fold(BVec4A::TRUE, |all, b| all & test(b))
             .all()
     })
+}
+
+/// A block's components along the normal `±e_AXIS` (`NEGATIVE`: -).
+#[inline(always)]
+fn along<const AXIS: usize, const NEGATIVE: bool>(p: &Vec3x4) -> Vec4 {
+    let component = match AXIS {
+        0 => p.x,
+        1 => p.y,
+        _ => p.z,
+    };
+    component * Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 })
 }
 
 /// The lanes of axis `AXIS` of a block.
