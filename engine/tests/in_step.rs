@@ -460,6 +460,15 @@ fn a_particle_that_would_need_more_events_than_the_limit_is_an_error_naming_it()
     );
 }
 
+/// `run` on a pool of `threads` threads.
+fn on_threads<R: Send>(threads: usize, run: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool")
+        .install(run)
+}
+
 /// One 60 Hz step, asserting the path it took: in-step colliders are
 /// pointwise, so the fused path takes them unless `plain` forced the other.
 fn step_on_path(w: &mut World, plain: bool) {
@@ -486,51 +495,47 @@ fn hash_on_path(w: &mut World, plain: bool) -> u64 {
 /// A crowd of fast particles in a box over a floor, both in-step, with
 /// contacts reported: the world after 60 steps at 60 Hz.
 fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a pool")
-        .install(|| {
-            let mut w = world("semi_implicit_euler");
-            w.add_force(Gravity {
-                acceleration: Vec3::new(0.0, -G as f32, 0.0),
-            });
-            let floor = w.add_collider(Plane {
-                contact: ContactRule::InStep,
-                ..Plane::default()
-            });
-            w.add_collider(BoxCollider {
-                min: Vec3::new(-2.0, -1.0, -2.0),
-                max: Vec3::new(2.0, 10.0, 2.0),
-                inside: true,
-                contact: ContactRule::InStep,
-                ..BoxCollider::default()
-            });
-            w.report_contacts(floor).expect("the floor");
-            if plain {
-                w.add_collider(support::ForcePlainPath);
-            }
-            for k in 0..6_000 {
-                let f = k as f32;
-                w.spawn(Particle {
-                    position: Vec3::new(
-                        (f * 0.37).sin() * 1.5,
-                        1.0 + (f * 0.11).fract() * 8.0,
-                        (f * 0.53).cos() * 1.5,
-                    ),
-                    velocity: Vec3::new((f * 0.7).sin() * 30.0, (f * 0.3).cos() * 30.0, (f * 0.9).sin() * 30.0),
-                    radius: 0.02,
-                    ..Particle::default()
-                })
-                .expect("valid");
-            }
-            let mut contacts = Vec::new();
-            for _ in 0..60 {
-                step_on_path(&mut w, plain);
-                contacts.extend_from_slice(w.contacts());
-            }
-            (hash_on_path(&mut w, plain), contacts)
-        })
+    on_threads(threads, || {
+        let mut w = world("semi_implicit_euler");
+        w.add_force(Gravity {
+            acceleration: Vec3::new(0.0, -G as f32, 0.0),
+        });
+        let floor = w.add_collider(Plane {
+            contact: ContactRule::InStep,
+            ..Plane::default()
+        });
+        w.add_collider(BoxCollider {
+            min: Vec3::new(-2.0, -1.0, -2.0),
+            max: Vec3::new(2.0, 10.0, 2.0),
+            inside: true,
+            contact: ContactRule::InStep,
+            ..BoxCollider::default()
+        });
+        w.report_contacts(floor).expect("the floor");
+        if plain {
+            w.add_collider(support::ForcePlainPath);
+        }
+        for k in 0..6_000 {
+            let f = k as f32;
+            w.spawn(Particle {
+                position: Vec3::new(
+                    (f * 0.37).sin() * 1.5,
+                    1.0 + (f * 0.11).fract() * 8.0,
+                    (f * 0.53).cos() * 1.5,
+                ),
+                velocity: Vec3::new((f * 0.7).sin() * 30.0, (f * 0.3).cos() * 30.0, (f * 0.9).sin() * 30.0),
+                radius: 0.02,
+                ..Particle::default()
+            })
+            .expect("valid");
+        }
+        let mut contacts = Vec::new();
+        for _ in 0..60 {
+            step_on_path(&mut w, plain);
+            contacts.extend_from_slice(w.contacts());
+        }
+        (hash_on_path(&mut w, plain), contacts)
+    })
 }
 
 #[test]
@@ -557,54 +562,50 @@ fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
 /// partly each (the fused path takes the first two whole, the plain path
 /// decides every particle alone).
 fn settling_crowd(threads: usize, plain: bool, friction: f32, height: f32) -> (u64, usize) {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a pool")
-        .install(|| {
-            let mut w = world("semi_implicit_euler");
-            w.add_force(Gravity {
-                acceleration: Vec3::new(0.0, -G as f32, 0.0),
-            });
-            w.add_collider(Plane {
-                contact: ContactRule::InStep,
-                ..Plane::floor(
-                    0.0,
-                    Material {
-                        restitution: 0.5,
-                        friction,
-                    },
-                )
-            });
-            if plain {
-                w.add_collider(support::ForcePlainPath);
-            }
-            let n = 4_001;
-            let rows: Vec<_> = (0..n)
-                .map(|k| {
-                    let f = k as f32;
-                    w.spawn(Particle {
-                        position: Vec3::new(
-                            (f * 0.37).sin() * 3.0,
-                            0.02 + (f * 0.11).fract() * height,
-                            (f * 0.53).cos() * 3.0,
-                        ),
-                        velocity: Vec3::new((f * 0.7).sin(), (f * 0.3).cos() * 0.5, 0.0),
-                        radius: 0.02,
-                        ..Particle::default()
-                    })
-                    .expect("valid")
+    on_threads(threads, || {
+        let mut w = world("semi_implicit_euler");
+        w.add_force(Gravity {
+            acceleration: Vec3::new(0.0, -G as f32, 0.0),
+        });
+        w.add_collider(Plane {
+            contact: ContactRule::InStep,
+            ..Plane::floor(
+                0.0,
+                Material {
+                    restitution: 0.5,
+                    friction,
+                },
+            )
+        });
+        if plain {
+            w.add_collider(support::ForcePlainPath);
+        }
+        let n = 4_001;
+        let rows: Vec<_> = (0..n)
+            .map(|k| {
+                let f = k as f32;
+                w.spawn(Particle {
+                    position: Vec3::new(
+                        (f * 0.37).sin() * 3.0,
+                        0.02 + (f * 0.11).fract() * height,
+                        (f * 0.53).cos() * 3.0,
+                    ),
+                    velocity: Vec3::new((f * 0.7).sin(), (f * 0.3).cos() * 0.5, 0.0),
+                    radius: 0.02,
+                    ..Particle::default()
                 })
-                .collect();
-            for _ in 0..120 {
-                step_on_path(&mut w, plain);
-            }
-            let resting = rows
-                .iter()
-                .filter(|&&e| w.position(e).expect("live").y == 0.02 && w.velocity(e).expect("live").y == 0.0)
-                .count();
-            (hash_on_path(&mut w, plain), resting)
-        })
+                .expect("valid")
+            })
+            .collect();
+        for _ in 0..120 {
+            step_on_path(&mut w, plain);
+        }
+        let resting = rows
+            .iter()
+            .filter(|&&e| w.position(e).expect("live").y == 0.02 && w.velocity(e).expect("live").y == 0.0)
+            .count();
+        (hash_on_path(&mut w, plain), resting)
+    })
 }
 
 #[test]
@@ -640,66 +641,62 @@ fn particles_settling_on_a_frictionless_floor_are_the_same_bits_on_either_path()
 /// layer (1 m above the last, half a metre deep), so that whole chunks are
 /// clear of the floor for some steps and then strike it one by one.
 fn rain_on_resting(threads: usize, reporting: bool, layered: bool) -> (Vec<[u32; 6]>, usize) {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a pool")
-        .install(|| {
-            let mut w = world("semi_implicit_euler");
-            w.add_force(Gravity {
-                acceleration: Vec3::new(0.0, -G as f32, 0.0),
-            });
-            let floor = w.add_collider(Plane {
-                contact: ContactRule::InStep,
-                ..Plane::floor(
-                    0.0,
-                    Material {
-                        restitution: 0.8,
-                        friction: 0.0,
-                    },
-                )
-            });
-            if reporting {
-                w.report_contacts(floor).expect("the floor");
-            }
-            let rows: Vec<_> = (0..4_001)
-                .map(|k| {
-                    let f = k as f32;
-                    let thrown = layered || k % 37 == 5;
-                    let height = if layered {
-                        0.5 + (k / 512) as f32 + (f * 0.11).fract() * 0.5
-                    } else if thrown {
-                        0.02 + (f * 0.11).fract() * 2.0
-                    } else {
-                        0.02
-                    };
-                    w.spawn(Particle {
-                        position: Vec3::new((f * 0.37).sin() * 3.0, height, (f * 0.53).cos() * 3.0),
-                        velocity: Vec3::new(0.0, if thrown { -5.0 } else { 0.0 }, 0.0),
-                        radius: 0.02,
-                        ..Particle::default()
-                    })
-                    .expect("valid")
+    on_threads(threads, || {
+        let mut w = world("semi_implicit_euler");
+        w.add_force(Gravity {
+            acceleration: Vec3::new(0.0, -G as f32, 0.0),
+        });
+        let floor = w.add_collider(Plane {
+            contact: ContactRule::InStep,
+            ..Plane::floor(
+                0.0,
+                Material {
+                    restitution: 0.8,
+                    friction: 0.0,
+                },
+            )
+        });
+        if reporting {
+            w.report_contacts(floor).expect("the floor");
+        }
+        let rows: Vec<_> = (0..4_001)
+            .map(|k| {
+                let f = k as f32;
+                let thrown = layered || k % 37 == 5;
+                let height = if layered {
+                    0.5 + (k / 512) as f32 + (f * 0.11).fract() * 0.5
+                } else if thrown {
+                    0.02 + (f * 0.11).fract() * 2.0
+                } else {
+                    0.02
+                };
+                w.spawn(Particle {
+                    position: Vec3::new((f * 0.37).sin() * 3.0, height, (f * 0.53).cos() * 3.0),
+                    velocity: Vec3::new(0.0, if thrown { -5.0 } else { 0.0 }, 0.0),
+                    radius: 0.02,
+                    ..Particle::default()
                 })
-                .collect();
-            let mut bounced = 0;
-            for _ in 0..60 {
-                step_on_path(&mut w, false);
-                // Thrown particles leaving the floor upwards fast: bounced.
-                bounced += rows
-                    .iter()
-                    .filter(|&&e| w.position(e).expect("live").y < 0.2 && w.velocity(e).expect("live").y > 2.0)
-                    .count();
-            }
-            let states = rows
+                .expect("valid")
+            })
+            .collect();
+        let mut bounced = 0;
+        for _ in 0..60 {
+            step_on_path(&mut w, false);
+            // Thrown particles leaving the floor upwards fast: bounced.
+            bounced += rows
                 .iter()
-                .map(|&e| {
-                    let (x, v) = (w.position(e).expect("live"), w.velocity(e).expect("live"));
-                    [x.x, x.y, x.z, v.x, v.y, v.z].map(f32::to_bits)
-                })
-                .collect();
-            (states, bounced)
-        })
+                .filter(|&&e| w.position(e).expect("live").y < 0.2 && w.velocity(e).expect("live").y > 2.0)
+                .count();
+        }
+        let states = rows
+            .iter()
+            .map(|&e| {
+                let (x, v) = (w.position(e).expect("live"), w.velocity(e).expect("live"));
+                [x.x, x.y, x.z, v.x, v.y, v.z].map(f32::to_bits)
+            })
+            .collect();
+        (states, bounced)
+    })
 }
 
 #[test]

@@ -6,8 +6,8 @@
 //                           in force order on the CPU
 //             - k |v| v     each quadratic drag, in force order
 //             + GM d / (|d|^2 + eps^2)^(3/2), d = p - x     each attractor
-//             + G sum_j m_j d_j / (|d_j|^2 + eps^2)^(3/2)    n-body, d_j = x_j - x_j of the
-//                           same evaluation (see "n-body" below)
+//             + G sum_j m_j d_j / (|d_j|^2 + eps^2)^(3/2)    n-body, d_j = x_j - x, both
+//                           at the same evaluation (see "n-body" below)
 //                           (`acceleration`, written for the world and appended
 //                           below); 0 for an immovable particle
 //   plane (axis e, sign s, offset o, restitution e_r, friction mu), end of step:
@@ -28,7 +28,7 @@
 // k-th trial position. Where the world has an n-body force, a step is
 // STAGES rounds of `probe` (the method run again with the sums of the
 // evaluations before k known, writing each particle's k-th trial position
-// and nothing else) and `nbody` (the sums at those positions), then the
+// and nothing else) and `nbody_sums` (the sums at those positions), then the
 // step proper with every sum known. A probe's `STAGE` is a pipeline
 // constant; a round whose evaluation no particle reached returns at once.
 // Every particle makes the same evaluations in the same order, as the

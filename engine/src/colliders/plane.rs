@@ -6,7 +6,9 @@ use glam::{BVec4A, Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting_at_rest4, resting4, settle_plane};
+use super::sweep::{
+    StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting_at_rest4, resting4, settle_plane, starts_resting4,
+};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// The half-space `n . x >= offset` is free; a particle of radius `r` touches
@@ -263,7 +265,7 @@ impl Plane {
         if self.material.friction == 0.0 {
             let vn = *axis_mut::<AXIS>(v) * Vec4::splat(sign);
             let factor = bounce4(vn, self.material.restitution, rest);
-            self.frictionless_block::<AXIS, NEGATIVE>(x, v, r, w, factor);
+            frictionless_block::<AXIS, NEGATIVE, false>(x, v, r, w, self.offset, factor);
         } else {
             let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
             self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign, rest);
@@ -274,29 +276,6 @@ impl Plane {
 }
 
 impl Plane {
-    /// A frictionless block's contact with the factor `-(1 + e)` or `-1`
-    /// (no bounce) of each lane's normal velocity given: what
-    /// [`contact_block`](Self::contact_block) computes for it.
-    #[inline(always)]
-    fn frictionless_block<const AXIS: usize, const NEGATIVE: bool>(
-        &self,
-        x: &mut Vec3x4,
-        v: &mut Vec3x4,
-        r: Vec4,
-        w: Vec4,
-        factor: Vec4,
-    ) {
-        let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
-        let offset = Vec4::splat(self.offset);
-        let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
-        let gap = *xa * s - offset - r;
-        let vn = *va * s;
-        let dvn = factor * Vec4::select(vn.cmplt(Vec4::ZERO), vn, Vec4::ZERO);
-        let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-        *va = Vec4::select(hit, (vn + dvn) * s, *va);
-        *xa = Vec4::select(hit, *xa - gap * s, *xa);
-    }
-
     /// The whole blocks of a chunk whose first block rests, resolved block
     /// after block by the end-of-step rule while each rests whole: the
     /// first block that does not (`x.len()` if all do). Frictionless
@@ -311,15 +290,13 @@ impl Plane {
         let slow = Vec4::splat(-c.rest_speed);
         let scalars = c.radius.chunks_exact(4).zip(c.inverse_mass.chunks_exact(4));
         let blocks = c.start.iter().zip(c.x.iter_mut()).zip(c.v.iter_mut()).zip(scalars);
-        let limit = Vec4::splat(-c.rest_dt);
         for (b, (((start, x), v), (r, w))) in blocks.enumerate() {
             let (d0, d1, vn) = (pick(start), pick(x), pick(v));
             let dv = vn * c.dt;
             let rests = if FRICTIONLESS {
                 // `v >= -rest` implies `v dt >= -rest dt` (rounding is
                 // monotonic): the resting test's end half is implied.
-                let moved = d1 - d0;
-                ((moved + moved) - dv).cmpge(limit) & vn.cmpge(slow)
+                starts_resting4(d0, d1, dv, c.rest_dt) & vn.cmpge(slow)
             } else {
                 resting_at_rest4(d0, d1, dv, c.rest_dt)
             };
@@ -332,7 +309,7 @@ impl Plane {
                 (Vec4::from_slice(r), Vec4::from_slice(w))
             };
             if FRICTIONLESS {
-                resting_block::<AXIS, NEGATIVE>(x, v, r, w, self.offset);
+                frictionless_block::<AXIS, NEGATIVE, true>(x, v, r, w, self.offset, Vec4::NEG_ONE);
             } else {
                 self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
             }
@@ -385,7 +362,7 @@ impl Plane {
             let start = &start[..whole];
             let lanes = |b: usize| (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
             let (d0, d1, dv) = lanes(0);
-            if resting4(d0, d1, dv, 0.0, rest_dt).all() {
+            if resting_at_rest4(d0, d1, dv, rest_dt).all() {
                 // Resting, block after block, each resolved by the
                 // end-of-step rule (the in-step one for a resting contact)
                 // while in registers, up to the first that does not rest
@@ -395,7 +372,7 @@ impl Plane {
                 // that rule's factor is -1 throughout: the block is
                 // resolved with it, not asked for it again.
                 let rest = RestingChunk {
-                    start: &start[..whole],
+                    start,
                     x: &mut c.position[..whole],
                     v: &mut c.velocity[..whole],
                     radius: &c.radius[..whole * 4],
@@ -479,26 +456,34 @@ impl Plane {
     }
 }
 
-/// A frictionless block's contact where every lane approaches no faster
-/// than the rest speed (the factor of [`Plane::contact_block`] is -1 in
-/// every lane): `v_n + (-1) min(v_n, 0)` is `+0` for an approach and `v_n`
-/// otherwise (NaN excluded by the rest test), so the same bits by a
-/// select.
+/// A frictionless block's contact with the factor `-(1 + e)` or `-1`
+/// (no bounce) of each lane's normal velocity given: what
+/// [`Plane::contact_block`] computes for it. `RESTING`: every lane
+/// approaches no faster than the rest speed (the factor is -1 in every
+/// lane, NaN excluded by the rest test), and `v_n + (-1) min(v_n, 0)`,
+/// `+0` for an approach and `v_n` otherwise, is taken by a select: the
+/// same bits.
 #[inline(always)]
-fn resting_block<const AXIS: usize, const NEGATIVE: bool>(
+fn frictionless_block<const AXIS: usize, const NEGATIVE: bool, const RESTING: bool>(
     x: &mut Vec3x4,
     v: &mut Vec3x4,
     r: Vec4,
     w: Vec4,
     offset: f32,
+    factor: Vec4,
 ) {
     let s = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
     let (xa, va) = (axis_mut::<AXIS>(x), axis_mut::<AXIS>(v));
     let gap = *xa * s - Vec4::splat(offset) - r;
     let vn = *va * s;
-    let stopped = Vec4::select(vn.cmplt(Vec4::ZERO), Vec4::ZERO, vn);
+    let approach = vn.cmplt(Vec4::ZERO);
+    let after = if RESTING {
+        Vec4::select(approach, Vec4::ZERO, vn)
+    } else {
+        vn + factor * Vec4::select(approach, vn, Vec4::ZERO)
+    };
     let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-    *va = Vec4::select(hit, stopped * s, *va);
+    *va = Vec4::select(hit, after * s, *va);
     *xa = Vec4::select(hit, *xa - gap * s, *xa);
 }
 

@@ -185,9 +185,16 @@ pub fn resting4(d0: Vec4, d1: Vec4, dv: Vec4, travel: f32, rest_dt: f32) -> BVec
 #[inline(always)]
 #[must_use]
 pub fn resting_at_rest4(d0: Vec4, d1: Vec4, dv: Vec4, rest_dt: f32) -> BVec4A {
+    starts_resting4(d0, d1, dv, rest_dt) & dv.cmpge(Vec4::splat(-rest_dt))
+}
+
+/// The start half of [`resting_at_rest4`]: the path's speed into the
+/// surface at the step's start is at most the rest speed.
+#[inline(always)]
+#[must_use]
+pub fn starts_resting4(d0: Vec4, d1: Vec4, dv: Vec4, rest_dt: f32) -> BVec4A {
     let moved = d1 - d0;
-    let limit = Vec4::splat(-rest_dt);
-    ((moved + moved) - dv).cmpge(limit) & dv.cmpge(limit)
+    ((moved + moved) - dv).cmpge(Vec4::splat(-rest_dt))
 }
 
 /// The lanes of a block settled against a plane whose normal is an axis

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use super::dispatch::dispatch;
 use super::error::GpuStepError;
-use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline};
+use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline, compute_storage};
 use crate::world::{RowChange, World};
 
 /// Where a row's particle comes from: a row before the changes, or new.
@@ -157,24 +157,17 @@ impl RowKernel {
             label: Some("tickwork gpu rows"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gpu_step/rows.wgsl").into()),
         });
-        let storage = |binding, read_only| {
-            buffer_entry(
-                binding,
-                wgpu::ShaderStages::COMPUTE,
-                wgpu::BufferBindingType::Storage { read_only },
-            )
-        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu rows"),
             entries: &[
                 buffer_entry(0, wgpu::ShaderStages::COMPUTE, wgpu::BufferBindingType::Uniform),
-                storage(1, false),
-                storage(2, false),
-                storage(3, false),
-                storage(4, false),
-                storage(5, true),
-                storage(6, true),
-                storage(7, false),
+                compute_storage(1, false),
+                compute_storage(2, false),
+                compute_storage(3, false),
+                compute_storage(4, false),
+                compute_storage(5, true),
+                compute_storage(6, true),
+                compute_storage(7, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -10,7 +10,7 @@ use super::kernel::{ColliderRecord, Plan, changes_rows, coefficients, plan, refr
 use super::rows::{RowKernel, RowPlan, StateBuffers};
 use crate::clock::FixedStep;
 use crate::colliders::RowTouch;
-use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline};
+use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline, compute_storage};
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
 
@@ -286,24 +286,17 @@ impl GpuWorld {
             mapped_at_creation: false,
         });
         let touches = touches_buffer(device, u64::from(n) * u64::from(plan.reporting));
-        let storage = |binding, read_only| {
-            buffer_entry(
-                binding,
-                wgpu::ShaderStages::COMPUTE,
-                wgpu::BufferBindingType::Storage { read_only },
-            )
-        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu step"),
             entries: &[
                 buffer_entry(0, wgpu::ShaderStages::COMPUTE, wgpu::BufferBindingType::Uniform),
-                storage(1, false),
-                storage(2, false),
-                storage(3, true),
-                storage(4, false),
-                storage(5, false),
-                storage(6, false),
-                storage(7, false),
+                compute_storage(1, false),
+                compute_storage(2, false),
+                compute_storage(3, true),
+                compute_storage(4, false),
+                compute_storage(5, false),
+                compute_storage(6, false),
+                compute_storage(7, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -71,7 +71,7 @@ pub use image::{Rgba, RgbaImage};
 pub(crate) use overlay::extend_batches;
 pub use overlay::{Anchor, Batch, Line, MAX_TEXT_RUNS, Shapes, Text, TextUnit, Triangle};
 /// The buffer-binding helpers the GPU step's kernels share with the renderer's.
-pub(crate) use pipeline::{bind_buffers, compute_pipeline, entry as buffer_entry};
+pub(crate) use pipeline::{bind_buffers, compute_pipeline, compute_storage, entry as buffer_entry};
 pub use renderer::Renderer;
 pub use sprite::Sprite;
 pub use stroke::{Cap, Join, Stroke, Width};

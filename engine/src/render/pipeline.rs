@@ -57,6 +57,15 @@ pub(crate) fn particle_pipeline(
     )
 }
 
+/// A compute shader's storage buffer at `binding` (`read_only` or not).
+pub(crate) fn compute_storage(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    entry(
+        binding,
+        wgpu::ShaderStages::COMPUTE,
+        wgpu::BufferBindingType::Storage { read_only },
+    )
+}
+
 /// A layout entry for a whole buffer at `binding`, seen by `visibility`.
 pub(crate) fn entry(
     binding: u32,

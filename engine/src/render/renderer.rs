@@ -593,10 +593,15 @@ impl Renderer {
     fn plan_worlds(&mut self, view: &FrameView<'_>, gpu_count: u64) {
         self.world_draws.clear();
         self.world_layers.clear();
+        // The CPU worlds' records, then the GPU worlds' (gathered after
+        // them), in order, each on its layer.
+        let cpu = view
+            .worlds()
+            .map(|shown| (shown.layer, u32::try_from(shown.world.len()).unwrap_or(u32::MAX)));
+        let gpu = view.gpu_particles.iter().map(|g| (g.layer, g.count));
         let mut first = 0u32;
-        for shown in view.worlds() {
-            let count = u32::try_from(shown.world.len()).unwrap_or(u32::MAX);
-            let layer = shown.layer.unwrap_or(view.particle_layer);
+        for (layer, count) in cpu.chain(gpu.filter(|_| gpu_count > 0)) {
+            let layer = layer.unwrap_or(view.particle_layer);
             self.world_draws.push(WorldDraw {
                 layer,
                 instances: first..first.saturating_add(count),
@@ -605,22 +610,6 @@ impl Renderer {
             first = first.saturating_add(count);
             if !self.world_layers.contains(&layer) {
                 self.world_layers.push(layer);
-            }
-        }
-        // The GPU worlds' records, after the CPU's, in their order, each
-        // on its layer.
-        if gpu_count > 0 {
-            for g in view.gpu_particles {
-                let layer = g.layer.unwrap_or(view.particle_layer);
-                self.world_draws.push(WorldDraw {
-                    layer,
-                    instances: first..first.saturating_add(g.count),
-                    lines: 0..0,
-                });
-                first = first.saturating_add(g.count);
-                if !self.world_layers.contains(&layer) {
-                    self.world_layers.push(layer);
-                }
             }
         }
         self.world_layers.sort_unstable();
