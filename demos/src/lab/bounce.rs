@@ -374,8 +374,10 @@ pub(super) fn write(out: &mut Out<'_>) -> Result<(), LabError> {
          g = {g} m/s^2 at {hz} Hz, for {n} bounces, with each contact rule of the engine. \
          `ContactRule::EndOfStep` looks for contacts after the step: the ball, found below the floor, is \
          moved back onto it and its velocity reflected there. `ContactRule::InStep` finds the instant the \
-         step's path meets the floor, bounces there and follows the method's path for the rest of the step. \
-         The apex is read where the ball turns at the top of a flight, as y + v_y^2 / 2g; the energy error is \
+         step's path meets the floor, bounces there and follows the method's path for the rest of the step; \
+         where that path leaves out the acceleration (semi-implicit and implicit Euler run straight at the \
+         step's end velocity), the bounce keeps the method's own energy (`y + v^2 / 2g - v dt / 2` for \
+         semi-implicit Euler) rather than reflecting the velocity. The apex is read where the ball turns at the top of a flight, as y + v_y^2 / 2g; the energy error is \
          that of g y + |v|^2 / 2 against g h, at the end of the run. A run stops after {n} bounces, a failed \
          step or {max} steps.\n\n\
          | method | end of step: apex after 1 | 10 | {n} bounces, m | energy error | in step: apex after 1 | 10 | {n} bounces, m | energy error |\n\

@@ -344,7 +344,7 @@ impl Plane {
     fn settle_axis_blocks<const AXIS: usize, const NEGATIVE: bool>(
         &self,
         start: &[Vec3x4],
-        c: BlockColumns<'_>,
+        mut c: BlockColumns<'_>,
         dt: f32,
         rest_dt: f32,
         settled: &mut [u8],
@@ -356,38 +356,12 @@ impl Plane {
         // taken whole first (the first block says which): a chunk clear of
         // it by a test folded over its blocks without a branch a block, a
         // resting one resolved block after block with no bookkeeping.
-        let mut first = 0;
+        let mut b = 0;
         if whole > 1 {
-            let (x, v) = (&c.position[..whole], &c.velocity[..whole]);
-            let start = &start[..whole];
-            let lanes = |b: usize| (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
-            let (d0, d1, dv) = lanes(0);
-            if resting_at_rest4(d0, d1, dv, rest_dt).all() {
-                // Resting, block after block, each resolved by the
-                // end-of-step rule (the in-step one for a resting contact)
-                // while in registers, up to the first that does not rest
-                // whole: from there the blocks are decided one by one.
-                // Frictionless, where every lane also approaches no faster
-                // than the rest speed by the end-of-step rule's own test,
-                // that rule's factor is -1 throughout: the block is
-                // resolved with it, not asked for it again.
-                let rest = RestingChunk {
-                    start,
-                    x: &mut c.position[..whole],
-                    v: &mut c.velocity[..whole],
-                    radius: &c.radius[..whole * 4],
-                    inverse_mass: &c.inverse_mass[..whole * 4],
-                    dt,
-                    rest_dt,
-                    rest_speed: c.rest_speed,
-                };
-                first = match (self.material.friction == 0.0, c.movable && c.point) {
-                    (true, true) => self.resolve_resting::<AXIS, NEGATIVE, true, true>(rest),
-                    (true, false) => self.resolve_resting::<AXIS, NEGATIVE, true, false>(rest),
-                    (false, true) => self.resolve_resting::<AXIS, NEGATIVE, false, true>(rest),
-                    (false, false) => self.resolve_resting::<AXIS, NEGATIVE, false, false>(rest),
-                };
-            } else {
+            b = self.resolve_resting_from::<AXIS, NEGATIVE>(0, start, &mut c, dt, rest_dt);
+            if b == 0 {
+                let (x, v) = (&c.position[..whole], &c.velocity[..whole]);
+                let lanes = |b: usize| (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
                 let clear = every(whole, |b| {
                     let (d0, d1, dv) = lanes(b);
                     let r = if c.point {
@@ -400,12 +374,22 @@ impl Plane {
                 if clear {
                     // Clear all along the step: the end-of-step rule would
                     // leave every lane as it is (the same bits).
-                    first = whole;
+                    b = whole;
                 }
             }
         }
+        // From here block by block; after a block that rests whole, the
+        // resting run is taken up again (a settling pile's few bouncing
+        // particles break it only where they are).
+        let blocks = c.rows.div_ceil(4);
         let mut resting_first = false;
-        for b in first..c.rows.div_ceil(4) {
+        while b < blocks {
+            if resting_first && b < whole {
+                b += self.resolve_resting_from::<AXIS, NEGATIVE>(b, start, &mut c, dt, rest_dt);
+                if b == blocks {
+                    break;
+                }
+            }
             let (r, w) = if b < whole {
                 if c.movable && c.point {
                     (Vec4::ZERO, Vec4::ONE)
@@ -444,14 +428,45 @@ impl Plane {
                 // leave every lane as it is (the same bits).
                 settled[b] |= padding;
                 resting_first = false;
-                continue;
+            } else {
+                resting_first = resting | padding == ALL;
+                let mask = settled[b] & (clear | resting);
+                settled[b] = mask;
+                if mask | padding == ALL {
+                    self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
+                }
             }
-            resting_first = resting | padding == ALL;
-            let mask = settled[b] & (clear | resting);
-            settled[b] = mask;
-            if mask | padding == ALL {
-                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
-            }
+            b += 1;
+        }
+    }
+
+    /// The whole blocks from block `first` on that rest on the plane,
+    /// resolved while each rests whole (see [`resolve_resting`](Self::resolve_resting)):
+    /// how many.
+    fn resolve_resting_from<const AXIS: usize, const NEGATIVE: bool>(
+        &self,
+        first: usize,
+        start: &[Vec3x4],
+        c: &mut BlockColumns<'_>,
+        dt: f32,
+        rest_dt: f32,
+    ) -> usize {
+        let whole = c.rows / 4;
+        let rest = RestingChunk {
+            start: &start[first..whole],
+            x: &mut c.position[first..whole],
+            v: &mut c.velocity[first..whole],
+            radius: &c.radius[first * 4..whole * 4],
+            inverse_mass: &c.inverse_mass[first * 4..whole * 4],
+            dt,
+            rest_dt,
+            rest_speed: c.rest_speed,
+        };
+        match (self.material.friction == 0.0, c.movable && c.point) {
+            (true, true) => self.resolve_resting::<AXIS, NEGATIVE, true, true>(rest),
+            (true, false) => self.resolve_resting::<AXIS, NEGATIVE, true, false>(rest),
+            (false, true) => self.resolve_resting::<AXIS, NEGATIVE, false, true>(rest),
+            (false, false) => self.resolve_resting::<AXIS, NEGATIVE, false, false>(rest),
         }
     }
 }

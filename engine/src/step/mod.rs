@@ -316,6 +316,7 @@ impl World {
             dt,
             // NaN or negative: none rests.
             rest_speed: self.config.rest_speed.max(0.0),
+            affine: in_step::affine_sum(forces),
         });
         for lane in &mut self.lanes[lanes..] {
             lane.touches.clear();
