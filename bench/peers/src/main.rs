@@ -47,7 +47,8 @@
 //!
 //! Run: `cargo run --release --manifest-path bench/peers/Cargo.toml` (add
 //! `-- --quick` for fewer rounds, `-- --sizes 1000,100000`; `-- --only PREFIX
-//! --rounds 2000` runs one variant long enough for a profiler).
+//! --case fresh --rounds 2000` runs one variant on one case long enough for
+//! a profiler).
 
 // `y - y` puts a particle on the floor: +0 for a finite y, NaN for a
 // non-finite one, which the finiteness sum then sees (as the engine does).
@@ -643,7 +644,11 @@ impl Variant for Tickwork {
     fn name(&self) -> String {
         format!(
             "tickwork{} ({} thread{}, layout {})",
-            if self.rule == ContactRule::InStep { " in-step" } else { "" },
+            if self.rule == ContactRule::InStep {
+                " in-step"
+            } else {
+                ""
+            },
             self.threads,
             if self.threads == 1 { "" } else { "s" },
             self.layout
@@ -829,6 +834,16 @@ fn main() -> Result<(), String> {
         .position(|a| a == "--only")
         .and_then(|i| args.get(i + 1))
         .cloned();
+    // `--case fresh` or `--case resting`: time just that case (for a profiler).
+    let only_case = args
+        .iter()
+        .position(|a| a == "--case")
+        .map(|i| args.get(i + 1).map(String::as_str));
+    if let Some(case) = only_case {
+        if !matches!(case, Some("fresh" | "resting")) {
+            return Err("--case takes fresh or resting".into());
+        }
+    }
     // What a Tickwork game's `run` does: this thread (the one that steps)
     // becomes thread 0 of rayon's global pool, of one thread per core.
     tickwork_engine::threads::join_thread_pool().map_err(|e| format!("rayon's global pool: {e}"))?;
@@ -847,6 +862,9 @@ fn main() -> Result<(), String> {
             variants.retain(|v| v.name().starts_with(prefix.as_str()));
         }
         for case in ["fresh", "resting"] {
+            if only_case == Some(Some("fresh")) && case == "resting" {
+                break;
+            }
             if case == "resting" {
                 for v in variants.iter_mut() {
                     v.restore();
@@ -856,7 +874,23 @@ fn main() -> Result<(), String> {
             for v in variants.iter_mut() {
                 v.save();
             }
+            if only_case.is_some_and(|only| only != Some(case)) {
+                continue;
+            }
             println!("N = {n}, {case}:");
+            if case == "resting" {
+                for v in variants.iter_mut() {
+                    let state = v.state();
+                    let airborne = state.iter().filter(|(p, _)| p.y > 1e-3).count();
+                    if !state.is_empty() {
+                        println!(
+                            "  {:<34} {airborne} of {} particles more than 1 mm above the floor",
+                            v.name(),
+                            state.len()
+                        );
+                    }
+                }
+            }
             let times = measure(&mut variants, n, rounds, STEPS);
             for (v, t) in variants.iter().zip(&times) {
                 println!("  {:<34} {t:>7.2}", v.name());
@@ -865,8 +899,8 @@ fn main() -> Result<(), String> {
             rows.push((n, case, variants.iter().map(|v| v.name()).collect::<Vec<_>>(), times));
         }
     }
-    // The table's ratios need every variant: not with `--only`.
-    if only.is_none() {
+    // The table's ratios need every variant and case: not with `--only` or `--case`.
+    if only.is_none() && only_case.is_none() {
         print_table(&rows);
     }
     Ok(())
