@@ -708,14 +708,16 @@ fn particles_settling_on_a_frictionless_floor_are_the_same_bits_on_either_path()
 /// `layered`, every particle is thrown, each chunk of 512 from its own
 /// layer (1 m above the last, half a metre deep), so that whole chunks are
 /// clear of the floor for some steps and then strike it one by one. The
-/// particles' radius is `radius` (resting ones start that far up).
-fn rain_on_resting(threads: usize, reporting: bool, layered: bool, radius: f32) -> (Vec<[u32; 6]>, usize) {
+/// particles' radius is `radius` (resting ones start that far up). `up`
+/// -1 turns the world upside down: a ceiling facing -y, gravity up.
+fn rain_on_resting(threads: usize, reporting: bool, layered: bool, radius: f32, up: f32) -> (Vec<[u32; 6]>, usize) {
     on_threads(threads, || {
         let mut w = world("semi_implicit_euler");
         w.add_force(Gravity {
-            acceleration: Vec3::new(0.0, -G as f32, 0.0),
+            acceleration: Vec3::new(0.0, -G as f32 * up, 0.0),
         });
         let floor = w.add_collider(Plane {
+            normal: Vec3::new(0.0, up, 0.0),
             contact: ContactRule::InStep,
             ..Plane::floor(
                 0.0,
@@ -740,8 +742,8 @@ fn rain_on_resting(threads: usize, reporting: bool, layered: bool, radius: f32) 
                     radius
                 };
                 w.spawn(Particle {
-                    position: Vec3::new((f * 0.37).sin() * 3.0, height, (f * 0.53).cos() * 3.0),
-                    velocity: Vec3::new(0.0, if thrown { -5.0 } else { 0.0 }, 0.0),
+                    position: Vec3::new((f * 0.37).sin() * 3.0, height * up, (f * 0.53).cos() * 3.0),
+                    velocity: Vec3::new(0.0, if thrown { -5.0 * up } else { 0.0 }, 0.0),
                     radius,
                     ..Particle::default()
                 })
@@ -754,7 +756,7 @@ fn rain_on_resting(threads: usize, reporting: bool, layered: bool, radius: f32) 
             // Thrown particles leaving the floor upwards fast: bounced.
             bounced += rows
                 .iter()
-                .filter(|&&e| w.position(e).expect("live").y < 0.2 && w.velocity(e).expect("live").y > 2.0)
+                .filter(|&&e| w.position(e).expect("live").y * up < 0.2 && w.velocity(e).expect("live").y * up > 2.0)
                 .count();
         }
         let states = rows
@@ -772,14 +774,36 @@ fn rain_on_resting(threads: usize, reporting: bool, layered: bool, radius: f32) 
 fn fast_particles_among_resting_ones_are_the_same_bits_whole_chunk_or_block_by_block() {
     // Point particles (radius 0) take loops of their own.
     for (layered, radius) in [(false, 0.02), (true, 0.02), (false, 0.0)] {
-        let whole = rain_on_resting(1, false, layered, radius);
+        let whole = rain_on_resting(1, false, layered, radius, 1.0);
         assert!(whole.1 > 50, "thrown particles bounced: {}", whole.1);
-        assert!(whole == rain_on_resting(2, false, layered, radius), "1 and 2 threads");
         assert!(
-            whole == rain_on_resting(1, true, layered, radius),
+            whole == rain_on_resting(2, false, layered, radius, 1.0),
+            "1 and 2 threads"
+        );
+        assert!(
+            whole == rain_on_resting(1, true, layered, radius, 1.0),
             "whole chunks and block by block (layered: {layered}, radius {radius})"
         );
     }
+    // Upside down (a ceiling, facing -y, gravity up): the same values with
+    // the sign of every y and v_y flipped (not the same bits: a particle
+    // put back on either surface is at `y - y = +0`).
+    let floor = rain_on_resting(1, false, false, 0.0, 1.0);
+    let ceiling = rain_on_resting(1, false, false, 0.0, -1.0);
+    let flip = |s: &[u32; 6]| {
+        let v = s.map(f32::from_bits);
+        [v[0], -v[1], v[2], v[3], -v[4], v[5]]
+    };
+    let values = |s: &[u32; 6]| s.map(f32::from_bits);
+    assert!(
+        ceiling.0.iter().map(flip).eq(floor.0.iter().map(values)),
+        "a ceiling is a floor upside down"
+    );
+    assert_eq!(ceiling.1, floor.1);
+    assert!(
+        ceiling == rain_on_resting(1, true, false, 0.0, -1.0),
+        "the ceiling block by block"
+    );
 }
 
 /// A bullet (radius 1 cm) fired at `speed` from x = -5 at a heavy ball of

@@ -265,7 +265,7 @@ impl Plane {
         if self.material.friction == 0.0 {
             let vn = *axis_mut::<AXIS>(v) * Vec4::splat(sign);
             let factor = bounce4(vn, self.material.restitution, rest);
-            frictionless_block::<AXIS, NEGATIVE, false>(x, v, r, w, self.offset, factor);
+            frictionless_block::<AXIS, NEGATIVE, false, false>(x, v, r, w, self.offset, factor);
         } else {
             let (mut xc, mut vc) = ([x.x, x.y, x.z], [v.x, v.y, v.z]);
             self.contact_lanes::<AXIS>(&mut xc, &mut vc, r, w, sign, rest);
@@ -309,7 +309,7 @@ impl Plane {
                 (Vec4::from_slice(r), Vec4::from_slice(w))
             };
             if FRICTIONLESS {
-                frictionless_block::<AXIS, NEGATIVE, true>(x, v, r, w, self.offset, Vec4::NEG_ONE);
+                frictionless_block::<AXIS, NEGATIVE, true, FIXED>(x, v, r, w, self.offset, Vec4::NEG_ONE);
             } else {
                 self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
             }
@@ -477,9 +477,9 @@ impl Plane {
 /// approaches no faster than the rest speed (the factor is -1 in every
 /// lane, NaN excluded by the rest test), and `v_n + (-1) min(v_n, 0)`,
 /// `+0` for an approach and `v_n` otherwise, is taken by a select: the
-/// same bits.
+/// same bits. `MOVABLE`: every lane is movable (`w > 0` not asked).
 #[inline(always)]
-fn frictionless_block<const AXIS: usize, const NEGATIVE: bool, const RESTING: bool>(
+fn frictionless_block<const AXIS: usize, const NEGATIVE: bool, const RESTING: bool, const MOVABLE: bool>(
     x: &mut Vec3x4,
     v: &mut Vec3x4,
     r: Vec4,
@@ -492,13 +492,22 @@ fn frictionless_block<const AXIS: usize, const NEGATIVE: bool, const RESTING: bo
     let gap = *xa * s - Vec4::splat(offset) - r;
     let vn = *va * s;
     let approach = vn.cmplt(Vec4::ZERO);
-    let after = if RESTING {
-        Vec4::select(approach, Vec4::ZERO, vn)
+    // `MOVABLE`: every lane's `w > 0` is known.
+    let hit = if MOVABLE {
+        gap.cmplt(Vec4::ZERO)
     } else {
-        vn + factor * Vec4::select(approach, vn, Vec4::ZERO)
+        gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO)
     };
-    let hit = gap.cmplt(Vec4::ZERO) & w.cmpgt(Vec4::ZERO);
-    *va = Vec4::select(hit, after * s, *va);
+    if RESTING {
+        // `(vn + (-1) min(vn, 0)) s` is a zero of the normal's sign where
+        // the lane approaches and `vn s`, the velocity itself, elsewhere:
+        // one select where it hits.
+        let zero = Vec4::splat(if NEGATIVE { -0.0 } else { 0.0 });
+        *va = Vec4::select(hit & approach, zero, *va);
+    } else {
+        let after = vn + factor * Vec4::select(approach, vn, Vec4::ZERO);
+        *va = Vec4::select(hit, after * s, *va);
+    }
     *xa = Vec4::select(hit, *xa - gap * s, *xa);
 }
 

@@ -73,6 +73,10 @@ pub(super) struct Sweep<'a> {
     /// acceleration `c - b v`), for what a contact's path leaves out of
     /// them ([`kept_restitution`]).
     pub affine: (Vec3A, f32),
+    /// The in-step collider, where it is the only one and does not report:
+    /// it settles and resolves a chunk in one pass
+    /// ([`Collider::settle_blocks`] with `resolve`).
+    pub lone: Option<usize>,
 }
 
 /// A chunk of particles in blocks of four, as the in-step pass changes it:
@@ -110,10 +114,33 @@ fn padding(rows: usize, b: usize) -> u8 {
     (0b1111u8 << real) & 0b1111
 }
 
-impl Sweep<'_> {
-    /// Whether any collider finds contacts inside the step.
-    pub fn wanted(colliders: &[Box<dyn Collider>]) -> bool {
-        colliders.iter().any(|c| c.in_step())
+impl<'a> Sweep<'a> {
+    /// The in-step contacts of a step of `dt` seconds among `colliders`
+    /// (`reports`: which of them report), under `forces`: `None` when no
+    /// collider finds contacts inside the step. A NaN or negative rest
+    /// speed rests none.
+    pub fn new(
+        colliders: &'a [Box<dyn Collider>],
+        reports: &'a [bool],
+        forces: &[Box<dyn Force>],
+        dt: f32,
+        rest_speed: f32,
+    ) -> Option<Self> {
+        let mut in_step = colliders
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.in_step())
+            .map(|(k, _)| k);
+        let first = in_step.next()?;
+        let lone = (in_step.next().is_none() && !reports[first]).then_some(first);
+        Some(Self {
+            colliders,
+            reports,
+            dt,
+            rest_speed: rest_speed.max(0.0),
+            affine: affine_sum(forces),
+            lone,
+        })
     }
 
     /// The in-step colliders' contacts on a chunk (rows `first_row ..`,
@@ -139,12 +166,15 @@ impl Sweep<'_> {
         settled.clear();
         settled.resize(blocks, 0b1111);
         let in_step = || self.colliders.iter().enumerate().filter(|(_, c)| c.in_step());
-        let lone = in_step().count() == 1;
         let mut folded = None;
-        for (k, collider) in in_step() {
-            let fold = lone && !self.reports[k];
-            if collider.settle_blocks(start, c.blocks(0..blocks, self.rest_speed), self.dt, fold, settled) {
+        if let Some(k) = self.lone {
+            let collider = &self.colliders[k];
+            if collider.settle_blocks(start, c.blocks(0..blocks, self.rest_speed), self.dt, true, settled) {
                 folded = Some(k);
+            }
+        } else {
+            for (_, collider) in in_step() {
+                collider.settle_blocks(start, c.blocks(0..blocks, self.rest_speed), self.dt, false, settled);
             }
         }
         // The padding lanes of a short last block count as settled.
@@ -342,16 +372,15 @@ impl World {
     /// method's end state) go into the blocks, where the fused step's pass
     /// runs on them chunk by chunk (the same bits), and back.
     pub(super) fn resolve_in_step(&mut self, dt: f32, parallel: bool) -> Option<EventOverflow> {
-        if !Sweep::wanted(&self.colliders.colliders) {
-            return None;
-        }
-        let sweep = Sweep {
-            colliders: &self.colliders.colliders,
-            reports: &self.colliders.reports,
+        let colliders = &self.colliders;
+        let Some(sweep) = Sweep::new(
+            &colliders.colliders,
+            &colliders.reports,
+            &self.forces,
             dt,
-            // NaN or negative: none rests.
-            rest_speed: self.config.rest_speed.max(0.0),
-            affine: affine_sum(&self.forces),
+            self.config.rest_speed,
+        ) else {
+            return None;
         };
         let (p, g) = (&mut self.particles, &mut self.gathered);
         p.position.scatter_from(&g.x, parallel);

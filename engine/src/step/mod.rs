@@ -310,14 +310,7 @@ impl World {
         };
         let (forces, colliders) = (&self.forces[..], &self.colliders.colliders[..]);
         let reports = &self.colliders.reports[..];
-        let sweep = Sweep::wanted(colliders).then_some(Sweep {
-            colliders,
-            reports,
-            dt,
-            // NaN or negative: none rests.
-            rest_speed: self.config.rest_speed.max(0.0),
-            affine: in_step::affine_sum(forces),
-        });
+        let sweep = Sweep::new(colliders, reports, forces, dt, self.config.rest_speed);
         for lane in &mut self.lanes[lanes..] {
             lane.touches.clear();
         }
