@@ -2,12 +2,12 @@
 //! rest, or kinematic (moved along its normal each step: a piston, a
 //! rising floor).
 
-use glam::{BVec4A, Mat4, Vec3, Vec3A, Vec4};
+use glam::{Mat4, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
 use super::sweep::{
-    StepPath, SweptHit, clear_axis_lanes, clear_axis4, resting_at_rest4, resting4, settle_plane, starts_resting4,
+    StepPath, SweptHit, all_clear_axis, clear_axis4, resting_at_rest4, resting4, settle_plane, starts_resting4,
 };
 use super::{BlockColumns, Collider, ContactColumns};
 
@@ -361,16 +361,14 @@ impl Plane {
             b = self.resolve_resting_from::<AXIS, NEGATIVE>(0, start, &mut c, dt, rest_dt);
             if b == 0 {
                 let (x, v) = (&c.position[..whole], &c.velocity[..whole]);
-                let lanes = |b: usize| (pick(&start[b]), pick(&x[b]), pick(&v[b]) * dt);
-                let clear = every(whole, |b| {
-                    let (d0, d1, dv) = lanes(b);
-                    let r = if c.point {
-                        Vec4::ZERO
-                    } else {
-                        Vec4::from_slice(&c.radius[b * 4..b * 4 + 4])
-                    };
-                    clear_axis_lanes(d0, d1, dv, r, self.offset, 0.0)
-                });
+                let ends = start[..whole].iter().zip(x).zip(v);
+                let ends = ends.map(|((start, x), v)| (pick(start), pick(x), pick(v) * dt));
+                let clear = if c.point {
+                    all_clear_axis(ends.map(|(d0, d1, dv)| (d0, d1, dv, Vec4::ZERO)), self.offset)
+                } else {
+                    let r = c.radius[..whole * 4].chunks_exact(4).map(Vec4::from_slice);
+                    all_clear_axis(ends.zip(r).map(|((d0, d1, dv), r)| (d0, d1, dv, r)), self.offset)
+                };
                 if clear {
                     // Clear all along the step: the end-of-step rule would
                     // leave every lane as it is (the same bits).
@@ -523,18 +521,6 @@ struct RestingChunk<'a> {
     dt: f32,
     rest_dt: f32,
     rest_speed: f32,
-}
-
-/// Whether `test` holds in every lane of blocks `0..whole`: folded 32
-/// blocks at a time without a branch a block, stopping at the first 32
-/// that fail.
-#[inline(always)]
-fn every(whole: usize, test: impl Fn(usize) -> BVec4A) -> bool {
-    (0..whole).step_by(32).all(|first| {
-        (first..(first + 32).min(whole))
-            .fold(BVec4A::TRUE, |all, b| all & test(b))
-            .all()
-    })
 }
 
 /// A block's components along the normal `±e_AXIS` (`NEGATIVE`: -).

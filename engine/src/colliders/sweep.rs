@@ -239,6 +239,82 @@ pub fn clear_axis_lanes(d0: Vec4, d1: Vec4, dv: Vec4, r: Vec4, offset: f32, trav
     bound.cmpgt(margin)
 }
 
+/// Whether every lane of some blocks is certainly clear of a plane at rest
+/// whose normal is an axis, all along the step (`lanes`: each block's
+/// `d0`, `d1`, `dv` and radii, as for [`clear_axis_lanes`]): that
+/// test's bound taken over all the lanes at once, from the least of their
+/// ends' components, the greatest `a`, radius and magnitude, 32 blocks at a
+/// time (a chunk that meets the plane stops early). Each operation rounds
+/// monotonically, so the bound is no larger than each lane's own, and the
+/// margin no smaller: a chunk clear by it has every lane clear by
+/// [`clear_axis_lanes`], in about half its operations a block. A
+/// non-finite component (their running sum is then not finite) fails it.
+#[inline(always)]
+#[must_use]
+pub fn all_clear_axis(lanes: impl Iterator<Item = (Vec4, Vec4, Vec4, Vec4)>, offset: f32) -> bool {
+    let (mut extent, mut taken) = (Extent::EMPTY, 0);
+    for lane in lanes {
+        extent.add(lane);
+        taken += 1;
+        if taken == 32 {
+            if !extent.clear_of(offset) {
+                return false;
+            }
+            (extent, taken) = (Extent::EMPTY, 0);
+        }
+    }
+    taken == 0 || extent.clear_of(offset)
+}
+
+/// Running extremes over lanes, for [`all_clear_axis`].
+#[derive(Clone, Copy)]
+struct Extent {
+    /// Least of `d0` and `d1`.
+    low: Vec4,
+    /// Greatest of `|d0|`, `|d1|` and `|dv|`.
+    size: Vec4,
+    /// Greatest `a = dv - (d1 - d0)` and radius.
+    a: Vec4,
+    r: Vec4,
+    /// The sum of every `a` and radius: finite only if every component
+    /// added was (a non-finite `d0`, `d1` or `dv` makes `a` non-finite).
+    sum: Vec4,
+}
+
+impl Extent {
+    const EMPTY: Self = Self {
+        low: Vec4::INFINITY,
+        size: Vec4::ZERO,
+        a: Vec4::NEG_INFINITY,
+        r: Vec4::ZERO,
+        sum: Vec4::ZERO,
+    };
+
+    #[inline(always)]
+    fn add(&mut self, (d0, d1, dv, r): (Vec4, Vec4, Vec4, Vec4)) {
+        self.low = self.low.min(d0.min(d1));
+        self.size = self.size.max(d0.abs().max(d1.abs()).max(dv.abs()));
+        let a = dv - (d1 - d0);
+        self.a = self.a.max(a);
+        self.r = self.r.max(r);
+        self.sum = self.sum + a + r;
+    }
+
+    /// [`clear_axis_lanes`]'s test (at rest: no travel) on the extremes.
+    #[inline(always)]
+    fn clear_of(&self, offset: f32) -> bool {
+        if !self.sum.is_finite() {
+            return false;
+        }
+        let (low, m) = (self.low.min_element(), self.size.max_element());
+        let (a, r) = (self.a.max_element(), self.r.max_element());
+        let bound = (low - offset - r) - a.max(0.0) * 0.25;
+        let fixed = offset.abs() * 1e-6 + f32::MIN_POSITIVE;
+        let margin = (m + m + m + r) * 1e-6 + fixed;
+        bound > margin
+    }
+}
+
 /// Over a chunk, `settled[b]` keeps only the lanes of block `b` that
 /// certainly stay clear of the plane `n . x = offset` (moving `travel`
 /// along `n` over the step), or that rest on it ([`resting4`], `rest_dt`
@@ -361,6 +437,57 @@ mod tests {
             }
         }
         assert!(checked > 100, "some rest: {checked}");
+    }
+
+    #[test]
+    fn a_chunk_clear_as_a_whole_has_every_lane_clear() {
+        let mut seed = 0x1234_5678u32;
+        let mut random = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let specials = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 0.0, 1e-40, f32::MAX];
+        let (mut whole, mut tried) = (0, 0);
+        for case in 0..20_000 {
+            let blocks = 1 + case % 40;
+            let (height, spread) = (random() * 4.0 - 0.5, 10f32.powf(random() * 8.0 - 6.0));
+            let offset = [0.0, 0.3, -2.0, 1e4][case % 4];
+            let point = case % 3 == 0;
+            let mut data: Vec<[Vec4; 4]> = (0..blocks)
+                .map(|_| {
+                    let mut lane = || offset + height + (random() - 0.5) * spread;
+                    let d0 = Vec4::new(lane(), lane(), lane(), lane());
+                    let d1 = Vec4::new(lane(), lane(), lane(), lane());
+                    let dv = d1 - d0 + Vec4::splat((random() - 0.5) * spread * 0.1);
+                    let r = if point { Vec4::ZERO } else { Vec4::splat(random() * 0.1) };
+                    [d0, d1, dv, r]
+                })
+                .collect();
+            if case % 50 == 7 {
+                let special = specials[(case / 50) % specials.len()];
+                let b = case % blocks;
+                let which = case % 3;
+                data[b][which] = Vec4::new(data[b][which].x, special, data[b][which].z, data[b][which].w);
+            }
+            let lanes = data.iter().map(|&[d0, d1, dv, r]| (d0, d1, dv, r));
+            tried += 1;
+            if all_clear_axis(lanes, offset) {
+                whole += 1;
+                for (b, [d0, d1, dv, r]) in data.iter().enumerate() {
+                    assert!(
+                        clear_axis_lanes(*d0, *d1, *dv, *r, offset, 0.0).all(),
+                        "case {case}, block {b}: {d0} {d1} {dv} {r}, offset {offset}"
+                    );
+                }
+            }
+        }
+        // Not vacuous: many chunks are clear as a whole, and not all.
+        assert!(
+            whole > tried / 4 && whole < tried,
+            "{whole} of {tried} clear as a whole"
+        );
     }
 
     #[test]

@@ -162,9 +162,14 @@ impl<'a> Sweep<'a> {
         settled: &mut Vec<u8>,
         touches: &mut Vec<RowTouch>,
     ) -> Option<EventOverflow> {
+        const ALL: u8 = 0b1111;
         let (blocks, rows) = (c.x.len(), c.radius.len());
-        settled.clear();
-        settled.resize(blocks, 0b1111);
+        // Every entry is `ALL` between chunks (a chunk that clears some
+        // puts them back), so most chunks write none.
+        if settled.len() < blocks {
+            settled.resize(blocks, ALL);
+        }
+        let settled = &mut settled[..blocks];
         let in_step = || self.colliders.iter().enumerate().filter(|(_, c)| c.in_step());
         let mut folded = None;
         if let Some(k) = self.lone {
@@ -183,13 +188,17 @@ impl<'a> Sweep<'a> {
         }
         // Most chunks, most steps: every lane settled (an AND over the
         // bytes, which vectorises), and nothing to follow.
-        let all = settled.iter().fold(0b1111u8, |all, &lanes| all & lanes) == 0b1111;
+        if settled.iter().fold(ALL, |all, &lanes| all & lanes) == ALL {
+            if folded.is_none() {
+                for (k, collider) in in_step() {
+                    self.end_of_step(k, collider.as_ref(), first_row, &mut c, 0..blocks, scratch, touches);
+                }
+            }
+            return None;
+        }
         let mut first = None;
         for (b, &lanes) in settled.iter().enumerate() {
-            if all {
-                break;
-            }
-            if lanes == 0b1111 {
+            if lanes == ALL {
                 continue;
             }
             for k in 0..(rows - b * 4).min(4) {
@@ -218,10 +227,7 @@ impl<'a> Sweep<'a> {
             if folded == Some(k) {
                 // Only the blocks it left for the paths to be followed.
                 for b in 0..blocks {
-                    if all {
-                        break;
-                    }
-                    if settled[b] != 0b1111 {
+                    if settled[b] != ALL {
                         self.end_of_step(k, collider.as_ref(), first_row, &mut c, b..b + 1, scratch, touches);
                     }
                 }
@@ -229,6 +235,7 @@ impl<'a> Sweep<'a> {
                 self.end_of_step(k, collider.as_ref(), first_row, &mut c, 0..blocks, scratch, touches);
             }
         }
+        settled.fill(ALL);
         first
     }
 

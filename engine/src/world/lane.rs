@@ -16,7 +16,8 @@ pub(crate) struct Lane {
     /// The lane's contacts, for colliders that report them.
     pub touches: Vec<RowTouch>,
     /// Per block of a chunk, the lanes every in-step collider settled this
-    /// step (bit `k` for lane `k`): clear of it, or resting on it.
+    /// step (bit `k` for lane `k`): clear of it, or resting on it. Every
+    /// entry is `0b1111` between chunks.
     pub settled: Vec<u8>,
 }
 
@@ -28,7 +29,7 @@ impl Lane {
             rows: Rows::default(),
             touches: Vec::new(),
             // A page of its own (a chunk needs 128 bytes): the lanes' settled
-            // bytes, written for every chunk, never share a cache line
+            // bytes, written for chunks not settled whole, never share a cache line
             // between threads (2 threads' resting step measured 1.15-1.28x
             // the end-of-step rule's with the buffers side by side, 1.12-1.14x
             // apart).
@@ -45,7 +46,7 @@ impl Clone for Lane {
 
 /// The plain step's scratch for contacts inside the step (the fused step's
 /// lanes hold their own): rows for reporting colliders, and the settled
-/// lanes of a chunk's blocks.
+/// lanes of a chunk's blocks (every entry `0b1111` between chunks).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SweepScratch {
     pub rows: Rows,
