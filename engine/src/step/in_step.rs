@@ -380,15 +380,13 @@ impl World {
     /// runs on them chunk by chunk (the same bits), and back.
     pub(super) fn resolve_in_step(&mut self, dt: f32, parallel: bool) -> Option<EventOverflow> {
         let colliders = &self.colliders;
-        let Some(sweep) = Sweep::new(
+        let sweep = Sweep::new(
             &colliders.colliders,
             &colliders.reports,
             &self.forces,
             dt,
             self.config.rest_speed,
-        ) else {
-            return None;
-        };
+        )?;
         let (p, g) = (&mut self.particles, &mut self.gathered);
         p.position.scatter_from(&g.x, parallel);
         p.velocity.scatter_from(&g.v, parallel);
