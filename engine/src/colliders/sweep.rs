@@ -452,8 +452,11 @@ mod tests {
         let (mut whole, mut tried) = (0, 0);
         for case in 0..20_000 {
             let blocks = 1 + case % 40;
-            // Spreads from 1e-6 to 100, a power of ten each.
-            let (height, spread) = (random() * 4.0 - 0.5, [1e-6, 1e-4, 1e-2, 1.0, 100.0][case % 5]);
+            // Spreads from 1e-6 to 100, a power of ten each; a path's bend
+            // (`a`) a tenth of it or as large.
+            let spreads = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0, 100.0];
+            let (height, spread) = (random() * 4.0 - 0.5, spreads[case % spreads.len()]);
+            let bend = if (case / 7) % 2 == 0 { 0.1 } else { 1.0 };
             let offset = [0.0, 0.3, -2.0, 1e4][case % 4];
             let point = case % 3 == 0;
             let mut data: Vec<[Vec4; 4]> = (0..blocks)
@@ -461,7 +464,7 @@ mod tests {
                     let mut lane = || offset + height + (random() - 0.5) * spread;
                     let d0 = Vec4::new(lane(), lane(), lane(), lane());
                     let d1 = Vec4::new(lane(), lane(), lane(), lane());
-                    let dv = d1 - d0 + Vec4::splat((random() - 0.5) * spread * 0.1);
+                    let dv = d1 - d0 + Vec4::splat((random() - 0.5) * spread * bend);
                     let r = if point { Vec4::ZERO } else { Vec4::splat(random() * 0.1) };
                     [d0, d1, dv, r]
                 })
