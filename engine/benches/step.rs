@@ -394,28 +394,39 @@ fn resting_minutes(c: &mut Criterion) {
 
 /// 100k particles under gravity and drag over a floor of restitution `e`
 /// whose contacts follow `rule`: `falling` from 1 000 m (no contact in the
-/// 600 steps before the world is made again: 10 s fall less than 500 m), `resting` on the floor, or `bouncing` from up to 5 m.
+/// 600 steps before the world is made again: 10 s fall less than 500 m), `resting` on the floor, or `bouncing` from up to 5 m;
+/// `resting_on_a_box`: resting on the top of a solid box (200 m wide) instead.
 fn floor_case(case: &str, rule: ContactRule) -> World {
     let e = if case == "bouncing" { 0.9 } else { 0.5 };
     let mut w = World::new(WorldConfig::default()).expect("registered");
     w.add_force(Gravity::EARTH);
     w.add_force(LinearDrag { rate: 0.1 });
-    w.add_collider(Plane {
-        contact: rule,
-        ..Plane::floor(
-            0.0,
-            Material {
-                restitution: e,
-                friction: 0.0,
-            },
-        )
-    });
+    let material = Material {
+        restitution: e,
+        friction: 0.0,
+    };
+    if case == "resting_on_a_box" {
+        // The floor is the top of a solid box instead.
+        w.add_collider(tickwork_engine::BoxCollider {
+            contact: rule,
+            ..tickwork_engine::BoxCollider::solid(
+                Vec3::new(-100.0, -1.0, -100.0),
+                Vec3::new(100.0, 0.0, 100.0),
+                material,
+            )
+        });
+    } else {
+        w.add_collider(Plane {
+            contact: rule,
+            ..Plane::floor(0.0, material)
+        });
+    }
     for i in 0..100_000u32 {
         let (a, b) = ((i % 316) as f32 * 0.05, (i / 316) as f32 * 0.05);
         let h = (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32;
         let (position, velocity) = match case {
             "falling" => (Vec3::new(a, 1000.0 + 10.0 * h, b), Vec3::new(1.0, 0.0, -1.0)),
-            "resting" => (Vec3::new(a, 0.02, b), Vec3::new(1e-3, 0.0, 0.0)),
+            "resting" | "resting_on_a_box" => (Vec3::new(a, 0.02, b), Vec3::new(1e-3, 0.0, 0.0)),
             _ => (Vec3::new(a, 0.1 + 5.0 * h, b), Vec3::new(1.0 - 2.0 * h, 0.0, 0.5)),
         };
         w.spawn(Particle {
@@ -443,7 +454,7 @@ fn contact_rules(c: &mut Criterion) {
             .num_threads(threads)
             .build()
             .expect("pool");
-        for case in ["falling", "resting", "bouncing"] {
+        for case in ["falling", "resting", "bouncing", "resting_on_a_box"] {
             for (name, rule) in [
                 ("end_of_step", ContactRule::EndOfStep),
                 ("in_step", ContactRule::InStep),

@@ -947,3 +947,187 @@ fn a_particle_resting_on_a_floor_still_meets_a_thin_wall_it_slides_into() {
     }
     assert!(w.velocity(e).expect("live").x < 0.0, "bounced back");
 }
+
+/// 4 001 particles (radius 0.02) over and around an in-step box at rest,
+/// on `threads` threads, fused or plain, under gravity, for 3 s: a solid
+/// platform from y = -1 to 0 (`inside` false), or a room whose floor is at
+/// y = -1 (`inside` true). Most drop from up to 30 cm onto its top (or
+/// floor) with small sideways speeds, so they come to rest there, slide,
+/// or fall off an edge; one in 23 is thrown at the box fast from any side,
+/// below included. Every step checks that no particle is inside the solid
+/// box or has left the room; returns the state's hash and how many rest
+/// exactly on the top (or the floor).
+fn box_crowd(threads: usize, plain: bool, inside: bool, friction: f32) -> (u64, usize) {
+    on_threads(threads, || {
+        let mut w = world("semi_implicit_euler");
+        w.add_force(Gravity {
+            acceleration: Vec3::new(0.0, -G as f32, 0.0),
+        });
+        let material = Material {
+            restitution: 0.5,
+            friction,
+        };
+        let (lo, hi) = if inside {
+            (Vec3::new(-2.0, -1.0, -2.0), Vec3::new(2.0, 3.0, 2.0))
+        } else {
+            (Vec3::new(-2.0, -1.0, -2.0), Vec3::new(2.0, 0.0, 2.0))
+        };
+        w.add_collider(BoxCollider {
+            min: lo,
+            max: hi,
+            inside,
+            material,
+            contact: ContactRule::InStep,
+            ..BoxCollider::default()
+        });
+        if plain {
+            w.add_collider(support::ForcePlainPath);
+        }
+        let r = 0.02;
+        let surface = if inside { lo.y + r } else { hi.y + r };
+        let rows: Vec<_> = (0..4_001)
+            .map(|k| {
+                let f = k as f32;
+                // On the room's floor, within it; on the platform, a little
+                // past its edges too.
+                let spread = if inside { 1.9 } else { 2.3 };
+                let (x, z) = ((f * 0.37).sin() * spread, (f * 0.53).cos() * spread);
+                let (position, velocity) = if k % 23 == 7 {
+                    // Thrown at the box's middle from 1.5 m away, any side.
+                    let dir = Vec3::new((f * 0.71).sin(), (f * 0.29).cos(), (f * 0.43).sin()).normalize();
+                    let centre = (lo + hi) * 0.5;
+                    let from = if inside { centre + dir * 1.5 } else { centre - dir * 3.5 };
+                    let to = if inside { dir } else { (centre - from).normalize() };
+                    (from, to * (20.0 + (f * 0.13).fract() * 200.0))
+                } else {
+                    (
+                        Vec3::new(x, surface + (f * 0.11).fract() * 0.3, z),
+                        Vec3::new((f * 0.7).sin() * 0.3, 0.0, (f * 0.9).cos() * 0.3),
+                    )
+                };
+                w.spawn(Particle {
+                    position,
+                    velocity,
+                    radius: r,
+                    ..Particle::default()
+                })
+                .expect("valid")
+            })
+            .collect();
+        for step in 0..180 {
+            step_on_path(&mut w, plain);
+            for &e in &rows {
+                let p = w.position(e).expect("live");
+                let within = (0..3).all(|k| p[k] > lo[k] - r + 1e-3 && p[k] < hi[k] + r - 1e-3);
+                if inside {
+                    let contained = (0..3).all(|k| p[k] >= lo[k] + r - 1e-4 && p[k] <= hi[k] - r + 1e-4);
+                    assert!(contained, "step {step}: {p} left the room");
+                } else {
+                    assert!(!within, "step {step}: {p} inside the platform");
+                }
+            }
+        }
+        let resting = rows
+            .iter()
+            .filter(|&&e| w.position(e).expect("live").y == surface && w.velocity(e).expect("live").y == 0.0)
+            .count();
+        (hash_on_path(&mut w, plain), resting)
+    })
+}
+
+#[test]
+fn particles_resting_on_a_box_are_the_same_bits_on_any_threads_and_either_path_and_never_pass_it() {
+    for inside in [false, true] {
+        for friction in [0.0, 0.3] {
+            let fused = box_crowd(1, false, inside, friction);
+            // Some slide off the platform's edges, or are thrown.
+            let least = if inside { 3_500 } else { 1_000 };
+            assert!(
+                fused.1 > least,
+                "at rest on the box (inside: {inside}, friction {friction}): {} of 4 001",
+                fused.1
+            );
+            assert_eq!(fused, box_crowd(2, false, inside, friction), "1 and 2 threads");
+            assert_eq!(fused, box_crowd(1, true, inside, friction), "fused and plain");
+        }
+    }
+}
+
+#[test]
+fn a_particle_resting_at_a_boxs_top_edge_stays_on_the_top() {
+    // Its centre 1 mm inside the edge of the box grown by its radius:
+    // sinking 2.7 mm a step under gravity, it ends each step deeper through
+    // the top than through the side, where the end-of-step rule would push
+    // it out sideways, off the edge. Inside the step it meets the top first
+    // and rests on it.
+    let mut w = world("semi_implicit_euler");
+    w.add_force(Gravity {
+        acceleration: Vec3::new(0.0, -G as f32, 0.0),
+    });
+    w.add_collider(BoxCollider {
+        min: Vec3::new(-1.0, -1.0, -1.0),
+        max: Vec3::new(1.0, 0.0, 1.0),
+        material: Material {
+            restitution: 0.5,
+            friction: 0.0,
+        },
+        contact: ContactRule::InStep,
+        ..BoxCollider::default()
+    });
+    let r = 0.05;
+    let start = Vec3::new(1.0 + r - 1e-3, r, 0.0);
+    let e = w
+        .spawn(Particle {
+            position: start,
+            radius: r,
+            ..Particle::default()
+        })
+        .expect("valid");
+    for k in 0..60 {
+        step(&mut w, 1.0 / 60.0).expect("steps");
+        let (x, v) = (w.position(e).expect("live"), w.velocity(e).expect("live"));
+        // On the top where it was, still (to the f64 path's rounding).
+        assert!(
+            x.x == start.x && (x.y - r).abs() < 1e-6 && v.length() < 1e-5,
+            "step {k}: at {x}, moving {v}"
+        );
+    }
+}
+
+#[test]
+fn particles_at_rest_before_a_fast_kinematic_paddle_are_carried_not_passed() {
+    // A paddle 2 cm thick sweeping +x at 100 m/s (1.7 m a step at 60 Hz)
+    // into particles at rest, no gravity: every one is struck and leaves
+    // at twice its speed or more (restitution 1), none is left behind it.
+    let mut w = world("semi_implicit_euler");
+    w.add_collider(BoxCollider {
+        min: Vec3::new(-3.02, -1.0, -1.0),
+        max: Vec3::new(-3.0, 1.0, 1.0),
+        velocity: Vec3::new(100.0, 0.0, 0.0),
+        material: elastic(),
+        contact: ContactRule::InStep,
+        ..BoxCollider::default()
+    });
+    let rows: Vec<_> = (0..64)
+        .map(|k| {
+            let f = k as f32;
+            w.spawn(Particle {
+                position: Vec3::new(
+                    (f * 0.37).fract() * 2.0,
+                    (f * 0.61).fract() - 0.5,
+                    (f * 0.29).fract() - 0.5,
+                ),
+                radius: 0.01,
+                ..Particle::default()
+            })
+            .expect("valid")
+        })
+        .collect();
+    for _ in 0..6 {
+        step(&mut w, 1.0 / 60.0).expect("steps");
+    }
+    for &e in &rows {
+        let v = w.velocity(e).expect("live");
+        assert!(v.x >= 199.0, "struck: {v} at {}", w.position(e).expect("live"));
+    }
+}

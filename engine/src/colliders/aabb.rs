@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
-use super::sweep::{StepPath, SweptHit, clearance4, radius4};
+use super::sweep::{StepPath, SweptHit, clear_axis_lanes, radius4, resting4};
 use super::{BlockColumns, Collider, ContactColumns};
 
 /// An axis-aligned box from `min` to `max`, at rest or kinematic: moved
@@ -148,6 +148,111 @@ impl BoxCollider {
     }
 }
 
+/// One face of a box as a block's lanes see it: its axis, its normal's
+/// sign along it (towards the free side: outward for a solid box, inward
+/// for a container), its plane `n . x = offset` at the step's end and its
+/// travel `n . u dt` over the step, and the lanes' start and end
+/// components and `dt` times their end velocity along the normal.
+struct Face {
+    axis: usize,
+    offset: f32,
+    travel: f32,
+    d0: Vec4,
+    d1: Vec4,
+    dv: Vec4,
+}
+
+impl Face {
+    /// The lanes certainly clear of the face's plane all along the step
+    /// ([`clear_axis_lanes`]: [`clearance4`](super::sweep::clearance4)'s
+    /// bound on the one component).
+    fn clear(&self, r: Vec4) -> u8 {
+        clear_axis_lanes(self.d0, self.d1, self.dv, r, self.offset, self.travel).bitmask() as u8
+    }
+
+    /// The lanes whose path's speed into the face is at most `rest_dt / dt`
+    /// at both ends, so all along it ([`resting4`]; the face at rest).
+    fn resting(&self, rest_dt: f32) -> u8 {
+        resting4(self.d0, self.d1, self.dv, 0.0, rest_dt).bitmask() as u8
+    }
+}
+
+/// Component `axis` of a block's lanes.
+fn component(p: &Vec3x4, axis: usize) -> Vec4 {
+    match axis {
+        0 => p.x,
+        1 => p.y,
+        _ => p.z,
+    }
+}
+
+impl BoxCollider {
+    /// Face `k` (`k / 2` its axis, `k % 2` 0 for the min face, 1 for the
+    /// max) as the lanes `(x0, x1, v1)` of a block see it over a step of
+    /// `dt`.
+    fn face(&self, k: usize, (x0, x1, v1): (&Vec3x4, &Vec3x4, &Vec3x4), dt: f32) -> Face {
+        let (axis, max) = (k / 2, k % 2 == 1);
+        let outward = if max { 1.0f32 } else { -1.0 };
+        let sign = if self.inside { -outward } else { outward };
+        let plane = if max { self.max[axis] } else { self.min[axis] };
+        Face {
+            axis,
+            offset: sign * plane,
+            travel: sign * self.velocity[axis] * dt,
+            d0: component(x0, axis) * sign,
+            d1: component(x1, axis) * sign,
+            dv: component(v1, axis) * (sign * dt),
+        }
+    }
+
+    /// The lanes of a block (start positions, end positions and velocities)
+    /// resting on `face` of this solid box at rest: the path's speed into
+    /// the face at most `rest_dt / dt` at both ends ([`resting4`]), in the
+    /// face's half of the box all along (so it cannot have come through
+    /// the opposite face), within the box grown by the radius on the other
+    /// two axes all along (so it meets no side face), and at the end no
+    /// deeper through this face than through any other (so the end-of-step
+    /// rule resolves it against this face, with restitution 0). The
+    /// in-step rule would rest it on this face at its instant; the
+    /// end-of-step rule rests it on the face at the step's end instead.
+    fn resting_on_face(
+        &self,
+        face: &Face,
+        (x0, x1, v1): (&Vec3x4, &Vec3x4, &Vec3x4),
+        r: Vec4,
+        dt: f32,
+        rest_dt: f32,
+    ) -> u8 {
+        let Face { axis, d0, d1, dv, .. } = *face;
+        let half = face.offset - (self.max[axis] - self.min[axis]) * 0.5;
+        // The path is (1 - s) x0 + s x1 - A s (1 - s): within A / 4 of
+        // its ends' range.
+        let bend = dv - (d1 - d0);
+        let lowest = d0.min(d1) - bend.max(Vec4::ZERO) * 0.25;
+        let mut lanes = face.resting(rest_dt) & (lowest.cmpgt(Vec4::splat(half)).bitmask() as u8);
+        if lanes == 0 {
+            return 0;
+        }
+        // Its depth through this face at the end, as the end-of-step rule
+        // computes it (`hi - x` or `x - lo` of the box grown by r).
+        let depth = (Vec4::splat(face.offset) + r) - d1;
+        for b in (0..3).filter(|&b| b != axis) {
+            let (lo, hi) = (Vec4::splat(self.min[b]) - r, Vec4::splat(self.max[b]) + r);
+            let (e0, e1) = (component(x0, b), component(x1, b));
+            let bend = component(v1, b) * dt - (e1 - e0);
+            let (low, high) = (e0.min(e1), e0.max(e1));
+            // Inside the grown slab all along, and the side faces deeper
+            // at the end than this one.
+            let inside = (low - bend.max(Vec4::ZERO) * 0.25).cmpgt(lo)
+                & (high - bend.min(Vec4::ZERO) * 0.25).cmplt(hi)
+                & (e1 - lo).cmpgt(depth)
+                & (hi - e1).cmpgt(depth);
+            lanes &= inside.bitmask() as u8;
+        }
+        lanes
+    }
+}
+
 impl Collider for BoxCollider {
     fn name(&self) -> &'static str {
         "box"
@@ -158,31 +263,57 @@ impl Collider for BoxCollider {
     }
 
     fn settle_blocks(&self, x0: &[Vec3x4], c: BlockColumns<'_>, dt: f32, resolve: bool, settled: &mut [u8]) -> bool {
-        // Boxes rest no contact here (their faces and edges are followed):
-        // only the lanes clear of the box are settled, and none is resolved.
+        // The lanes clear of the box, and (a box at rest) those resting on
+        // a face; none is resolved here.
         let _ = resolve;
         let (x, v, radius) = (&*c.position, &*c.velocity, c.radius);
-        // A solid box is missed by a path that stays on the free side of
-        // any one face (the contact test asks for a point within the faces);
-        // a container's inside by one that stays clear of all six.
-        let faces: [(Vec3A, f32, f32); 6] = core::array::from_fn(|k| {
-            let (axis, outward) = (k / 2, if k % 2 == 0 { -1.0f32 } else { 1.0 });
-            let mut n = Vec3A::ZERO;
-            n[axis] = if self.inside { -outward } else { outward };
-            let face = if outward < 0.0 { self.min[axis] } else { self.max[axis] };
-            (n, n[axis] * face, n.dot(Vec3A::from(self.velocity)) * dt)
-        });
+        let rest_dt = c.rest_speed * dt;
+        let at_rest = self.velocity == Vec3::ZERO;
+        const ALL: u8 = 0b1111;
+        // The face that settled the last block goes first (neighbours are
+        // usually alike: resting on the same face, or clear of it).
+        let mut first = 0;
         for (b, mask) in settled.iter_mut().enumerate() {
             let r = radius4(radius, b);
-            let (mut any, mut all) = (0u8, 0b1111u8);
-            for &(n, offset, travel) in &faces {
-                let lanes = clearance4(n, offset, travel, &x0[b], &x[b], &v[b], r, dt)
-                    .cmpgt(Vec4::ZERO)
-                    .bitmask() as u8;
-                any |= lanes;
-                all &= lanes;
-            }
-            *mask &= if self.inside { all } else { any };
+            let ends = (&x0[b], &x[b], &v[b]);
+            let lanes = if self.inside {
+                // A container's inside is left by no path that stays clear
+                // of all six walls, or rests on some of them and is clear of
+                // the others (slowly: none is passed, and a fast approach
+                // to another wall is neither).
+                let mut lanes = ALL;
+                for k in 0..6 {
+                    let face = self.face(k, ends, dt);
+                    let mut wall = face.clear(r);
+                    if wall != ALL && at_rest {
+                        wall |= face.resting(rest_dt);
+                    }
+                    lanes &= wall;
+                    if lanes == 0 {
+                        break;
+                    }
+                }
+                lanes
+            } else {
+                // A solid box is missed by a path that stays on the free
+                // side of any one face (the contact test asks for a point
+                // within the faces), or rests on one.
+                let mut lanes = 0;
+                for j in 0..6 {
+                    let k = (first + j) % 6;
+                    let face = self.face(k, ends, dt);
+                    lanes |= face.clear(r);
+                    if at_rest && lanes != ALL {
+                        lanes |= self.resting_on_face(&face, ends, r, dt, rest_dt);
+                    }
+                    if lanes == ALL {
+                        first = k;
+                        break;
+                    }
+                }
+                lanes
+            };
+            *mask &= lanes;
         }
         false
     }
