@@ -155,6 +155,8 @@ impl BoxCollider {
 /// components and `dt` times their end velocity along the normal.
 struct Face {
     axis: usize,
+    /// The max face of its axis (else the min face).
+    max: bool,
     offset: f32,
     travel: f32,
     d0: Vec4,
@@ -197,6 +199,7 @@ impl BoxCollider {
         let plane = if max { self.max[axis] } else { self.min[axis] };
         Face {
             axis,
+            max,
             offset: sign * plane,
             travel: sign * self.velocity[axis] * dt,
             d0: component(x0, axis) * sign,
@@ -234,8 +237,13 @@ impl BoxCollider {
             return 0;
         }
         // Its depth through this face at the end, as the end-of-step rule
-        // computes it (`hi - x` or `x - lo` of the box grown by r).
+        // computes it (`hi - x` or `x - lo` of the box grown by r), less
+        // than through the opposite face (ties go to the min face there).
         let depth = (Vec4::splat(face.offset) + r) - d1;
+        let (lo, hi) = (Vec4::splat(self.min[axis]) - r, Vec4::splat(self.max[axis]) + r);
+        let end = component(x1, axis);
+        let opposite = if face.max { end - lo } else { hi - end };
+        lanes &= opposite.cmpgt(depth).bitmask() as u8;
         for b in (0..3).filter(|&b| b != axis) {
             let (lo, hi) = (Vec4::splat(self.min[b]) - r, Vec4::splat(self.max[b]) + r);
             let (e0, e1) = (component(x0, b), component(x1, b));

@@ -29,8 +29,8 @@
 //! velocity there kept its shifted energy only on average, and short hops,
 //! which come back at the same fraction of a step, gained at each bounce
 //! what restitution took (they hopped on forever); the step's first
-//! bounce therefore takes from that energy exactly what restitution takes
-//! from a real one ([`kept_restitution`]): an elastic ball keeps its apex,
+//! bounce therefore scales that energy by `e^2`, as restitution scales a
+//! real ball's ([`kept_restitution`]): an elastic ball keeps its apex,
 //! and a ball with `e < 1` comes to rest. A resting particle ends
 //! the step on the surface with no normal velocity into it, and meets no
 //! further contact that step.
@@ -118,7 +118,7 @@ impl<'a> Sweep<'a> {
     /// The in-step contacts of a step of `dt` seconds among `colliders`
     /// (`reports`: which of them report), under `forces`: `None` when no
     /// collider finds contacts inside the step. A NaN or negative rest
-    /// speed rests none.
+    /// speed rests none; an infinite one is taken as `f32::MAX`.
     pub fn new(
         colliders: &'a [Box<dyn Collider>],
         reports: &'a [bool],
@@ -137,7 +137,9 @@ impl<'a> Sweep<'a> {
             colliders,
             reports,
             dt,
-            rest_speed: rest_speed.max(0.0),
+            // Finite: an infinite rest speed rests every finite approach
+            // as f32::MAX does, and an infinite one on every path alike.
+            rest_speed: rest_speed.max(0.0).min(f32::MAX),
             affine: affine_sum(forces),
             lone,
         })
@@ -309,19 +311,19 @@ impl<'a> Sweep<'a> {
             let arriving = path.velocity(s);
             let relative = arriving - hit.velocity;
             let approach = -relative.dot(hit.normal);
-            let mut resting = approach <= f64::from(self.rest_speed);
+            let resting = approach <= f64::from(self.rest_speed);
             let mut restitution = f64::from(hit.material.restitution);
             if resting {
                 restitution = 0.0;
             } else if events == 1 {
-                // The step's first contact, on the method's own path.
+                // The step's first contact, on the method's own path: no
+                // bounce where none keeps the method's energy (the path's
+                // rest then meets the surface again, slowly, and rests).
                 let (c, b) = self.affine;
                 let forces = c.as_dvec3() - arriving * f64::from(b);
                 let missing = path.acceleration() - forces;
-                match kept_restitution(restitution, approach, forces, missing, hit.normal, s, path.dt) {
-                    Some(e) => restitution = e,
-                    None => (resting, restitution) = (true, 0.0),
-                }
+                restitution =
+                    kept_restitution(restitution, approach, forces, missing, hit.normal, s, path.dt).unwrap_or(0.0);
             }
             let after = hit.velocity + bounce(relative, hit.normal, restitution, f64::from(hit.material.friction));
             let fraction = done + s * (1.0 - done);
@@ -454,9 +456,10 @@ pub(super) fn affine_sum(forces: &[Box<dyn Force>]) -> (Vec3A, f32) {
 }
 
 /// The restitution that makes a bounce at fraction `s` of a path of `dt`
-/// seconds take from the method's own energy what restitution `e` takes
-/// from a real one, where the path leaves out part of the acceleration
-/// into the surface: `None` when no bounce can (the particle rests).
+/// seconds scale the method's own energy by `e^2`, as restitution `e`
+/// scales a real ball's, where the path leaves out part of the
+/// acceleration into the surface: `None` when no bounce can (the particle
+/// does not bounce).
 ///
 /// Semi-implicit Euler's step is a straight move at its end velocity (its
 /// path has no acceleration), and in free fall under an acceleration `a`
@@ -473,25 +476,30 @@ pub(super) fn affine_sum(forces: &[Box<dyn Force>]) -> (Vec3A, f32) {
 /// same fraction of a step: there the gain balances restitution's loss
 /// at an approach of about `g dt / (1 - e)` (0.8 m/s for `e` = 0.8 at
 /// 60 Hz, 1.6 m/s for 0.9: above the rest speed), and a ball bounces
-/// forever. Taking exactly `(1 - e^2) u^2 / 2` from `E` instead gives the
-/// outgoing speed
+/// forever. The normal part of `E` at the step's start, measured from the
+/// surface, is `u^2 / 2 - k u` with `k = g dt (1/2 - s)`; scaling it by
+/// `e^2` gives the outgoing speed
 ///
 /// ```text
-/// w = -k + sqrt(k^2 - 2 k u + e^2 u^2),   k = g dt (1/2 - s)
+/// w^2 / 2 + k w = e^2 (u^2 / 2 - k u),   w = -k + sqrt(k^2 + e^2 (u^2 - 2 k u))
 /// ```
 ///
-/// (`w = e u` where `g` is 0 or `s = 1/2`; an elastic bounce keeps `E`
-/// exactly, so the apex, and every bounce with `e < 1` loses energy, so
-/// short hops die out and the particle comes to rest.) `g` is the part
-/// of the acceleration into the surface that the path leaves out
-/// (`missing = a_path - a`, along `n`, no more than `a` has into it): all
-/// of it for a straight path, nothing for a path that carries it (velocity
-/// Verlet's exact parabola), where the rule is `w = e u`.
+/// (`w = e u` where `k` is 0: `e` itself is returned.) An elastic bounce
+/// keeps `E` exactly, so the apex, and every bounce with `e < 1` shrinks
+/// it by `e^2`, so short hops die out and the particle comes to rest;
+/// restitution 0 stays 0. `g` is the part of the acceleration into the
+/// surface that the path leaves out (`missing = a_path - a`, along `n`,
+/// no more than `a` has into it, and taken as 0 below 1% of it: rounding
+/// in a path that carries it): all of it for a straight path, nothing for
+/// a path that carries it (velocity Verlet's exact parabola).
 fn kept_restitution(e: f64, u: f64, forces: DVec3, missing: DVec3, n: DVec3, s: f64, dt: f64) -> Option<f64> {
     let into = (-forces.dot(n)).max(0.0);
     let g = missing.dot(n).max(0.0).min(into);
-    let k = g * dt * (0.5 - s);
-    let w = -k + (k * k - 2.0 * k * u + e * e * u * u).sqrt();
+    let k = if g < 0.01 * into { 0.0 } else { g * dt * (0.5 - s) };
+    if k == 0.0 || e == 0.0 {
+        return Some(e);
+    }
+    let w = -k + (k * k + e * e * (u * u - 2.0 * k * u)).sqrt();
     // A NaN (no real root, or a NaN state) fails too.
     (w > 0.0).then(|| w / u)
 }
