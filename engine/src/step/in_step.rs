@@ -139,7 +139,11 @@ impl<'a> Sweep<'a> {
             dt,
             // Finite: an infinite rest speed rests every finite approach
             // as f32::MAX does, and an infinite one on every path alike.
-            rest_speed: rest_speed.max(0.0).min(f32::MAX),
+            rest_speed: if rest_speed >= 0.0 {
+                rest_speed.min(f32::MAX)
+            } else {
+                0.0
+            },
             affine: affine_sum(forces),
             lone,
         })
