@@ -36,6 +36,15 @@ fn step(w: &mut World, dt: f64) -> Result<(), SimulationError> {
     .map(|_| ())
 }
 
+/// [`world`] under gravity, `-G` along y.
+fn under_gravity(integrator: &str) -> World {
+    let mut w = world(integrator);
+    w.add_force(Gravity {
+        acceleration: Vec3::new(0.0, -G as f32, 0.0),
+    });
+    w
+}
+
 fn elastic() -> Material {
     Material {
         restitution: 1.0,
@@ -320,10 +329,7 @@ proptest! {
 /// A ball of radius 0.1 dropped from 1 m onto a floor of restitution 0.5,
 /// semi-implicit Euler at 60 Hz; returns the world and the ball.
 fn dropped_ball() -> (World, Entity, tickwork_engine::ColliderId) {
-    let mut w = world("semi_implicit_euler");
-    w.add_force(Gravity {
-        acceleration: Vec3::new(0.0, -G as f32, 0.0),
-    });
+    let mut w = under_gravity("semi_implicit_euler");
     let floor = w.add_collider(Plane {
         material: Material {
             restitution: 0.5,
@@ -349,10 +355,7 @@ fn dropped_ball() -> (World, Entity, tickwork_engine::ColliderId) {
 /// vertical speeds up to 2 m/s: how many still bounce (off the floor, or
 /// moving along its normal) after `seconds`.
 fn still_bouncing(e: f32, seconds: f64) -> usize {
-    let mut w = world("semi_implicit_euler");
-    w.add_force(Gravity {
-        acceleration: Vec3::new(0.0, -G as f32, 0.0),
-    });
+    let mut w = under_gravity("semi_implicit_euler");
     w.add_force(tickwork_engine::LinearDrag { rate: 0.1 });
     w.add_collider(Plane {
         contact: ContactRule::InStep,
@@ -466,10 +469,7 @@ fn contact_events_carry_the_instant_of_contact() {
 
 #[test]
 fn velocity_verlet_events_are_at_the_exact_instant() {
-    let mut w = world("velocity_verlet");
-    w.add_force(Gravity {
-        acceleration: Vec3::new(0.0, -G as f32, 0.0),
-    });
+    let mut w = under_gravity("velocity_verlet");
     let floor = w.add_collider(Plane {
         contact: ContactRule::InStep,
         ..Plane::default()
@@ -564,10 +564,7 @@ fn hash_on_path(w: &mut World, plain: bool) -> u64 {
 /// contacts reported: the world after 60 steps at 60 Hz.
 fn crowd(threads: usize, plain: bool) -> (u64, Vec<tickwork_engine::Contact>) {
     on_threads(threads, || {
-        let mut w = world("semi_implicit_euler");
-        w.add_force(Gravity {
-            acceleration: Vec3::new(0.0, -G as f32, 0.0),
-        });
+        let mut w = under_gravity("semi_implicit_euler");
         let floor = w.add_collider(Plane {
             contact: ContactRule::InStep,
             ..Plane::default()
@@ -631,10 +628,7 @@ fn resting_crowd(threads: usize, plain: bool) -> (u64, usize) {
 /// decides every particle alone).
 fn settling_crowd(threads: usize, plain: bool, friction: f32, height: f32) -> (u64, usize) {
     on_threads(threads, || {
-        let mut w = world("semi_implicit_euler");
-        w.add_force(Gravity {
-            acceleration: Vec3::new(0.0, -G as f32, 0.0),
-        });
+        let mut w = under_gravity("semi_implicit_euler");
         w.add_collider(Plane {
             contact: ContactRule::InStep,
             ..Plane::floor(
@@ -917,10 +911,7 @@ fn a_slanted_plane_far_from_the_origin_is_met_the_same_on_both_paths() {
 fn a_particle_resting_on_a_floor_still_meets_a_thin_wall_it_slides_into() {
     // Found by a second reading: resting on one in-step surface ended the
     // particle's step, so a thin in-step box it slid into was never asked.
-    let mut w = world("semi_implicit_euler");
-    w.add_force(Gravity {
-        acceleration: Vec3::new(0.0, -G as f32, 0.0),
-    });
+    let mut w = under_gravity("semi_implicit_euler");
     w.add_collider(Plane {
         contact: ContactRule::InStep,
         ..Plane::default()
@@ -959,10 +950,7 @@ fn a_particle_resting_on_a_floor_still_meets_a_thin_wall_it_slides_into() {
 /// exactly on the top (or the floor).
 fn box_crowd(threads: usize, plain: bool, inside: bool, friction: f32) -> (u64, usize) {
     on_threads(threads, || {
-        let mut w = world("semi_implicit_euler");
-        w.add_force(Gravity {
-            acceleration: Vec3::new(0.0, -G as f32, 0.0),
-        });
+        let mut w = under_gravity("semi_implicit_euler");
         let material = Material {
             restitution: 0.5,
             friction,
@@ -1060,10 +1048,7 @@ fn a_particle_resting_at_a_boxs_top_edge_stays_on_the_top() {
     // the top than through the side, where the end-of-step rule would push
     // it out sideways, off the edge. Inside the step it meets the top first
     // and rests on it.
-    let mut w = world("semi_implicit_euler");
-    w.add_force(Gravity {
-        acceleration: Vec3::new(0.0, -G as f32, 0.0),
-    });
+    let mut w = under_gravity("semi_implicit_euler");
     w.add_collider(BoxCollider {
         min: Vec3::new(-1.0, -1.0, -1.0),
         max: Vec3::new(1.0, 0.0, 1.0),
@@ -1139,10 +1124,7 @@ fn a_floor_of_restitution_zero_never_sends_a_ball_up() {
     // floor with no normal velocity (semi-implicit Euler's own energy is
     // scaled by e^2 = 0 there, whatever the fraction).
     for k in 0..40 {
-        let mut w = world("semi_implicit_euler");
-        w.add_force(Gravity {
-            acceleration: Vec3::new(0.0, -G as f32, 0.0),
-        });
+        let mut w = under_gravity("semi_implicit_euler");
         w.add_collider(Plane {
             contact: ContactRule::InStep,
             ..Plane::floor(
