@@ -76,18 +76,21 @@ struct Collider {
     u_x: f32,
     u_y: f32,
     u_z: f32,
-    // 1: kinematic (moves); 2: reports its contacts.
+    // 1: kinematic (moves); 2: reports its contacts; 4: finds them inside
+    // the step (IN_STEP_FLAG, `in_step.wgsl`).
     flags: u32,
 }
 
-// A contact of a collider that reports them (the CPU's `diff_touches`):
-// the collider's index, the particle's row, the point on its surface, the
-// normal and (w) the normal impulse.
+// A contact of a collider that reports them (the CPU's `diff_touches`,
+// or one found inside the step): the collider's index, the particle's row,
+// its place among the row's contacts in the step (1, 2, ...; NONE at the
+// end of the step) and the fraction of the step it happened at (as bits),
+// the point on its surface, the normal and (w) the normal impulse.
 struct Touch {
     collider: u32,
     row: u32,
-    pad0: u32,
-    pad1: u32,
+    event: u32,
+    fraction: u32,
     point: vec4<f32>,
     normal: vec4<f32>,
 }
@@ -228,15 +231,17 @@ fn length_squared(d: vec3<f32>) -> f32 {
 }
 
 // The CPU's general contact against a surface of normal `n` at `gap`:
-// restitution (none for a separating velocity) and friction, applied only
-// to a movable particle inside (`gap < 0`), in the CPU's operations.
-fn resolve(m: ptr<function, Motion>, n: vec3<f32>, gap: f32, movable: bool, c: Collider) {
+// restitution (none for a separating velocity, or one approaching no
+// faster than `rest`: 0 but for a collider that finds its contacts inside
+// the step) and friction, applied only to a movable particle inside
+// (`gap < 0`), in the CPU's operations.
+fn resolve(m: ptr<function, Motion>, n: vec3<f32>, gap: f32, movable: bool, c: Collider, rest: f32) {
     let x = (*m).x;
     let v = (*m).v;
     let vn = (v.x * n.x + v.y * n.y) + v.z * n.z;
     let vt = v - n * vn;
     var e = c.restitution;
-    if (vn >= 0.0) {
+    if (vn >= -rest) {
         e = 0.0;
     }
     // Rust's `vn.min(0.0)`: -0 stays -0, NaN gives 0.
@@ -255,13 +260,13 @@ fn resolve(m: ptr<function, Motion>, n: vec3<f32>, gap: f32, movable: bool, c: C
 
 // A plane whose normal is an axis (the CPU's `contact_block` and
 // `contact_lanes`).
-fn resolve_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
+fn resolve_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32, rest: f32) {
     var x = (*m).x;
     var v = (*m).v;
     let gap = x[p.axis] * p.sign - p.offset - r;
     let vn = v[p.axis] * p.sign;
     var factor = -(1.0 + p.restitution);
-    if (vn >= 0.0) {
+    if (vn >= -rest) {
         factor = -1.0;
     }
     // A select, as the CPU's: -0 and NaN give 0.
@@ -290,7 +295,7 @@ fn resolve_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
 
 // A box at rest: a container's six walls, or a solid box's shallowest face
 // (`BoxCollider::walls` and `exclude`).
-fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
+fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32, rest: f32) {
     let lo = vec3<f32>(b.min_x, b.min_y, b.min_z);
     let hi = vec3<f32>(b.max_x, b.max_y, b.max_z);
     let movable = w > 0.0;
@@ -298,8 +303,8 @@ fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
         for (var axis = 0u; axis < 3u; axis++) {
             var n = vec3<f32>(0.0);
             n[axis] = 1.0;
-            resolve(m, n, (*m).x[axis] - lo[axis] - r, movable, b);
-            resolve(m, -n, hi[axis] - (*m).x[axis] - r, movable, b);
+            resolve(m, n, (*m).x[axis] - lo[axis] - r, movable, b, rest);
+            resolve(m, -n, hi[axis] - (*m).x[axis] - r, movable, b, rest);
         }
         return;
     }
@@ -321,17 +326,17 @@ fn resolve_box(m: ptr<function, Motion>, b: Collider, r: f32, w: f32) {
     }
     let inside = min(min(below.x, below.y), below.z) > 0.0 && min(min(above.x, above.y), above.z) > 0.0;
     if (inside) {
-        resolve(m, n, -best, movable, b);
+        resolve(m, n, -best, movable, b, rest);
     }
 }
 
 // A plane moving along its normal (the CPU's `resolve_range` for a
 // moving plane): the general contact at `n . x - offset - r`.
-fn resolve_moving_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32) {
+fn resolve_moving_plane(m: ptr<function, Motion>, p: Collider, r: f32, w: f32, rest: f32) {
     let n = vec3<f32>(p.min_x, p.min_y, p.min_z);
     let x = (*m).x;
     let gap = ((n.x * x.x + n.y * x.y) + n.z * x.z - p.offset) - r;
-    resolve(m, n, gap, w > 0.0, p);
+    resolve(m, n, gap, w > 0.0, p, rest);
 }
 
 // A reporting collider changed the particle from `before` to `after`:
@@ -357,9 +362,16 @@ fn report(k: u32, before: Motion, after: Motion, r: f32, w: f32) {
     if (w > 0.0) {
         impulse = ((dv.x * normal.x + dv.y * normal.y) + dv.z * normal.z) / w;
     }
+    // Found at the end of the step: fraction 1, no event number.
+    touch(Touch(k, row, NONE, 0x3f800000u, vec4<f32>(after.x - normal * r, 0.0), vec4<f32>(normal, impulse)));
+}
+
+// A contact into the step's touches, if there is room (the CPU counts them
+// all: `read_touches` refuses a step that found more than the room).
+fn touch(t: Touch) {
     let slot = atomicAdd(&flags[2], 1u);
     if (slot < params.touch_room) {
-        touches[slot] = Touch(k, row, 0u, 0u, vec4<f32>(after.x - normal * r, 0.0), vec4<f32>(normal, impulse));
+        touches[slot] = t;
     }
 }
 
@@ -367,20 +379,24 @@ fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
     var m = moved;
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
+        if (IN_STEP && (c.flags & IN_STEP_FLAG) != 0u) {
+            // Resolved inside the step, before the others (`in_step`).
+            continue;
+        }
         // At rest and silent (the common case): resolved in place. Where no
         // collider of the world moves or reports (KINEMATIC and REPORTING,
         // written for the world), the rest is compiled out: a software
         // rasteriser runs both sides of a branch it cannot prove uniform.
         if ((!KINEMATIC && !REPORTING) || c.flags == 0u) {
             if (c.kind == 0u) {
-                resolve_plane(&m, c, r, w);
+                resolve_plane(&m, c, r, w, 0.0);
             } else {
-                resolve_box(&m, c, r, w);
+                resolve_box(&m, c, r, w, 0.0);
             }
             continue;
         }
         let before = m;
-        resolve_collider(&m, c, r, w);
+        resolve_collider(&m, c, r, w, 0.0);
         if ((c.flags & 2u) != 0u) {
             report(k, before, m, r, w);
         }
@@ -389,13 +405,13 @@ fn resolve_colliders(moved: Motion, r: f32, w: f32) -> Motion {
 }
 
 // One collider's contact, at rest or kinematic.
-fn resolve_collider(mm: ptr<function, Motion>, c: Collider, r: f32, w: f32) {
+fn resolve_collider(mm: ptr<function, Motion>, c: Collider, r: f32, w: f32, rest: f32) {
     var m = *mm;
     if ((c.flags & 1u) == 0u) {
         if (c.kind == 0u) {
-            resolve_plane(&m, c, r, w);
+            resolve_plane(&m, c, r, w, rest);
         } else {
-            resolve_box(&m, c, r, w);
+            resolve_box(&m, c, r, w, rest);
         }
         *mm = m;
         return;
@@ -407,9 +423,9 @@ fn resolve_collider(mm: ptr<function, Motion>, c: Collider, r: f32, w: f32) {
     let before = m.v - u;
     var relative = Motion(m.x, before);
     if (c.kind == 3u) {
-        resolve_moving_plane(&relative, c, r, w);
+        resolve_moving_plane(&relative, c, r, w, rest);
     } else {
-        resolve_box(&relative, c, r, w);
+        resolve_box(&relative, c, r, w, rest);
     }
     m.x = relative.x;
     if (any(relative.v != before)) {
@@ -429,7 +445,11 @@ fn step(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = positions[i];
     let q = velocities[i];
     let stepped = advance(p.xyz, q.xyz, q.w, params.dt);
-    let moved = resolve_colliders(stepped, p.w, q.w);
+    var moved = stepped;
+    if (IN_STEP) {
+        moved = in_step(p.xyz, moved, p.w, q.w);
+    }
+    moved = resolve_colliders(moved, p.w, q.w);
     if (HISTORY != 0u && (any(moved.x != stepped.x) || any(moved.v != stepped.v))) {
         broke(i);
     }

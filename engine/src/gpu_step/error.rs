@@ -71,6 +71,15 @@ pub enum GpuStepError {
     /// The world's particles were changed between steps other than by
     /// spawns and despawns, which its GPU copy cannot see.
     Edited,
+    /// A step's colliders reported more contacts than the room the GPU
+    /// step keeps for them (a contact a particle for each reporting
+    /// collider, two for one that finds its contacts inside the step).
+    Contacts {
+        /// The contacts the step found.
+        found: u32,
+        /// The room for them.
+        room: u32,
+    },
 }
 
 impl fmt::Display for GpuStepError {
@@ -111,6 +120,12 @@ impl fmt::Display for GpuStepError {
             Self::Step(dt) => write!(f, "a GPU step of {dt} s: the step must be finite and positive"),
             Self::ReadBack(message) => write!(f, "reading the GPU world back: {message}"),
             Self::Simulation(error) => error.fmt(f),
+            Self::Contacts { found, room } => write!(
+                f,
+                "a step of a GPU world found {found} contacts of colliders that report them, past its room for \
+                 {room} (one a particle a reporting collider, two where it finds its contacts inside the step); \
+                 report from fewer colliders, or step this world on the CPU"
+            ),
             Self::Edited => f.write_str(
                 "the particles of a GPU world were changed outside its steps (particles_mut, set_velocity, \
                  teleport, set_visible, a restored snapshot): their state lives on the GPU, which does not see \

@@ -5,12 +5,16 @@
 use glam::Vec3A;
 
 use super::error::GpuStepError;
-use crate::colliders::{BoxCollider, ContactRule, Plane};
+use crate::colliders::{BoxCollider, Plane};
 use crate::forces::{Attractor, Force, NBody, QuadraticDrag};
 use crate::world::World;
 
-/// The step's shader: the common part, then the method's `advance`.
+/// The step's shader: the common part, then the contacts inside the step,
+/// then the method's `advance`.
 const COMMON: &str = include_str!("../../../assets/shaders/gpu_step/step.wgsl");
+
+/// Contacts inside the step (`ContactRule::InStep` planes and boxes).
+const IN_STEP: &str = include_str!("../../../assets/shaders/gpu_step/in_step.wgsl");
 
 /// The methods with a GPU form: name, WGSL, and the most evaluations of
 /// the acceleration it makes in one step (where a particle starts by RK4:
@@ -212,6 +216,9 @@ pub(super) struct ColliderRecord {
 pub(super) const MOVES: u32 = 1;
 /// `ColliderRecord::flags`: the collider reports its contacts.
 pub(super) const REPORTS: u32 = 2;
+/// `ColliderRecord::flags`: the collider finds its contacts inside the
+/// step (`IN_STEP_FLAG` in `in_step.wgsl`).
+pub(super) const FINDS_IN_STEP: u32 = 4;
 
 const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 64);
 
@@ -238,6 +245,9 @@ pub(super) struct Plan {
     pub moving: bool,
     /// How many colliders report their contacts (read back every step).
     pub reporting: u32,
+    /// How many of those find their contacts inside the step (up to
+    /// `MAX_CONTACT_EVENTS` and one more at its end, a particle a step).
+    pub reporting_in_step: u32,
 }
 
 impl Plan {
@@ -245,6 +255,15 @@ impl Plan {
     /// the n-body rounds): what bounds the particles a device fits.
     pub(super) fn records(&self) -> u32 {
         self.history.max(self.stages + 1)
+    }
+
+    /// The contacts a particle may report in a step (the touches buffer's
+    /// records a particle): one for a collider found at the step's end,
+    /// two for one that finds them inside it (a bounce and the end-of-step
+    /// rule; more in one step, a particle in a corner, is rare: a step
+    /// past the room is [`GpuStepError::Contacts`]).
+    pub(super) fn touch_records(&self) -> u64 {
+        u64::from(self.reporting) + u64::from(self.reporting_in_step)
     }
 
     /// A plan of nothing, to [`refresh`](Self::refresh).
@@ -259,6 +278,7 @@ impl Plan {
             history: 0,
             moving: false,
             reporting: 0,
+            reporting_in_step: 0,
         }
     }
 }
@@ -310,6 +330,8 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     plan.source.clear();
     plan.source.push_str(COMMON);
     plan.source.push('\n');
+    plan.source.push_str(IN_STEP);
+    plan.source.push('\n');
     acceleration_into(world.forces(), &mut plan.source)?;
     plan.source.push('\n');
     plan.source.push_str(wgsl);
@@ -338,15 +360,16 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     colliders.clear();
     plan.moving = false;
     plan.reporting = 0;
+    plan.reporting_in_step = 0;
+    let mut in_step = false;
     for (id, collider) in world.colliders() {
         let name = collider.name();
         let refuse = |reason| GpuStepError::Collider { collider: name, reason };
         let reports = world.colliders.index(id).is_ok_and(|k| world.colliders.reports[k]);
         plan.reporting += u32::from(reports);
-        let reports = if reports { REPORTS } else { 0 };
-        if collider.in_step() {
-            return Err(refuse("contacts inside the step stay on the CPU"));
-        }
+        plan.reporting_in_step += u32::from(reports && collider.in_step());
+        in_step |= collider.in_step();
+        let reports = if reports { REPORTS } else { 0 } | if collider.in_step() { FINDS_IN_STEP } else { 0 };
         if let Some(b) = collider.as_any().downcast_ref::<BoxCollider>() {
             let moving = b.velocity != glam::Vec3::ZERO;
             plan.moving |= moving;
@@ -376,9 +399,6 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
                 collider: name,
                 reason: "the GPU step resolves planes and boxes only",
             })?;
-        if plane.contact != ContactRule::EndOfStep {
-            return Err(refuse("contacts inside the step stay on the CPU"));
-        }
         let n = plane.normal;
         let axis = [n.x, n.y, n.z]
             .iter()
@@ -422,13 +442,20 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             });
         }
     }
-    // What the colliders' loop compiles in (see `resolve_colliders`).
+    // What the colliders' loop compiles in (see `resolve_colliders`), and
+    // the in-step rule's rest speed (as the CPU's `Sweep` takes it: NaN or
+    // negative rests none, infinite is f32::MAX) and limit.
+    let rest = world.config.rest_speed;
+    let rest = if rest >= 0.0 { rest.min(f32::MAX) } else { 0.0 };
     let _ = core::fmt::Write::write_fmt(
         &mut plan.source,
         format_args!(
-            "const KINEMATIC: bool = {};\nconst REPORTING: bool = {};\n",
+            "const KINEMATIC: bool = {};\nconst REPORTING: bool = {};\nconst IN_STEP: bool = {in_step};\n\
+             fn rest_speed() -> f32 {{ return {}; }}\nconst MAX_EVENTS: u32 = {}u;\n",
             plan.moving,
-            plan.reporting > 0
+            plan.reporting > 0,
+            bits(rest),
+            crate::colliders::MAX_CONTACT_EVENTS,
         ),
     );
     plan.method = method;

@@ -285,7 +285,7 @@ impl GpuWorld {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let touches = touches_buffer(device, u64::from(n) * u64::from(plan.reporting));
+        let touches = touches_buffer(device, u64::from(n) * plan.touch_records());
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu step"),
             entries: &[
@@ -606,8 +606,8 @@ impl GpuWorld {
         Ok(report)
     }
 
-    /// Room for contacts in the touches buffer: a reporting collider's a
-    /// particle (a collider changes a particle at most once a step).
+    /// Room for contacts in the touches buffer ([`Plan::touch_records`] a
+    /// particle).
     fn touch_room(&self) -> u32 {
         u32::try_from(self.touches.size() / TOUCH_BYTES).unwrap_or(u32::MAX)
     }
@@ -618,7 +618,12 @@ impl GpuWorld {
     fn read_touches(&self, gpu: &Gpu, world: &mut World) -> Result<(), GpuStepError> {
         let [count] = map_words(gpu, [(&self.flags, 8, 4)])?;
         let count = f32_at(&count, 0).to_bits();
-        let count = count.min(self.touch_room());
+        if count > self.touch_room() {
+            return Err(GpuStepError::Contacts {
+                found: count,
+                room: self.touch_room(),
+            });
+        }
         world.touches.clear();
         if count > 0 {
             let [records] = map_words(gpu, [(&self.touches, 0, u64::from(count) * TOUCH_BYTES)])?;
@@ -633,8 +638,8 @@ impl GpuWorld {
                         point: Vec3A::new(f(4), f(5), f(6)),
                         normal: Vec3A::new(f(8), f(9), f(10)),
                         impulse: f(11),
-                        fraction: 1.0,
-                        event: u32::MAX,
+                        event: f(2).to_bits(),
+                        fraction: f(3),
                     }
                 }));
         }
@@ -715,7 +720,7 @@ impl GpuWorld {
             self.nbody = nbody_buffer(device, self.plan.stages, capacity);
         }
         if self.plan.reporting > 0 {
-            self.touches = touches_buffer(device, u64::from(capacity) * u64::from(self.plan.reporting));
+            self.touches = touches_buffer(device, u64::from(capacity) * self.plan.touch_records());
         }
         self.rebind(device);
         Ok(())
@@ -745,7 +750,7 @@ impl GpuWorld {
             self.nbody = nbody_buffer(device, self.scratch.stages, self.capacity);
             rebind = true;
         }
-        let room = u64::from(self.capacity) * u64::from(self.scratch.reporting);
+        let room = u64::from(self.capacity) * self.scratch.touch_records();
         if self.touches.size() < TOUCH_BYTES * room {
             self.touches = touches_buffer(device, room);
             rebind = true;
