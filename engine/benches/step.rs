@@ -31,18 +31,23 @@ fn rain(n: usize, integrator: &str, collisions: bool) -> World {
 }
 
 /// An empty world under gravity and linear drag (0.1/s) over a floor of
-/// restitution 0.5 and Coulomb `friction`.
+/// restitution 0.5 and Coulomb `friction`, found at the end of the step:
+/// the rule the peers' loops and the hand loop share (the default rule,
+/// in the step, is timed against it by `engine_contact_rule_*`).
 fn floor_world(config: WorldConfig, friction: f32) -> World {
     let mut w = World::new(config).expect("registered");
     w.add_force(Gravity::EARTH);
     w.add_force(LinearDrag { rate: 0.1 });
-    w.add_collider(Plane::floor(
-        0.0,
-        Material {
-            restitution: 0.5,
-            friction,
-        },
-    ));
+    w.add_collider(Plane {
+        contact: ContactRule::EndOfStep,
+        ..Plane::floor(
+            0.0,
+            Material {
+                restitution: 0.5,
+                friction,
+            },
+        )
+    });
     w
 }
 

@@ -48,9 +48,14 @@ fn bouncy() -> Material {
 
 #[test]
 fn a_ball_hitting_the_floor_reports_one_contact_with_the_impulse_it_received() {
+    // At the end of the step (the in-step rule's contacts, with their
+    // instant, are `in_step.rs`'s).
     let mut w = World::default();
     w.add_force(Gravity::EARTH);
-    let floor = w.add_collider(Plane::floor(0.0, bouncy()));
+    let floor = w.add_collider(Plane {
+        contact: tickwork_engine::colliders::ContactRule::EndOfStep,
+        ..Plane::floor(0.0, bouncy())
+    });
     w.report_contacts(floor).expect("the floor is in the world");
     let ball = w
         .spawn(Particle {

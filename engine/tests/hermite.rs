@@ -262,13 +262,17 @@ fn a_ball_that_bounced_in_the_step_is_drawn_on_the_chord_not_below_the_floor() {
     })
     .expect("world");
     world.add_force(Gravity::EARTH);
-    world.add_collider(Plane::floor(
-        -1.0,
-        Material {
-            restitution: 0.8,
-            friction: 0.0,
-        },
-    ));
+    // Found at the end of the step, which ends on the floor.
+    world.add_collider(Plane {
+        contact: tickwork_engine::colliders::ContactRule::EndOfStep,
+        ..Plane::floor(
+            -1.0,
+            Material {
+                restitution: 0.8,
+                friction: 0.0,
+            },
+        )
+    });
     world
         .spawn(Particle {
             position: Vec3::new(0.0, -0.85, 0.0),

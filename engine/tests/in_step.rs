@@ -227,6 +227,7 @@ fn the_end_of_step_rule_lets_the_issues_bullet_through_a_ten_centimetre_box() {
     w.add_collider(BoxCollider {
         min: Vec3::new(-0.05, -1.0, -1.0),
         max: Vec3::new(0.05, 1.0, 1.0),
+        contact: ContactRule::EndOfStep,
         ..BoxCollider::default()
     });
     let e = w

@@ -279,7 +279,7 @@ fn contact_rules(world: &World) -> Vec<ContactRule> {
 }
 
 #[test]
-fn a_collider_s_contact_rule_is_carried_into_the_world_and_defaults_to_end_of_step() {
+fn a_collider_s_contact_rule_is_carried_into_the_world_and_defaults_to_in_step() {
     use ContactRule::{EndOfStep, InStep};
     let text = "SceneFile(colliders: [\
         Plane(normal: (0, 1, 0), contact: InStep),\
@@ -293,8 +293,8 @@ fn a_collider_s_contact_rule_is_carried_into_the_world_and_defaults_to_end_of_st
     let scene = Scene::parse(text, "rules.ron").expect("a valid scene");
     let (world, _) = scene.build().expect("builds");
     let rules = contact_rules(&world);
-    assert_eq!(rules, [InStep, InStep, EndOfStep, EndOfStep, EndOfStep, EndOfStep]);
-    // The shipped scenes that do not name a rule read as before.
+    assert_eq!(rules, [InStep, InStep, EndOfStep, EndOfStep, InStep, InStep]);
+    // The shipped scenes that do not name a rule find contacts in the step.
     let mut planes_and_boxes = 0;
     for entry in std::fs::read_dir(scenes_dir()).expect("assets/scenes") {
         let path = entry.expect("entry").path();
@@ -304,7 +304,7 @@ fn a_collider_s_contact_rule_is_carried_into_the_world_and_defaults_to_end_of_st
         }
         let scene = Scene::parse(&text, "shipped.ron").unwrap_or_else(|e| panic!("{e}"));
         let rules = contact_rules(&scene.build().unwrap_or_else(|e| panic!("{e}")).0);
-        assert!(rules.iter().all(|&r| r == EndOfStep), "{}: {rules:?}", path.display());
+        assert!(rules.iter().all(|&r| r == InStep), "{}: {rules:?}", path.display());
         planes_and_boxes += rules.len();
     }
     assert!(planes_and_boxes > 0, "a shipped scene has a plane or a box");

@@ -27,7 +27,7 @@ pub struct BoxCollider {
     /// box by `velocity dt`, then resolves contacts relative to it:
     /// `v' = u + response(v - u)`.
     pub velocity: Vec3,
-    /// When contacts are found (default [`ContactRule::EndOfStep`]).
+    /// When contacts are found (default [`ContactRule::InStep`]).
     pub contact: ContactRule,
 }
 
@@ -49,7 +49,7 @@ impl BoxCollider {
             inside: false,
             material,
             velocity: Vec3::ZERO,
-            contact: ContactRule::EndOfStep,
+            contact: ContactRule::InStep,
         }
     }
 

@@ -32,13 +32,13 @@ impl Default for Material {
 /// it happens where the step's path meets the surface.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ContactRule {
-    /// At the end of the step (default): a particle found inside is moved
-    /// back to the surface and its velocity reflected there. The cheapest
-    /// rule; a particle may pass through a wall thinner than its travel in
-    /// one step, and bounces are off by the depth found.
-    #[default]
+    /// At the end of the step: a particle found inside is moved back to
+    /// the surface and its velocity reflected there. The older rule, kept
+    /// for comparison (the lab shows both); a particle may pass through a
+    /// wall thinner than its travel in one step, and bounces are off by
+    /// the depth found.
     EndOfStep,
-    /// Inside the step: the first instant the step's path (the curve the
+    /// Inside the step (default): the first instant the step's path (the curve the
     /// renderer draws, exact for constant acceleration) meets the surface,
     /// the bounce there, and the rest of the step along the method's own
     /// path from it, again looking for contacts (up to
@@ -49,6 +49,7 @@ pub enum ContactRule {
     /// particle comes to rest on the surface (no Zeno cascade of ever
     /// smaller bounces). A particle already inside at the start of the step
     /// is resolved at its end, as [`EndOfStep`](Self::EndOfStep) does.
+    #[default]
     InStep,
 }
 

@@ -27,7 +27,7 @@ pub struct Plane {
     /// `offset += speed dt`, then resolves contacts in its frame, where it
     /// is at rest: `v' = u + response(v - u)` with `u = speed n`.
     pub speed: f32,
-    /// When contacts are found (default [`ContactRule::EndOfStep`]).
+    /// When contacts are found (default [`ContactRule::InStep`]).
     pub contact: ContactRule,
 }
 
@@ -49,7 +49,7 @@ impl Plane {
             offset: y,
             material,
             speed: 0.0,
-            contact: ContactRule::EndOfStep,
+            contact: ContactRule::InStep,
         }
     }
 

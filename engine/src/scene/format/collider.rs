@@ -35,18 +35,18 @@ fn half() -> Unit {
     Unit(0.5)
 }
 
-/// When a plane or a box finds its contacts (default: `EndOfStep`): the
+/// When a plane or a box finds its contacts (default: `InStep`): the
 /// scene's [`ContactRule`]. Any other word is an error naming the two.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContactSpec {
-    /// At the end of the step (default): a particle found inside is moved
-    /// back to the surface ([`ContactRule::EndOfStep`]). An elastic bounce
-    /// gains the depth it was found at; a fast particle can pass a thin wall.
-    #[default]
+    /// At the end of the step: a particle found inside is moved back to
+    /// the surface ([`ContactRule::EndOfStep`]). An elastic bounce gains
+    /// the depth it was found at; a fast particle can pass a thin wall.
     EndOfStep,
-    /// Inside the step, where the step's path meets the surface
+    /// Inside the step (default), where the step's path meets the surface
     /// ([`ContactRule::InStep`]): no tunnelling, and an elastic bounce
     /// keeps its height.
+    #[default]
     InStep,
 }
 
@@ -73,7 +73,7 @@ pub enum ColliderSpec {
         /// Material (default: restitution 0.5, no friction).
         #[serde(default)]
         material: MaterialSpec,
-        /// When contacts are found, `EndOfStep` or `InStep` (default: `EndOfStep`).
+        /// When contacts are found, `InStep` or `EndOfStep` (default: `InStep`).
         #[serde(default)]
         contact: ContactSpec,
     },
@@ -89,7 +89,7 @@ pub enum ColliderSpec {
         /// Material.
         #[serde(default)]
         material: MaterialSpec,
-        /// When contacts are found, `EndOfStep` or `InStep` (default: `EndOfStep`).
+        /// When contacts are found, `InStep` or `EndOfStep` (default: `InStep`).
         #[serde(default)]
         contact: ContactSpec,
     },
