@@ -1,5 +1,7 @@
 //! The fixed step on the GPU against the adapter's own copy of the same
-//! bytes: semi-implicit Euler and RK4 (gravity, linear drag, a floor) at
+//! bytes: semi-implicit Euler and RK4 (gravity, linear drag, a floor whose
+//! contacts are found at the end of the step; semi-implicit Euler also with
+//! them found inside it, the default) at
 //! 100k, 1M and 10M particles (`TICKWORK_GPU_BENCH_SIZES=100000,1000000`
 //! to choose),
 //! each step reading 32 bytes a particle and writing 32, and in the same
@@ -21,14 +23,15 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
-use tickwork_engine::colliders::{Material, Plane};
+use tickwork_engine::colliders::{ContactRule, Material, Plane};
 use tickwork_engine::forces::{Gravity, LinearDrag, NBody};
 use tickwork_engine::gpu_step::GpuWorld;
 use tickwork_engine::render::Gpu;
 use tickwork_engine::{Particle, World, WorldConfig};
 
-/// A world of `n` particles in a 100 m cube, falling onto a floor.
-fn world(n: usize) -> World {
+/// A world of `n` particles in a 100 m cube, falling onto a floor whose
+/// contacts are found by `rule`.
+fn world(n: usize, rule: ContactRule) -> World {
     let mut world = World::new(WorldConfig {
         integrator: "semi_implicit_euler".into(),
         max_particles: n.max(1),
@@ -37,13 +40,16 @@ fn world(n: usize) -> World {
     .expect("a world");
     world.add_force(Gravity::EARTH);
     world.add_force(LinearDrag { rate: 0.1 });
-    world.add_collider(Plane::floor(
-        0.0,
-        Material {
-            restitution: 0.5,
-            friction: 0.0,
-        },
-    ));
+    world.add_collider(Plane {
+        contact: rule,
+        ..Plane::floor(
+            0.0,
+            Material {
+                restitution: 0.5,
+                friction: 0.0,
+            },
+        )
+    });
     for k in 0..n {
         let h = (k as u32).wrapping_mul(2_654_435_761) as f32 / u32::MAX as f32;
         world
@@ -88,7 +94,7 @@ fn gpu_step(c: &mut Criterion) {
     let gpu = Gpu::headless().unwrap_or_else(|e| panic!("the GPU step bench needs an adapter: {e}"));
     println!("adapter: {:?}", gpu.adapter.get_info());
     for n in sizes() {
-        let cpu = world(n);
+        let cpu = world(n, ContactRule::EndOfStep);
         let mut on_gpu = match GpuWorld::new(&gpu, &cpu) {
             Ok(world) => world,
             Err(error) => {
@@ -100,6 +106,8 @@ fn gpu_step(c: &mut Criterion) {
         rk4.set_integrator("rk4").expect("rk4");
         let mut on_gpu_rk4 = GpuWorld::new(&gpu, &rk4).expect("the same world under RK4");
         drop(rk4);
+        // The default rule, contacts inside the step (`in_step.wgsl`).
+        let mut on_gpu_in_step = GpuWorld::new(&gpu, &world(n, ContactRule::InStep)).expect("the world in step");
         let mut group = c.benchmark_group(format!("gpu_step_{n}"));
         group.throughput(Throughput::Bytes(on_gpu.bytes_per_step()));
         group.sample_size(10);
@@ -108,6 +116,10 @@ fn gpu_step(c: &mut Criterion) {
         group.bench_function("semi_implicit_euler", |b| {
             b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu, iters));
         });
+        group.bench_function("semi_implicit_euler_in_step", |b| {
+            b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu_in_step, iters));
+        });
+        drop(on_gpu_in_step);
         group.bench_function("rk4", |b| {
             b.iter_custom(|iters| timed_steps(&gpu, &mut on_gpu_rk4, iters));
         });
@@ -208,7 +220,7 @@ fn gpu_readback(c: &mut Criterion) {
         |list| list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
     );
     for n in sizes {
-        let mut cpu = world(n);
+        let mut cpu = world(n, ContactRule::EndOfStep);
         let mut on_gpu = match GpuWorld::new(&gpu, &cpu) {
             Ok(world) => world,
             Err(error) => {

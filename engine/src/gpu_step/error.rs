@@ -137,3 +137,23 @@ impl fmt::Display for GpuStepError {
 }
 
 impl std::error::Error for GpuStepError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn too_many_contacts_names_what_was_found_the_room_and_what_to_do() {
+        let message = GpuStepError::Contacts {
+            found: 2049,
+            room: 2048,
+        }
+        .to_string();
+        assert_eq!(
+            message,
+            "a step of a GPU world found 2049 contacts of colliders that report them, past its room for 2048 (one a \
+             particle a reporting collider, two where it finds its contacts inside the step); report from fewer \
+             colliders, or step this world on the CPU"
+        );
+    }
+}
