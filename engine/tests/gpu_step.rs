@@ -1141,7 +1141,7 @@ fn beyond(a: &[Vec3], b: &[Vec3], tolerance: f32) -> (usize, f32) {
     for (p, q) in a.iter().zip(b) {
         let d = (*p - *q).abs().max_element();
         largest = largest.max(d);
-        count += usize::from(!(d <= tolerance));
+        count += usize::from(d > tolerance || d.is_nan());
     }
     (count, largest)
 }
