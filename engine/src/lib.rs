@@ -89,6 +89,6 @@ pub use tickwork_integrators as integrators;
 /// what a step calls instead of `f32::sin` and friends.
 pub use tickwork_integrators::math;
 pub use world::{
-    Entity, EntityError, Heading, Particle, Removal, RemovalCause, RigidBody, Snapshot, SpawnError, StableHasher,
-    World, WorldConfig, WorldError,
+    ContactOverflow, Entity, EntityError, Heading, Particle, Removal, RemovalCause, RigidBody, Snapshot, SpawnError,
+    StableHasher, World, WorldConfig, WorldError,
 };

@@ -13,7 +13,8 @@ use glam::Vec3;
 use proptest::prelude::*;
 use tickwork_engine::clock::FixedStep;
 use tickwork_engine::{
-    BoxCollider, ContactRule, Entity, Gravity, Material, Particle, Plane, SimulationError, World, WorldConfig,
+    BoxCollider, ContactOverflow, ContactRule, Entity, Gravity, Material, Particle, Plane, SimulationError, World,
+    WorldConfig,
 };
 
 const G: f64 = 9.81;
@@ -498,8 +499,12 @@ fn velocity_verlet_events_are_at_the_exact_instant() {
 #[test]
 fn a_particle_that_would_need_more_events_than_the_limit_is_an_error_naming_it() {
     // Between two walls a millimetre apart at 1 000 m/s: 16 m a step, over
-    // ten thousand bounces.
-    let mut w = world("semi_implicit_euler");
+    // ten thousand bounces; a world that asks for the error.
+    let mut w = World::new(WorldConfig {
+        contact_overflow: ContactOverflow::Error,
+        ..WorldConfig::default()
+    })
+    .expect("a world");
     for (normal, offset) in [(Vec3::X, -0.0005), (-Vec3::X, -0.0005)] {
         w.add_collider(Plane {
             normal,
@@ -527,6 +532,54 @@ fn a_particle_that_would_need_more_events_than_the_limit_is_an_error_naming_it()
         message.contains(&format!("entity {e} met more than 16 contacts in one step")) && message.contains("plane"),
         "{message}"
     );
+}
+
+#[test]
+fn a_ball_a_paddle_pins_against_a_wall_is_left_to_the_end_of_step_rule_and_named() {
+    // A paddle sweeping at 3 m/s towards a wall, stopped there as a game
+    // stops it, a ball between: it bounces ever faster between the two as
+    // they close (each bounce off the paddle adds 6 m/s), past the limit;
+    // by default the step goes on, names it, and every step succeeds.
+    let mut w = world("semi_implicit_euler");
+    w.add_collider(Plane {
+        normal: Vec3::NEG_X,
+        offset: -1.0,
+        material: elastic(),
+        ..Plane::default()
+    });
+    let paddle = w.add_collider(BoxCollider {
+        velocity: Vec3::new(3.0, 0.0, 0.0),
+        material: elastic(),
+        ..BoxCollider::solid(Vec3::new(-1.0, -0.5, -0.5), Vec3::new(0.0, 0.5, 0.5), elastic())
+    });
+    let ball = w
+        .spawn(Particle {
+            position: Vec3::new(0.5, 0.0, 0.0),
+            radius: 0.05,
+            ..Particle::default()
+        })
+        .expect("valid");
+    let dt = 1.0 / 60.0;
+    let mut named = Vec::new();
+    for tick in 0..40u64 {
+        let x = w.collider::<BoxCollider>(paddle).expect("the paddle").max.x;
+        let to = (x + 3.0 * dt as f32).min(1.0);
+        w.collider_mut::<BoxCollider>(paddle).expect("the paddle").velocity.x = (to - x) / dt as f32;
+        let report = w
+            .step(tickwork_engine::FixedStep {
+                tick,
+                time: tick as f64 * dt,
+                dt,
+            })
+            .unwrap_or_else(|e| panic!("tick {tick}: {e}"));
+        if let Some(entity) = report.contact_overflow {
+            named.push((tick, entity));
+        }
+        let (x, v) = (w.position(ball).expect("live"), w.velocity(ball).expect("live"));
+        assert!(x.is_finite() && v.is_finite(), "tick {tick}: {x} {v}");
+    }
+    assert!(!named.is_empty(), "no step passed the limit");
+    assert!(named.iter().all(|&(_, e)| e == ball), "{named:?}");
 }
 
 /// `run` on a pool of `threads` threads.

@@ -13,7 +13,8 @@
 //     x = x_c + v' r + a_q r^2 / 2,  v = v' + a_q r,  r = (1 - s) dt, a_q = 2 a / dt^2
 //     and the rest of the step again, up to MAX_EVENTS contacts (past them,
 //     the particle stays where the last one left it: the end-of-step rule
-//     below resolves it, as `EndOfStep` would; the CPU's step fails there)
+//     below resolves it, as `EndOfStep` would, and as the CPU's default
+//     `ContactOverflow::EndOfStep` does)
 //   then each in-step collider's end-of-step rule, approaches no faster
 //   than rest_speed() resting
 //

@@ -27,8 +27,10 @@ use super::contact::Material;
 /// Most contacts one particle may meet in one step ([`ContactRule::InStep`](super::ContactRule)):
 /// a particle that would need more (squeezed between two surfaces closing
 /// in, or bouncing between walls closer than its travel a step many times
-/// over) is [`SimulationError::ContactEventLimit`](crate::SimulationError),
-/// naming the entity, the collider and this limit, never a hang.
+/// over) is left to the end-of-step rule and named in the step's report, or
+/// with [`ContactOverflow::Error`](crate::ContactOverflow) is
+/// [`SimulationError::ContactEventLimit`](crate::SimulationError), naming
+/// the entity, the collider and this limit; never a hang.
 pub const MAX_CONTACT_EVENTS: u32 = 16;
 
 /// Where a path first meets a collider's surface: the plane it meets there.

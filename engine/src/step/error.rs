@@ -120,7 +120,10 @@ pub enum SimulationError {
     /// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS), with
     /// colliders that find contacts inside the step (squeezed between
     /// surfaces closing in, or between walls far closer than its travel in
-    /// a step). The world is left as the step made it.
+    /// a step), in a world whose
+    /// [`WorldConfig::contact_overflow`](crate::WorldConfig) is
+    /// [`ContactOverflow::Error`](crate::ContactOverflow). The world is
+    /// left as the step made it.
     ContactEventLimit {
         /// The tick of the step.
         tick: u64,

@@ -64,6 +64,11 @@ pub struct StepReport {
     /// the fused path did not run, though the plain path's passes may
     /// still have used rayon's threads).
     pub fused_lanes: u32,
+    /// The first particle (in row order) that met more than
+    /// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS)
+    /// contacts inside the step and was left to the end-of-step rule
+    /// ([`ContactOverflow::EndOfStep`](crate::ContactOverflow)).
+    pub contact_overflow: Option<crate::layout::Entity>,
 }
 
 /// Steps between two flushes of subnormal velocities.
@@ -244,7 +249,11 @@ impl World {
         if let Some(row) = outcome.first_bad {
             return Err(self.non_finite(tick, row, NonFiniteCause::Step));
         }
-        if let Some(overflow) = outcome.overflow {
+        if let Some(overflow) = outcome.overflow
+            && self.config.contact_overflow == crate::ContactOverflow::EndOfStep
+        {
+            report.contact_overflow = Some(self.entities.rows()[overflow.row]);
+        } else if let Some(overflow) = outcome.overflow {
             let collider = &self.colliders.colliders[overflow.collider];
             return Err(SimulationError::ContactEventLimit {
                 tick,

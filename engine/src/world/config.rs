@@ -51,10 +51,35 @@ pub struct WorldConfig {
     /// NaN, or a negative speed) keeps every bounce, so a particle settling
     /// on a surface may meet `MAX_CONTACT_EVENTS` in a step.
     pub rest_speed: f32,
+    /// What a step does with a particle that meets more than
+    /// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS)
+    /// contacts found inside it (squeezed between a kinematic box and a
+    /// wall, or bouncing between walls far closer than its travel a step):
+    /// default [`ContactOverflow::EndOfStep`].
+    pub contact_overflow: ContactOverflow,
     /// Where a runner steps the world's particles (default
     /// [`Backend::Cpu`]); `--gpu` on the command line sets
     /// [`Backend::Gpu`] for every world of a run.
     pub backend: Backend,
+}
+
+/// What a step does with a particle past
+/// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS) contacts
+/// inside it ([`WorldConfig::contact_overflow`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ContactOverflow {
+    /// The particle stays where its last contact left it, and the
+    /// end-of-step rule resolves it, as `ContactRule::EndOfStep` would; the
+    /// step goes on and its [`StepReport::contact_overflow`](crate::StepReport)
+    /// names the first such particle (default: a ball a game's paddle
+    /// pins against a wall must not end the game).
+    #[default]
+    EndOfStep,
+    /// The step fails with
+    /// [`SimulationError::ContactEventLimit`](crate::SimulationError),
+    /// naming the particle, the collider and the limit (the world is left
+    /// as the step made it): for tools and tests that treat it as bad input.
+    Error,
 }
 
 /// Where a runner steps a world's particles.
@@ -83,6 +108,7 @@ impl Default for WorldConfig {
             max_particles: 10_000_000,
             max_pairs: 50_000_000,
             rest_speed: 0.5,
+            contact_overflow: ContactOverflow::EndOfStep,
             backend: Backend::Cpu,
         }
     }

@@ -32,7 +32,7 @@ mod world;
 pub use checksum::StableHasher;
 pub use columns::Component;
 pub use components::QueryMut;
-pub use config::{Backend, WorldConfig, WorldError};
+pub use config::{Backend, ContactOverflow, WorldConfig, WorldError};
 pub use heading::Heading;
 pub use particles::Particles;
 pub use removal::{Removal, RemovalCause};
