@@ -98,8 +98,9 @@ fn render_writes_frames_and_a_gif_and_refuses_to_overwrite_them() {
 #[test]
 fn a_million_particles_render_on_the_gpu_as_they_render_on_the_cpu() {
     // The GPU step's scene: a million particles onto a floor, drawn by the
-    // splat on either backend; the GPU's states are the CPU's on lavapipe,
-    // so the frames are the same pixels.
+    // splat on either backend; its floor finds contacts at the end of the
+    // step, so the GPU's states are the CPU's on lavapipe, and the frames
+    // are the same pixels.
     let mut last = Vec::new();
     for backend in ["cpu", "gpu"] {
         let dir = scratch(&format!("downpour_{backend}"));

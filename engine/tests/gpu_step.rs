@@ -1379,3 +1379,56 @@ fn an_elastic_ball_keeps_its_height_for_a_hundred_bounces_on_the_gpu() {
     let gained = x[0].y + v[0].y * v[0].y / (2.0 * g) - 10.0;
     assert!(gained > 0.5, "end of step: {gained} m gained");
 }
+
+#[test]
+fn a_step_past_the_room_for_contacts_is_whole_names_the_room_and_the_next_has_more() {
+    // 100 particles at 100 m/s inside a reporting container 2 mm wide:
+    // each meets the in-step limit of contacts every step, more than the
+    // room of two a particle and 1 024.
+    let gpu = gpu();
+    let mut w = World::new(WorldConfig::default()).expect("a world");
+    let room = w.add_collider(BoxCollider::container(
+        Vec3::new(-0.001, -1.0, -1.0),
+        Vec3::new(0.001, 1.0, 1.0),
+        Material {
+            restitution: 1.0,
+            friction: 0.0,
+        },
+    ));
+    w.report_contacts(room).expect("reports");
+    for k in 0..100 {
+        w.spawn(Particle {
+            position: Vec3::new(0.0, -0.9 + 0.018 * k as f32, 0.0),
+            velocity: Vec3::new(100.0, 0.0, 0.0),
+            radius: 0.0,
+            ..Particle::default()
+        })
+        .expect("a particle");
+    }
+    let mut on_gpu = GpuWorld::new(&gpu, &w).expect("a GPU world");
+    let step = |tick: u64| FixedStep {
+        tick,
+        time: tick as f64 * DT,
+        dt: DT,
+    };
+    let error = on_gpu.advance(&gpu, &mut w, step(0)).expect_err("past the room");
+    let GpuStepError::Contacts { found, room } = error else {
+        panic!("{error}");
+    };
+    assert_eq!(room, 2 * 100 + 1024);
+    assert!(found > room, "{found} in a room of {room}");
+    assert_eq!(w.contacts().len(), room as usize);
+    assert!(
+        error.to_string().contains(&format!("found {found} contacts")),
+        "{error}"
+    );
+    // The step was whole: the next one follows it, with room for them all;
+    // every particle ends inside, to the rounding of the projection.
+    assert_eq!(w.tick(), 1);
+    on_gpu.advance(&gpu, &mut w, step(1)).expect("the next step");
+    let inside = w.contacts().iter().filter(|c| c.fraction < 1.0).count();
+    assert!(inside > room as usize, "{inside} contacts inside the step");
+    let (x, _) = on_gpu.read_back(&gpu).expect("read");
+    let far = x.iter().map(|p| p.x.abs()).fold(0.0f32, f32::max);
+    assert!(far <= 0.001 + 1e-6, "all in the container: {far} {:?}", &x[..3]);
+}

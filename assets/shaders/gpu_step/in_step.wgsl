@@ -20,8 +20,9 @@
 //
 // The CPU follows the path in f64; here it is f32, so a GPU world's
 // bounces match the CPU's to f32 rounding, not bit for bit. The rest of a
-// step after a bounce is held as the parabola's own coefficients (not
-// through its rounded ends), so a short rest magnifies no rounding.
+// step after a contact is held as coefficients formed from the way it
+// moves (not from its rounded ends), so a short rest magnifies no
+// rounding.
 
 const IN_STEP_FLAG: u32 = 4u;
 
@@ -55,6 +56,10 @@ fn is_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
 
+fn is_nan(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
 // The first s in [0, 1] where c + b s + a s^2 falls to zero from c >= 0,
 // or -1 (the CPU's `first_root`).
 fn first_root(a: f32, b: f32, c: f32) -> f32 {
@@ -86,7 +91,7 @@ fn first_root(a: f32, b: f32, c: f32) -> f32 {
         }
         root = select(min(r1, r2), max(r1, r2), min(r1, r2) < 0.0);
     }
-    if (!is_finite(root)) {
+    if (is_nan(root)) {
         return -1.0;
     }
     return clamp(root, 0.0, 1.0);
@@ -206,7 +211,13 @@ fn kept_restitution(e: f32, u: f32, forces: vec3<f32>, missing: vec3<f32>, n: ve
     if (k == 0.0 || e == 0.0) {
         return e;
     }
-    let w = -k + sqrt(k * k + e * e * (u * u - 2.0 * k * u));
+    // No real root (a restitution above 1 can ask for one; WGSL's sqrt
+    // of a negative is not NaN): no bounce keeps the energy.
+    let d = k * k + e * e * (u * u - 2.0 * k * u);
+    if (!(d >= 0.0)) {
+        return -1.0;
+    }
+    let w = -k + sqrt(d);
     if (w > 0.0) {
         return w / u;
     }
@@ -255,19 +266,23 @@ fn follow(m: ptr<function, Motion>, x0: vec3<f32>, r: f32, w: f32) {
             touch(Touch(hit.k, row, events, bitcast<u32>(fraction), vec4<f32>(at - hit.n * r, 0.0), vec4<f32>(hit.n, impulse)));
         }
         // The rest of the step, from the contact, on the path's own
-        // acceleration.
+        // acceleration; `moved`, the way from the contact to its end, is
+        // kept apart from the positions so that the next path's
+        // coefficients are not the difference of two rounded ends.
         let rest = (1.0 - fraction) * dt;
-        var end = at;
+        var moved = vec3<f32>(0.0);
         var velocity = after;
         if (rest > 0.0) {
-            end = at + after * rest + a * (rest * rest * 0.5);
+            moved = after * rest + a * (rest * rest * 0.5);
             velocity = after + a * rest;
         }
+        var end = at + moved;
         if (resting) {
             // On the surface, with nothing left going into it.
             let gap = dot(hit.n, end) - hit.offset - r;
             if (gap < 0.0) {
                 end = end - hit.n * gap;
+                moved = moved - hit.n * gap;
             }
             let into = dot(velocity - hit.u, hit.n);
             if (into < 0.0) {
@@ -280,8 +295,11 @@ fn follow(m: ptr<function, Motion>, x0: vec3<f32>, r: f32, w: f32) {
             break;
         }
         if (resting) {
+            // Through the surface point it ends at, with its velocity
+            // (`path_through` from `moved` rather than from the ends).
             resting_on = hit.k;
-            p = path_through(at, end, velocity, rest);
+            let vdt = velocity * rest;
+            p = Path(at, 2.0 * moved - vdt, vdt - moved, rest);
         } else {
             p = Path(at, after * rest, a * (rest * rest * 0.5), rest);
         }
@@ -428,6 +446,16 @@ fn in_step(x0: vec3<f32>, moved: Motion, r: f32, w: f32) -> Motion {
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
         if ((c.flags & IN_STEP_FLAG) == 0u) {
+            continue;
+        }
+        // At rest and silent: resolved in place, the rest compiled out
+        // where nothing moves or reports (as in `resolve_colliders`).
+        if ((!KINEMATIC && !REPORTING) || c.flags == IN_STEP_FLAG) {
+            if (c.kind == 0u) {
+                resolve_plane(&m, c, r, w, rest_speed());
+            } else {
+                resolve_box(&m, c, r, w, rest_speed());
+            }
             continue;
         }
         let before = m;

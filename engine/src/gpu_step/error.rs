@@ -73,7 +73,9 @@ pub enum GpuStepError {
     Edited,
     /// A step's colliders reported more contacts than the room the GPU
     /// step keeps for them (a contact a particle for each reporting
-    /// collider, two for one that finds its contacts inside the step).
+    /// collider, two for one that finds its contacts inside the step, and
+    /// 1 024 more): the step is whole, with the contacts that fitted; the
+    /// room grows to twice what was found for the next steps.
     Contacts {
         /// The contacts the step found.
         found: u32,
@@ -123,8 +125,9 @@ impl fmt::Display for GpuStepError {
             Self::Contacts { found, room } => write!(
                 f,
                 "a step of a GPU world found {found} contacts of colliders that report them, past its room for \
-                 {room} (one a particle a reporting collider, two where it finds its contacts inside the step); \
-                 report from fewer colliders, or step this world on the CPU"
+                 {room}: the step is whole, but World::contacts holds only {room} of them; the next steps have \
+                 room for {}",
+                2 * u64::from(*found)
             ),
             Self::Edited => f.write_str(
                 "the particles of a GPU world were changed outside its steps (particles_mut, set_velocity, \
@@ -143,7 +146,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn too_many_contacts_names_what_was_found_the_room_and_what_to_do() {
+    fn too_many_contacts_names_what_was_found_the_room_and_what_follows() {
         let message = GpuStepError::Contacts {
             found: 2049,
             room: 2048,
@@ -151,9 +154,8 @@ mod tests {
         .to_string();
         assert_eq!(
             message,
-            "a step of a GPU world found 2049 contacts of colliders that report them, past its room for 2048 (one a \
-             particle a reporting collider, two where it finds its contacts inside the step); report from fewer \
-             colliders, or step this world on the CPU"
+            "a step of a GPU world found 2049 contacts of colliders that report them, past its room for 2048: the \
+             step is whole, but World::contacts holds only 2048 of them; the next steps have room for 4098"
         );
     }
 }

@@ -222,6 +222,10 @@ pub(super) const FINDS_IN_STEP: u32 = 4;
 
 const _: () = assert!(std::mem::size_of::<ColliderRecord>() == 64);
 
+/// Contacts a step of a world with a reporting collider has room for
+/// beyond [`Plan::touch_records`] a particle.
+pub(super) const SPARE_TOUCHES: u64 = 1024;
+
 /// A world's step as the GPU runs it.
 #[derive(Clone, Debug)]
 pub(super) struct Plan {
@@ -252,9 +256,20 @@ pub(super) struct Plan {
 
 impl Plan {
     /// The most vec4s a particle that a buffer of the step holds (history,
-    /// the n-body rounds): what bounds the particles a device fits.
+    /// the n-body rounds, the contacts of reporting colliders: three a
+    /// contact): what bounds the particles a device fits.
     pub(super) fn records(&self) -> u32 {
-        self.history.max(self.stages + 1)
+        let touches = u32::try_from(3 * self.touch_records()).unwrap_or(u32::MAX);
+        self.history.max(self.stages + 1).max(touches)
+    }
+
+    /// Room for the contacts of a step of `n` particles:
+    /// [`touch_records`](Self::touch_records) a particle and, where a
+    /// collider reports, [`SPARE_TOUCHES`] more (a few particles, such as a
+    /// game's one ball, may meet many contacts in one step).
+    pub(super) fn touch_room(&self, n: u64) -> u64 {
+        let spare = if self.reporting > 0 { SPARE_TOUCHES } else { 0 };
+        n.saturating_mul(self.touch_records()).saturating_add(spare)
     }
 
     /// The contacts a particle may report in a step (the touches buffer's

@@ -285,7 +285,7 @@ impl GpuWorld {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let touches = touches_buffer(device, u64::from(n) * plan.touch_records());
+        let touches = touches_buffer(device, plan.touch_room(u64::from(n)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu step"),
             entries: &[
@@ -587,8 +587,9 @@ impl GpuWorld {
         self.took(dt, 1);
         // Its contacts, named while the rows are still the step's.
         world.contacts.clear();
+        let mut past_room = None;
         if self.plan.reporting > 0 && self.n > 0 {
-            self.read_touches(gpu, world)?;
+            past_room = self.read_touches(gpu, world)?;
         }
         // The rest of the world's step, logging the rows it changes, which
         // the GPU's rows then follow.
@@ -603,6 +604,12 @@ impl GpuWorld {
             self.follow_rows(gpu, &mut encoder, log, world)?;
             gpu.queue.submit([encoder.finish()]);
         }
+        if let Some((found, room)) = past_room {
+            // The step is whole; the next ones have room for this many.
+            self.touches = touches_buffer(&gpu.device, 2 * u64::from(found));
+            self.rebind(&gpu.device);
+            return Err(GpuStepError::Contacts { found, room });
+        }
         Ok(report)
     }
 
@@ -614,16 +621,14 @@ impl GpuWorld {
 
     /// Reads the step's contacts back (a wait for the GPU) into the world's
     /// touches, and names them as the CPU's step does (sorted by collider
-    /// and row, whatever order the GPU found them in).
-    fn read_touches(&self, gpu: &Gpu, world: &mut World) -> Result<(), GpuStepError> {
+    /// and row, whatever order the GPU found them in). A step that found
+    /// more than the room for them keeps those that fit and returns how
+    /// many it found and the room.
+    fn read_touches(&self, gpu: &Gpu, world: &mut World) -> Result<Option<(u32, u32)>, GpuStepError> {
         let [count] = map_words(gpu, [(&self.flags, 8, 4)])?;
-        let count = f32_at(&count, 0).to_bits();
-        if count > self.touch_room() {
-            return Err(GpuStepError::Contacts {
-                found: count,
-                room: self.touch_room(),
-            });
-        }
+        let found = f32_at(&count, 0).to_bits();
+        let room = self.touch_room();
+        let count = found.min(room);
         world.touches.clear();
         if count > 0 {
             let [records] = map_words(gpu, [(&self.touches, 0, u64::from(count) * TOUCH_BYTES)])?;
@@ -644,7 +649,7 @@ impl GpuWorld {
                 }));
         }
         world.name_contacts(false);
-        Ok(())
+        Ok((found > room).then_some((found, room)))
     }
 
     /// Before steps of `dt`: tells a method with history, through its
@@ -720,7 +725,7 @@ impl GpuWorld {
             self.nbody = nbody_buffer(device, self.plan.stages, capacity);
         }
         if self.plan.reporting > 0 {
-            self.touches = touches_buffer(device, u64::from(capacity) * self.plan.touch_records());
+            self.touches = touches_buffer(device, self.plan.touch_room(u64::from(capacity)));
         }
         self.rebind(device);
         Ok(())
@@ -750,7 +755,7 @@ impl GpuWorld {
             self.nbody = nbody_buffer(device, self.scratch.stages, self.capacity);
             rebind = true;
         }
-        let room = u64::from(self.capacity) * self.scratch.touch_records();
+        let room = self.scratch.touch_room(u64::from(self.capacity));
         if self.touches.size() < TOUCH_BYTES * room {
             self.touches = touches_buffer(device, room);
             rebind = true;

@@ -204,7 +204,7 @@ impl World {
     /// queued commands, tick and time), the particle state and the step's
     /// contacts (named by the caller, before the rows change) untouched. The
     /// caller has refused what this leaves out (rigid bodies, headings,
-    /// sensors, colliders that move or report).
+    /// sensors) and moved the kinematic colliders.
     ///
     /// # Errors
     /// As [`step`](Self::step), for what it does.

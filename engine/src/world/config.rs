@@ -55,7 +55,9 @@ pub struct WorldConfig {
     /// [`MAX_CONTACT_EVENTS`](crate::colliders::MAX_CONTACT_EVENTS)
     /// contacts found inside it (squeezed between a kinematic box and a
     /// wall, or bouncing between walls far closer than its travel a step):
-    /// default [`ContactOverflow::EndOfStep`].
+    /// default [`ContactOverflow::EndOfStep`]. A world stepped on the GPU
+    /// leaves such a particle to the end-of-step rule whatever this says,
+    /// and names none (a GPU step reads nothing back unasked).
     pub contact_overflow: ContactOverflow,
     /// Where a runner steps the world's particles (default
     /// [`Backend::Cpu`]); `--gpu` on the command line sets
