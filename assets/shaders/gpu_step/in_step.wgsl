@@ -122,7 +122,9 @@ fn no_hit() -> Hit {
 // Collider k's first contact along `p` (the CPU's `first_contact`).
 fn first_contact(k: u32, c: Collider, p: Path, r: f32) -> Hit {
     let u = vec3<f32>(c.u_x, c.u_y, c.u_z);
-    if (c.kind == 0u || c.kind == 3u) {
+    // IN_STEP_BOXES (written for the world): without in-step boxes their
+    // code is compiled out (a software rasteriser runs it under a mask).
+    if (!IN_STEP_BOXES || c.kind == 0u || c.kind == 3u) {
         var n = vec3<f32>(0.0);
         n[c.axis] = c.sign;
         let travel = dot(n, u) * p.dt;
@@ -226,16 +228,18 @@ fn kept_restitution(e: f32, u: f32, forces: vec3<f32>, missing: vec3<f32>, n: ve
 
 // The particle's contacts along its path (the CPU's `Sweep::row`):
 // `(*m)` is the method's end state, changed in place.
-fn follow(m: ptr<function, Motion>, x0: vec3<f32>, r: f32, w: f32) {
-    if (!(w > 0.0)) {
-        return;
-    }
+fn follow(m: ptr<function, Motion>, x0: vec3<f32>, r: f32, w: f32, settled: bool) {
     let dt = params.dt;
     var p = path_through(x0, (*m).x, (*m).v, dt);
     var done = 0.0;
     var events = 0u;
     var resting_on = NONE;
+    // Settled, or immovable: no contact is looked for.
+    var going = !settled && w > 0.0;
     loop {
+        if (!going) {
+            break;
+        }
         let hit = first_hit(p, r, resting_on);
         if (hit.k == NONE) {
             break;
@@ -392,7 +396,7 @@ fn resting_on_face(b: Collider, f: Face, x0: vec3<f32>, x1: vec3<f32>, v1: vec3<
 // `settle_blocks`, one lane): certainly clear of it, or resting on it.
 fn settles(c: Collider, x0: vec3<f32>, x1: vec3<f32>, v1: vec3<f32>, r: f32, dt: f32, rest_dt: f32) -> bool {
     let u = vec3<f32>(c.u_x, c.u_y, c.u_z);
-    if (c.kind == 0u || c.kind == 3u) {
+    if (!IN_STEP_BOXES || c.kind == 0u || c.kind == 3u) {
         let d0 = x0[c.axis] * c.sign;
         let d1 = x1[c.axis] * c.sign;
         let dv = (v1[c.axis] * c.sign) * dt;
@@ -440,9 +444,7 @@ fn in_step(x0: vec3<f32>, moved: Motion, r: f32, w: f32) -> Motion {
             break;
         }
     }
-    if (!settled) {
-        follow(&m, x0, r, w);
-    }
+    follow(&m, x0, r, w, settled);
     for (var k = 0u; k < params.colliders; k++) {
         let c = colliders[k];
         if ((c.flags & IN_STEP_FLAG) == 0u) {
@@ -451,7 +453,7 @@ fn in_step(x0: vec3<f32>, moved: Motion, r: f32, w: f32) -> Motion {
         // At rest and silent: resolved in place, the rest compiled out
         // where nothing moves or reports (as in `resolve_colliders`).
         if ((!KINEMATIC && !REPORTING) || c.flags == IN_STEP_FLAG) {
-            if (c.kind == 0u) {
+            if (!IN_STEP_BOXES || c.kind == 0u) {
                 resolve_plane(&m, c, r, w, rest_speed());
             } else {
                 resolve_box(&m, c, r, w, rest_speed());

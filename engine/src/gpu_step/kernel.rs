@@ -376,7 +376,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     plan.moving = false;
     plan.reporting = 0;
     plan.reporting_in_step = 0;
-    let mut in_step = false;
+    let (mut in_step, mut in_step_boxes) = (false, false);
     for (id, collider) in world.colliders() {
         let name = collider.name();
         let refuse = |reason| GpuStepError::Collider { collider: name, reason };
@@ -384,6 +384,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         plan.reporting += u32::from(reports);
         plan.reporting_in_step += u32::from(reports && collider.in_step());
         in_step |= collider.in_step();
+        in_step_boxes |= collider.in_step() && collider.as_any().downcast_ref::<BoxCollider>().is_some();
         let reports = if reports { REPORTS } else { 0 } | if collider.in_step() { FINDS_IN_STEP } else { 0 };
         if let Some(b) = collider.as_any().downcast_ref::<BoxCollider>() {
             let moving = b.velocity != glam::Vec3::ZERO;
@@ -466,6 +467,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         &mut plan.source,
         format_args!(
             "const KINEMATIC: bool = {};\nconst REPORTING: bool = {};\nconst IN_STEP: bool = {in_step};\n\
+             const IN_STEP_BOXES: bool = {in_step_boxes};\n\
              fn rest_speed() -> f32 {{ return {}; }}\nconst MAX_EVENTS: u32 = {}u;\n",
             plan.moving,
             plan.reporting > 0,
