@@ -605,8 +605,10 @@ impl GpuWorld {
             gpu.queue.submit([encoder.finish()]);
         }
         if let Some((found, room)) = past_room {
-            // The step is whole; the next ones have room for this many.
-            self.touches = touches_buffer(&gpu.device, 2 * u64::from(found));
+            // The step is whole; the next ones have room for twice this
+            // many, as far as one binding holds.
+            let most = gpu.device.limits().max_storage_buffer_binding_size / TOUCH_BYTES;
+            self.touches = touches_buffer(&gpu.device, (2 * u64::from(found)).min(most));
             self.rebind(&gpu.device);
             return Err(GpuStepError::Contacts { found, room });
         }
