@@ -968,11 +968,9 @@ fn a_gpu_worlds_particles_changed_between_steps_are_refused() {
     );
 }
 
-/// The test world with kinematic colliders: a ceiling coming down at
-/// 1.5 m/s, a solid block sliding through the particles and a small
-/// container rising around some of them, all resolved in their own frame
-/// as the CPU does.
-fn kinematic_world(method: &str) -> World {
+/// The test world with a ceiling coming down at 1.5 m/s, and the material
+/// of the kinematic colliders.
+fn with_ceiling(method: &str) -> (World, Material) {
     let mut world = world(method);
     let material = Material {
         restitution: 0.7,
@@ -984,6 +982,15 @@ fn kinematic_world(method: &str) -> World {
         speed: 1.5,
         ..Plane::floor(0.0, material)
     });
+    (world, material)
+}
+
+/// The test world with kinematic colliders: a ceiling coming down at
+/// 1.5 m/s, a solid block sliding through the particles and a small
+/// container rising around some of them, all resolved in their own frame
+/// as the CPU does.
+fn kinematic_world(method: &str) -> World {
+    let (mut world, material) = with_ceiling(method);
     world.add_collider(BoxCollider {
         velocity: Vec3::new(2.0, 0.5, 0.0),
         ..BoxCollider::solid(Vec3::new(-4.0, 1.0, -3.0), Vec3::new(-1.0, 4.0, 3.0), material)
@@ -1150,17 +1157,7 @@ fn beyond(a: &[Vec3], b: &[Vec3], tolerance: f32) -> (usize, f32) {
 /// sweeping through the particles above the solid block (no collider
 /// overlaps another: none pinches a particle).
 fn in_step_world(method: &str) -> World {
-    let mut world = world(method);
-    let material = Material {
-        restitution: 0.7,
-        friction: 0.1,
-    };
-    world.add_collider(Plane {
-        normal: Vec3::NEG_Y,
-        offset: -9.0,
-        speed: 1.5,
-        ..Plane::floor(0.0, material)
-    });
+    let (mut world, material) = with_ceiling(method);
     world.add_collider(BoxCollider {
         velocity: Vec3::new(-2.0, 0.0, 0.0),
         ..BoxCollider::solid(Vec3::new(3.0, 4.5, -3.0), Vec3::new(4.0, 5.5, 3.0), material)
