@@ -3,6 +3,27 @@
 //!
 //! - [`integrators`]: every time-integration method, by name, verified to its order;
 //! - [`engine`]: the clock, world, forces, scenes and renderer.
+//!
+//! # Features
+//!
+//! A game takes what it uses; the default is what `tickwork new`'s game
+//! needs (`window` and `cli`).
+//!
+//! | feature | what it adds | crates it brings |
+//! |---|---|---|
+//! | *(none)* | the simulation: clock, world, forces, colliders, scenes, headless runs | glam, rayon, serde, ron, rand |
+//! | `render` | the wgpu renderer, shapes, sprites, off-screen frames and GIFs, golden images, the game API run off-screen | wgpu, image, lyon |
+//! | `text` | `Draw::text`, `Draw::measure`, the HUD's lines (nothing draws text without it); implies `render` | glyphon |
+//! | `window` (default) | a window (winit), or in a page its canvas; implies `render` | winit |
+//! | `cli` (default) | `RunOptions` from the command line or a page's URL (`RunOptions::from_args`, `parse_args`) | clap |
+//! | `panel` | the control panel (F1) over a window or page; implies `window` | egui, egui_plot |
+//! | `netcode` | two-player rollback matches (`--host`, `--join`), `--sync-test` | ggrs, bincode |
+//! | `audio` | `Sound` and `Stage::play`: decoded, deduplicated across rollbacks, silent | kira |
+//! | `audio-device` | sound through the machine's audio device (a page always has Web Audio); needs `libasound2-dev` on Linux | cpal |
+//! | `gamepad` | gamepads read by the window (a page always reads them); needs `libudev-dev` on Linux | gilrs |
+//!
+//! `tickwork = { version = "0.1", default-features = false, features =
+//! ["window", "audio"] }` is a game with sound and no command line.
 #![warn(missing_docs)]
 
 #[doc(inline)]
@@ -25,18 +46,24 @@ pub struct ReadmeDoctests;
 #[cfg(doctest)]
 pub struct GuideDoctests;
 
+#[cfg(feature = "render")]
 pub use tickwork_engine::app::{exit_code, run};
 
 /// What a game needs, in one import: `use tickwork::prelude::*;`.
 pub mod prelude {
     pub use crate::glam::{Quat, Vec2, Vec3};
     pub use crate::math;
+    #[cfg(feature = "cli")]
+    pub use tickwork_engine::app::parse_args;
+    #[cfg(feature = "audio")]
+    pub use tickwork_engine::app::Sound;
+    #[cfg(feature = "render")]
     pub use tickwork_engine::app::{
-        Draw, Game, GameError, Key, OnFailure, RunOptions, RunSummary, Settings, Sound, Stage, TickInput, Viewport,
-        WorldId, exit_code, parse_args, run,
+        Draw, Game, GameError, OnFailure, RunOptions, RunSummary, Settings, Stage, Viewport, WorldId, exit_code, run,
     };
-    pub use tickwork_engine::input::{PadAxis, PadButton};
+    pub use tickwork_engine::input::{Key, PadAxis, PadButton, TickInput};
     pub use tickwork_engine::interpolation::Interpolated;
+    #[cfg(feature = "render")]
     pub use tickwork_engine::render::{Anchor, Camera, Cap, Fit, Join, Line, Stroke, Texture};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, Heading,

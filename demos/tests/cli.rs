@@ -589,3 +589,154 @@ fn sim_on_the_gpu_ends_in_the_cpus_checksum_and_refuses_what_it_does_not_do_by_n
         )
     );
 }
+
+/// A scratch crate in the system's temporary folder (outside this
+/// workspace): `files` as (path, text).
+fn scratch_crate(name: &str, files: &[(&str, &str)]) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("tickwork-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for (path, text) in files {
+        let path = dir.join(path);
+        std::fs::create_dir_all(path.parent().expect("a folder")).expect("the folder");
+        std::fs::write(path, text).expect("the file");
+    }
+    dir
+}
+
+/// The checkout's root, for a path dependency on tickwork.
+fn checkout() -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .expect("the checkout")
+        .display()
+        .to_string()
+}
+
+fn manifest(name: &str, dependency: &str) -> String {
+    format!("[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2024\"\n\n[dependencies]\n{dependency}\n")
+}
+
+/// `tickwork web build` on `dir`, into `out`: its exit status and stderr.
+fn web_build(dir: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> (bool, String) {
+    let manifest = dir.join("Cargo.toml");
+    let mut args = vec!["web", "build", "--manifest-path", manifest.to_str().expect("utf-8"), "--out"];
+    args.push(out.to_str().expect("utf-8"));
+    args.extend(extra);
+    let output = tickwork(&args);
+    (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+#[test]
+fn web_build_refuses_a_crate_that_cannot_be_a_page_before_building_anything() {
+    let tickwork_dep = format!("tickwork = {{ path = {:?} }}", checkout());
+    let main = "fn main() {}\n";
+    let cases: [(&str, Vec<(&str, String)>, &[&str], &str); 4] = [
+        (
+            "nogame",
+            vec![("Cargo.toml", manifest("nogame", "")), ("src/main.rs", main.into())],
+            &[],
+            "nogame (",
+        ),
+        (
+            "nobin",
+            vec![("Cargo.toml", manifest("nobin", &tickwork_dep)), ("src/lib.rs", String::new())],
+            &[],
+            "nobin has no binary (",
+        ),
+        (
+            "twobins",
+            vec![
+                ("Cargo.toml", manifest("twobins", &tickwork_dep)),
+                ("src/bin/a.rs", main.into()),
+                ("src/bin/b.rs", main.into()),
+            ],
+            &[],
+            "tickwork: twobins has 2 binaries (a, b): pass --bin NAME for each page to build",
+        ),
+        (
+            "nosuchbin",
+            vec![("Cargo.toml", manifest("nosuchbin", &tickwork_dep)), ("src/main.rs", main.into())],
+            &["--bin", "other"],
+            "tickwork: --bin other: nosuchbin has no such binary (it has: nosuchbin)",
+        ),
+    ];
+    for (name, files, extra, expected) in cases {
+        let files: Vec<(&str, &str)> = files.iter().map(|(p, t)| (*p, t.as_str())).collect();
+        let dir = scratch_crate(name, &files);
+        let out = dir.join("site");
+        let (ok, stderr) = web_build(&dir, &out, extra);
+        assert!(!ok, "{name}: refused");
+        assert!(stderr.contains(expected), "{name}: {stderr}");
+        assert!(!out.exists(), "{name}: nothing written");
+        assert!(!dir.join("target").exists(), "{name}: nothing built");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let dir = scratch_crate("nogame-text", &[("Cargo.toml", &manifest("plain", "")), ("src/main.rs", main)]);
+    let (_, stderr) = web_build(&dir, &dir.join("site"), &[]);
+    assert!(
+        stderr.contains("depends on neither tickwork nor tickwork-engine, so it has no Game to build a page of"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn web_build_never_overwrites_a_folder_of_other_files() {
+    let tickwork_dep = format!("tickwork = {{ path = {:?} }}", checkout());
+    let dir = scratch_crate(
+        "notours",
+        &[("Cargo.toml", &manifest("notours", &tickwork_dep)), ("src/main.rs", "fn main() {}\n"), ("site/mine.txt", "mine")],
+    );
+    let (ok, stderr) = web_build(&dir, &dir.join("site"), &[]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("the folder holds files no web build wrote, and nothing was overwritten"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("site/mine.txt")).expect("kept"), "mine");
+    assert!(!dir.join("target").exists(), "nothing built");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn new_writes_a_game_crate_and_never_into_a_folder_that_is_not_empty() {
+    let dir = scratch_crate("new-full", &[("notes.txt", "mine")]);
+    let output = tickwork(&["new", dir.to_str().expect("utf-8")]);
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("the folder is not empty, and nothing was written"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(dir.join("notes.txt")).expect("kept"), "mine");
+    assert!(!dir.join("Cargo.toml").exists());
+
+    let game = dir.with_file_name(format!("tickwork-cli-{}-space-race", std::process::id()));
+    let _ = std::fs::remove_dir_all(&game);
+    let output = tickwork(&["new", game.to_str().expect("utf-8"), "--name", "space-race"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("tickwork web serve --release"), "it says what to run next: {stdout}");
+    let cargo_toml = std::fs::read_to_string(game.join("Cargo.toml")).expect("Cargo.toml");
+    assert!(cargo_toml.contains("name = \"space-race\""), "{cargo_toml}");
+    assert!(cargo_toml.contains(&format!("tickwork = {{ path = {:?} }}", checkout())), "{cargo_toml}");
+    let lib = std::fs::read_to_string(game.join("src/lib.rs")).expect("src/lib.rs");
+    assert!(lib.contains("pub struct SpaceRaceGame") && lib.contains("\"space-race\""), "{lib}");
+    let main = std::fs::read_to_string(game.join("src/main.rs")).expect("src/main.rs");
+    assert!(main.contains("space_race::SpaceRaceGame::default()"), "{main}");
+    let recording = std::fs::read_to_string(game.join("recordings/kicks.ron")).expect("the recording");
+    assert!(recording.contains("game: \"space-race\""), "{recording}");
+    for file in ["tests/game.rs", "tests/golden/first_second.png", "README.md", ".gitignore", "Cargo.lock"] {
+        assert!(game.join(file).is_file(), "{file} written");
+    }
+    let png = std::fs::read(game.join("tests/golden/first_second.png")).expect("the golden image");
+    assert!(png.starts_with(b"\x89PNG"), "the golden image is a PNG");
+    // A second time into the same folder: refused, nothing changed.
+    let output = tickwork(&["new", game.to_str().expect("utf-8")]);
+    assert!(!output.status.success());
+    assert_eq!(std::fs::read_to_string(game.join("Cargo.toml")).expect("kept"), cargo_toml);
+    let output = tickwork(&["new", dir.with_file_name("9lives").to_str().expect("utf-8")]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("\"9lives\" cannot name a crate: it must start with a letter; pass --name NAME"), "{stderr}");
+    assert!(!dir.with_file_name("9lives").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&game);
+}

@@ -146,6 +146,9 @@ pub enum CliError {
     /// `tickwork lab` failed: shown as the [`LabError`] itself (its message
     /// and its source), since the lab's messages name the option or file.
     Lab(LabError),
+    /// `tickwork new` or `tickwork web` stopped: shown as the
+    /// [`WebError`](super::web::WebError) itself, which says what to change.
+    Web(super::web::WebError),
 }
 
 impl fmt::Display for CliError {
@@ -202,6 +205,7 @@ impl fmt::Display for CliError {
             Self::Window { path, .. } => write!(f, "cannot show the scene {} in a window", path.display()),
             Self::Output(_) => f.write_str("cannot write the output"),
             Self::Lab(e) => e.fmt(f),
+            Self::Web(e) => e.fmt(f),
         }
     }
 }
@@ -222,6 +226,7 @@ impl Error for CliError {
             Self::Output(e) => Some(e),
             // Transparent: the lab's message is shown as this error's own.
             Self::Lab(e) => e.source(),
+            Self::Web(e) => e.source(),
             Self::EveryZero
             | Self::TooManySteps { .. }
             | Self::TooLong { .. }

@@ -3,8 +3,11 @@
 
 pub mod error;
 pub mod integrators;
+pub mod new;
+pub mod project;
 pub mod render;
 pub mod sim;
+pub mod web;
 
 use clap::{Parser, Subcommand};
 
@@ -39,6 +42,11 @@ pub enum Command {
     /// Play a scene in a window (Space pause, . step, +/- speed, Tab or 1-9
     /// integrator, R reset, F12 screenshot).
     View(render::WindowArgs),
+    /// Write a new game crate: a Game, its tests, a recording, a README.
+    New(new::NewArgs),
+    /// Build any game crate as a web page (`build`), or build and serve it
+    /// on localhost (`serve`).
+    Web(web::WebArgs),
 }
 
 /// Runs the command line; returns the process exit code. An error is
@@ -72,6 +80,8 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         }
         Some(Command::Render(args)) => render::render(&args),
         Some(Command::View(args)) => render::view(&args),
+        Some(Command::New(args)) => new::run(&args).map(drop).map_err(CliError::Web),
+        Some(Command::Web(args)) => web::run(args).map_err(CliError::Web),
         None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
             .map_err(CliError::Output),
     }

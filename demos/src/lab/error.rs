@@ -65,7 +65,7 @@ impl fmt::Display for LabError {
                 path.display()
             ),
             Self::Write { path, .. } => write!(f, "cannot write {}", path.display()),
-            Self::Font => f.write_str("the shipped font assets/fonts/DejaVuSans.ttf could not be read"),
+            Self::Font => f.write_str("the shipped font engine/fonts/DejaVuSans.ttf could not be read"),
             Self::Plot { path, .. } => write!(f, "cannot draw the chart {}", path.display()),
             Self::Method(e) => write!(f, "cannot build the method '{}'", e.name),
             Self::Gpu(message) => write!(f, "the GPU column: {message}"),

@@ -10,8 +10,8 @@ use plotters::style::{FontStyle, register_font};
 
 use super::LabError;
 
-/// The font, shipped in `assets/fonts/` with its licence.
-static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+/// The font, shipped in `engine/fonts/` with its licence.
+static FONT: &[u8] = include_bytes!("../../../engine/fonts/DejaVuSans.ttf");
 
 fn font() -> Result<(), LabError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();

@@ -6,9 +6,9 @@
 use glam::{Vec2, Vec3};
 
 use crate::render::tessellate;
-use crate::render::{
-    Batch, Line, Shapes, Sprite, Stroke, Text, Texture, Triangle, Width, extend_batches, measure_text,
-};
+#[cfg(feature = "text")]
+use crate::render::measure_text;
+use crate::render::{Batch, Line, Shapes, Sprite, Stroke, Text, Texture, Triangle, Width, extend_batches};
 use crate::world::Colour;
 
 /// The frame a game draws into: its size and how many pixels a metre is.
@@ -307,6 +307,7 @@ impl Draw {
     /// Adds `text` centred at `at` (24 px, light grey); the returned text
     /// sets its size, colour and anchor:
     /// `draw.text("YOU WIN", Vec3::ZERO).size(48.0).colour(GREEN);`
+    #[cfg(feature = "text")]
     pub fn text(&mut self, text: impl Into<String>, at: Vec3) -> &mut Text {
         extend_batches(
             &mut self.batches,
@@ -322,6 +323,7 @@ impl Draw {
 
     /// The width and height in pixels of `text` drawn `pixels` high (as
     /// [`text`](Self::text) draws it): to fit a box or place a column.
+    #[cfg(feature = "text")]
     #[must_use]
     pub fn measure(&self, text: &str, pixels: f32) -> Vec2 {
         measure_text(text, pixels)
@@ -329,6 +331,7 @@ impl Draw {
 
     /// The width and height in metres of `text` drawn `metres` high
     /// ([`Text::size_metres`]) at this frame's scale.
+    #[cfg(feature = "text")]
     #[must_use]
     pub fn measure_metres(&self, text: &str, metres: f32) -> Vec2 {
         let scale = self.viewport.pixels_per_metre;
@@ -336,6 +339,7 @@ impl Draw {
     }
 
     /// HUD text written from now on is drawn in `colour` (a legend's entries).
+    #[cfg(feature = "text")]
     pub fn colour(&mut self, colour: Colour) {
         self.hud_colours.push((self.hud.len(), colour));
     }

@@ -93,8 +93,8 @@ other_errors!(std::io::Error, std::num::ParseIntError, std::num::ParseFloatError
 /// `From` for each engine error a game's code can meet, into
 /// [`GameError::Engine`].
 macro_rules! engine_errors {
-    ($($error:ty),* $(,)?) => {
-        $(impl From<$error> for GameError {
+    ($($(#[$meta:meta])* $error:ty),* $(,)?) => {
+        $($(#[$meta])* impl From<$error> for GameError {
             fn from(error: $error) -> Self {
                 Self::Engine(Box::new(error))
             }
@@ -120,6 +120,7 @@ engine_errors!(
     crate::render::RenderError,
     crate::render::GoldenError,
     crate::render::TextureError,
+    #[cfg(feature = "audio")]
     super::sound::SoundError,
     crate::sensor::SensorError,
 );

@@ -3,115 +3,123 @@
 
 use std::path::PathBuf;
 
-use clap::Args;
-
-/// The options every game shares on the command line.
-#[derive(Args, Clone, Debug, PartialEq)]
+/// The options every game shares on the command line (with the `cli`
+/// feature: a clap `Args`), or filled in code (`RunOptions::default()`).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct RunOptions {
     /// Integrator by registry name (see `tickwork integrators`); a game that
     /// races integrators takes a comma-separated list. An error in a game
     /// that fixes every world's integrator to others (the tops).
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub integrator: Option<String>,
     /// Fixed steps per second (default: the game's, usually 60).
-    #[arg(long, value_parser = positive_f64, allow_hyphen_values = true)]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = positive_f64, allow_hyphen_values = true))]
     pub hz: Option<f64>,
     /// Simulated seconds per real second.
-    #[arg(long, default_value_t = 1.0, value_parser = positive_f64, allow_hyphen_values = true)]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 1.0, value_parser = positive_f64, allow_hyphen_values = true))]
     pub time_scale: f64,
     /// Draw off-screen even when a display is available.
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub headless: bool,
     /// Frames to run (default: until the window is closed; 300 off-screen,
     /// or as many as a replayed recording needs).
-    #[arg(long, allow_negative_numbers = true)]
+    #[cfg_attr(feature = "cli", arg(long, allow_negative_numbers = true))]
     pub frames: Option<u64>,
     /// Off-screen: directory for the PNG frames (default: a new
     /// `tickwork-out/<game>` directory).
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub out: Option<PathBuf>,
     /// Off-screen: the animated GIF (default: `<game>.gif` in the frames'
     /// directory).
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub gif: Option<PathBuf>,
     /// Off-screen: draw every frame but write none, and say how long a
     /// frame took (a timing run).
-    #[arg(long, conflicts_with_all = ["out", "gif"])]
+    #[cfg_attr(feature = "cli", arg(long, conflicts_with_all = ["out", "gif"]))]
     pub no_frames: bool,
     /// Window or frame size, WIDTHxHEIGHT (default: 1280x720 in a window,
     /// 640x360 off-screen).
-    #[arg(long, value_parser = parse_size, allow_hyphen_values = true)]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = parse_size, allow_hyphen_values = true))]
     pub size: Option<(u32, u32)>,
     /// Seed of the worlds' random generators.
-    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0, allow_negative_numbers = true))]
     pub seed: u64,
     /// Record the keys of every tick to this file (RON) when the run ends.
-    #[arg(long, conflicts_with = "replay")]
+    #[cfg_attr(feature = "cli", arg(long, conflicts_with = "replay"))]
     pub record: Option<PathBuf>,
     /// Replay a recording instead of the keyboard, with its rate and seed.
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub replay: Option<PathBuf>,
     /// Frame durations from a simulated display at this rate (default: the
     /// real clock in a window, 60 Hz off-screen).
-    #[arg(long, value_parser = display_hz, allow_hyphen_values = true)]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = display_hz, allow_hyphen_values = true))]
     pub display_hz: Option<f64>,
     /// Window: after `--frames`, keep showing the last frame this many
     /// seconds before closing (for a screenshot from outside).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative_seconds, allow_hyphen_values = true)]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 0.0, value_parser = non_negative_seconds, allow_hyphen_values = true))]
     pub hold: f64,
     /// Overwrite existing frames, GIF or recording.
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub force: bool,
     /// Start with the control panel shown (F1 toggles it; default: as the
     /// game says, hidden for games, shown for the lab's demos).
-    #[arg(long, conflicts_with = "no_panel")]
+    #[cfg_attr(feature = "cli", arg(long, conflicts_with = "no_panel"))]
     pub panel: bool,
     /// Start with the control panel hidden (F1 toggles it).
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub no_panel: bool,
     /// Run headless under a rollback sync test instead: every tick, roll
     /// back this many ticks (1-7) and re-simulate, failing at the first tick
     /// whose state differs (with `--replay`, its inputs; `--frames` ticks,
     /// default 300 or the recording's).
-    #[arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true)]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true))]
     pub sync_test: Option<usize>,
     /// Host a two-player match on this UDP port (0: any free port, printed)
     /// and play player 1 (the other player runs `--join`).
-    #[arg(long, value_name = "PORT", conflicts_with_all = ["join", "sync_test"])]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "PORT", conflicts_with_all = ["join", "sync_test"]))]
     pub host: Option<u16>,
     /// Join the match hosted at this address (`192.168.1.20:7000`) and play
     /// player 2, with the host's seed, rate and integrator.
-    #[arg(long, value_name = "ADDR", conflicts_with = "sync_test")]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "ADDR", conflicts_with = "sync_test"))]
     pub join: Option<std::net::SocketAddr>,
     /// In a match: play this side from a recording of one player's input
     /// (`--record` of a run alone) instead of the keyboard (tests, bots).
-    #[arg(long, value_name = "FILE", conflicts_with = "replay")]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "FILE", conflicts_with = "replay"))]
     pub script: Option<PathBuf>,
     /// In a match: ticks a player's input waits before it counts; hides
     /// that much latency without a rollback (0-8).
-    #[arg(long, default_value_t = 2, value_name = "TICKS")]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 2, value_name = "TICKS"))]
     pub input_delay: usize,
     /// In a match: ticks this side runs ahead on predicted input before it
     /// waits for the other player (0-16; 0 is lockstep).
-    #[arg(long, default_value_t = 8, value_name = "TICKS")]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 8, value_name = "TICKS"))]
     pub max_prediction: usize,
     /// In a match: delay, jitter and loss laid on what this side sends,
     /// `LATENCY_MS,JITTER_MS,LOSS[,SEED]` (for example `60,20,0.05`), to
     /// try a bad network on one machine.
-    #[arg(long, value_name = "SPEC")]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "SPEC"))]
     pub impair: Option<super::Impairment>,
     /// In a match: seconds to wait for the other player to join or answer.
-    #[arg(long, default_value_t = 60.0, value_parser = positive_f64)]
+    #[cfg(feature = "netcode")]
+    #[cfg_attr(feature = "cli", arg(long, default_value_t = 60.0, value_parser = positive_f64))]
     pub wait_seconds: f64,
     /// In a page: the graphics backend, `webgpu` or `webgl2` (default:
     /// WebGPU where the browser has it, else WebGL2). Natively
     /// `WGPU_BACKEND` chooses.
-    #[arg(long, value_parser = ["webgpu", "webgl2"])]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = ["webgpu", "webgl2"]))]
     pub backend: Option<String>,
     /// Step every world's particles on the GPU (compute shaders, drawn
     /// from the GPU's buffers); what the GPU step does not do is an error
     /// naming it.
-    #[arg(long)]
+    #[cfg_attr(feature = "cli", arg(long))]
     pub gpu: bool,
 }
 
@@ -135,13 +143,21 @@ impl Default for RunOptions {
             force: false,
             panel: false,
             no_panel: false,
+            #[cfg(feature = "netcode")]
             sync_test: None,
+            #[cfg(feature = "netcode")]
             host: None,
+            #[cfg(feature = "netcode")]
             join: None,
+            #[cfg(feature = "netcode")]
             script: None,
+            #[cfg(feature = "netcode")]
             input_delay: 2,
+            #[cfg(feature = "netcode")]
             max_prediction: 8,
+            #[cfg(feature = "netcode")]
             impair: None,
+            #[cfg(feature = "netcode")]
             wait_seconds: 60.0,
             backend: None,
             gpu: false,
@@ -149,6 +165,7 @@ impl Default for RunOptions {
     }
 }
 
+#[cfg(feature = "netcode")]
 impl RunOptions {
     /// The networked side of these options: the peer (`--host`, `--join`)
     /// and how the match is played, if a match was asked for.
@@ -173,6 +190,7 @@ impl RunOptions {
 }
 
 /// A command line of only the shared options.
+#[cfg(feature = "cli")]
 #[derive(clap::Parser)]
 #[command(
     about = "Runs a Tickwork game: in a window when a display is available, else off-screen into PNG frames and \
@@ -185,6 +203,7 @@ struct SharedCommandLine {
     options: RunOptions,
 }
 
+#[cfg(feature = "cli")]
 impl RunOptions {
     /// Parses the program's command line (exits with clap's message and
     /// usage for bad options, `--help` lists them). Games with options of
@@ -201,6 +220,7 @@ impl RunOptions {
 /// option exits with clap's message and usage, which a page shows on the
 /// console and on the page; `--help` prints the options. Games with
 /// options of their own call it with their parser.
+#[cfg(feature = "cli")]
 #[must_use]
 pub fn parse_args<P: clap::Parser>() -> P {
     match P::try_parse_from(crate::platform::args()) {
@@ -271,6 +291,7 @@ pub fn display_hz(text: &str) -> Result<f64, String> {
     }
 }
 
+#[cfg_attr(not(feature = "cli"), allow(dead_code))]
 fn positive_f64(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),

@@ -33,6 +33,7 @@ use crate::platform::{complain, say, web};
 /// without a recording to fetch is fine, so only the first two).
 pub(super) fn run_in_page<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     web::install_panic_hook();
+    #[cfg(feature = "netcode")]
     if options.network().is_some() {
         return Err(RunError::Limit(
             "a networked match (--host, --join) needs UDP sockets, which a browser does not have: play a match \
@@ -75,15 +76,18 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
     web::fetch_assets(game.assets())
         .await
         .map_err(|message| RunError::Game(format!("an asset the game lists (Game::assets): {message}").into()))?;
+    #[cfg(feature = "netcode")]
     let sync_inputs = options.sync_test.and(replay.clone());
     // (A page's recording is a download: nothing to overwrite.)
     let mut session = GameSession::new(game, super::run::session_options(&options, replay))?;
+    #[cfg(feature = "netcode")]
     if let Some(distance) = options.sync_test {
         super::run::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
         return Ok(());
     }
     // A browser plays a page's sound only after the user's first key
     // press, click or touch: the device opens then (PageRun::input).
+    #[cfg(feature = "audio")]
     say("tickwork: sound starts at the first key press, click or touch (the browser's rule)");
     let panel = !options.no_panel && (options.panel || session.stage().panel);
     let (width, height) = options.size.unwrap_or((1280, 720));
@@ -219,6 +223,7 @@ impl<G: Game> FrameSource for PageRun<G> {
         // A press is the user's gesture a browser wants before sound.
         if !self.heard && matches!(event, crate::input::InputEvent::Key { down: true, .. }) {
             self.heard = true;
+            #[cfg(feature = "audio")]
             self.session.open_audio_device();
         }
         self.session.input(event, arrival);
@@ -257,6 +262,7 @@ impl<G: Game> FrameSource for PageRun<G> {
         self.session.with_view(hud, size, render)
     }
 
+    #[cfg(feature = "panel")]
     fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<super::Control>) {
         self.session.panel(ctx, chosen);
     }

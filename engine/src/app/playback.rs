@@ -18,6 +18,7 @@ use super::backend::{StepFailure, Stepper};
 use super::control::{Control, chosen_integrator, clock_control};
 use super::error::{PlaybackError, RunError};
 use super::frame_rate::FrameRate;
+#[cfg(feature = "panel")]
 use super::panel::{ClockRow, WorldRow};
 use super::source::FrameSource;
 use super::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
@@ -351,6 +352,7 @@ impl FrameSource for Playback {
         self.world.tick()
     }
 
+    #[cfg(feature = "panel")]
     fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
         let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, false);
         let rows = [WorldRow {

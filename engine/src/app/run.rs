@@ -5,17 +5,21 @@
 use std::path::{Path, PathBuf};
 
 use super::error::RunError;
-use super::game::{Game, GameError};
+use super::game::Game;
+#[cfg(feature = "netcode")]
+use super::game::GameError;
+#[cfg(feature = "netcode")]
 use super::network::{Lobby, MatchReport, NetOptions, NetSession, Peer};
 use super::offscreen::{FrameOutput, MAX_OFFSCREEN_FRAMES, OffscreenRun, check_output};
 use super::options::RunOptions;
+#[cfg(feature = "netcode")]
 use super::rollback::sync_test;
 use super::session::GameSession;
 use super::session_options::SessionOptions;
 use super::source::FrameSource;
 use super::stage::{Settings, Stage};
-use super::window::display_available;
-use super::window::{WindowOptions, run_window};
+#[cfg(feature = "window")]
+use super::window::{WindowOptions, display_available, run_window};
 use crate::clock::FixedCadence;
 use crate::input::Recording;
 use crate::render::{Gpu, RendererConfig};
@@ -148,11 +152,16 @@ pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
     if let Some(path) = &options.gif {
         check_output_file(path, options.force)?;
     }
+    // Without the `window` feature every native run is off-screen.
+    #[cfg(feature = "window")]
     let windowed = !options.headless && display_available();
+    #[cfg(not(feature = "window"))]
+    let windowed = false;
     if !windowed {
         check_output(options.frames.unwrap_or(0), options.out.as_deref())?;
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
+    #[cfg(feature = "netcode")]
     if let Some((peer, net)) = options.network() {
         if replay.is_some() {
             return Err(RunError::Limit(
@@ -163,6 +172,7 @@ pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
         let script = options.script.as_deref().map(Recording::load).transpose()?;
         return network_run(game, peer, &net, &options, windowed, script);
     }
+    #[cfg(feature = "netcode")]
     if options.script.is_some() {
         return Err(RunError::Limit(
             "--script plays one side of a networked match: pass --host PORT or --join ADDR with it (to play a \
@@ -172,9 +182,11 @@ pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
     }
     let replay_ticks = replay.as_ref().map(|r| (r.ticks, r.hz));
     // A sync test drives the ticks itself, with the recording's inputs.
+    #[cfg(feature = "netcode")]
     let replay_inputs = options.sync_test.and(replay.clone());
     let mut session = GameSession::new(game, session_options(&options, replay))?;
     let title = session.game().title().to_owned();
+    #[cfg(feature = "netcode")]
     if let Some(distance) = options.sync_test {
         return sync_test_run(&mut session, distance, &options, replay_inputs.as_ref());
     }
@@ -229,8 +241,10 @@ pub(super) fn session_options(options: &RunOptions, replay: Option<Recording>) -
 
 /// The ticks a headless match plays without `--frames`: 600 (ten seconds
 /// at 60 Hz).
+#[cfg(feature = "netcode")]
 pub const DEFAULT_MATCH_TICKS: u64 = 600;
 
+#[cfg(feature = "netcode")]
 /// `--host` or `--join`: finds the other player, then plays the match in
 /// the window, or headless for `--frames` ticks; saves both players'
 /// inputs with `--record`.
@@ -272,6 +286,15 @@ fn network_run<G: Game + Clone + 'static>(
         script,
     )?;
     let mut summary = RunSummary::nothing_yet(windowed);
+    #[cfg(not(feature = "window"))]
+    let played = {
+        let _ = windowed;
+        let ticks = options.frames.unwrap_or(DEFAULT_MATCH_TICKS);
+        session
+            .play_headless(ticks)
+            .map(|report| summary.checksum = Some(match_ended(&title, report)))
+    };
+    #[cfg(feature = "window")]
     let played = if windowed {
         // `--frames N` ends the match at tick N (the window closes then).
         if let Some(ticks) = options.frames {
@@ -325,6 +348,7 @@ fn network_run<G: Game + Clone + 'static>(
 }
 
 /// Prints how a match ended; returns its checksum.
+#[cfg(feature = "netcode")]
 fn match_ended(title: &str, report: MatchReport) -> u64 {
     crate::say!(
         "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} ticks \
@@ -341,8 +365,10 @@ fn match_ended(title: &str, report: MatchReport) -> u64 {
 
 /// The most ticks `--sync-test` runs: a million (over four hours of play at
 /// 60 Hz, each tick simulated up to eight times).
+#[cfg(feature = "netcode")]
 pub const MAX_SYNC_TEST_TICKS: u64 = 1_000_000;
 
+#[cfg(feature = "netcode")]
 /// `--sync-test`: the game headless under a rollback sync test, for
 /// `--frames` ticks (default: the recording's, or 300), with the
 /// recording's inputs if one is given.
@@ -405,7 +431,9 @@ fn show<G: Game>(
     summary: &mut RunSummary,
 ) -> Result<(), RunError> {
     let title = session.game().title().to_owned();
+    #[cfg(feature = "window")]
     if summary.windowed {
+        #[cfg(feature = "audio")]
         session.open_audio_device();
         let (width, height) = options.size.unwrap_or((1280, 720));
         let panel = !options.no_panel && (options.panel || session.stage().panel);
@@ -425,7 +453,9 @@ fn show<G: Game>(
             },
         )?;
         summary.frames = window.frames;
-    } else {
+        return Ok(());
+    }
+    {
         let (width, height) = options.size.unwrap_or((640, 360));
         let display_hz = options.display_hz.unwrap_or(60.0);
         let frames = match (options.frames, replay_ticks) {

@@ -10,6 +10,7 @@
 
 use std::path::PathBuf;
 
+#[cfg(feature = "audio")]
 use super::audio::{Audio, Played};
 use super::backend::StepFailure;
 use super::control::{Control, chosen_integrator, clock_control};
@@ -17,6 +18,7 @@ use super::draw::{Draw, Viewport};
 use super::error::RunError;
 use super::frame_rate::FrameRate;
 use super::game::{Game, GameError};
+#[cfg(feature = "panel")]
 use super::panel::{ClockRow, WorldRow};
 use super::session_options::SessionOptions;
 use super::source::FrameSource;
@@ -24,7 +26,6 @@ use super::stage::{Stage, StageWorld};
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::interpolation::Interpolation;
-use crate::platform::say;
 use crate::render::{Camera, FrameView, RenderError, WorldView};
 use crate::world::Backend;
 use tickwork_integrators::build;
@@ -62,6 +63,7 @@ pub struct GameSession<G: Game> {
     /// Drawn when the stage has no world (a game of lines only).
     empty: crate::world::World,
     /// The sounds started, and the device they play on, if any.
+    #[cfg(feature = "audio")]
     audio: Audio,
 }
 
@@ -170,6 +172,7 @@ impl<G: Game> GameSession<G> {
             frame_rate: FrameRate::default(),
             replay_done: false,
             empty: crate::world::World::default(),
+            #[cfg(feature = "audio")]
             audio: Audio::silent(),
         };
         session.restart()?;
@@ -248,6 +251,7 @@ impl<G: Game> GameSession<G> {
         self.stage = stage;
         self.inputs.fill(TickInput::default());
         self.queue.restart();
+        #[cfg(feature = "audio")]
         self.audio.forget();
         match &mut self.mode {
             InputMode::Live { record } => {
@@ -361,6 +365,7 @@ impl<G: Game> GameSession<G> {
     /// This machine's input of the step ending at simulated time `end`,
     /// from the window's events (a networked session sends it to the
     /// other players rather than recording it here).
+    #[cfg(feature = "netcode")]
     pub(super) fn local_input(&mut self, end: f64) -> TickInput {
         self.queue.tick(end)
     }
@@ -368,10 +373,12 @@ impl<G: Game> GameSession<G> {
     /// One fixed step of the game: [`Game::fixed_update_players`] with
     /// every player's input, then every world of the stage.
     pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, inputs: &[TickInput]) -> Result<(), RunError> {
+        #[cfg(feature = "audio")]
         self.stage.sounds_due.clear();
         self.game
             .fixed_update_players(&mut self.stage, &step, inputs)
             .map_err(RunError::Game)?;
+        #[cfg(feature = "audio")]
         self.audio.tick(step.tick, &self.stage.sounds_due);
         let gpu = &mut self.stage.gpu;
         for shown in &mut self.stage.worlds {
@@ -407,6 +414,7 @@ impl<G: Game> GameSession<G> {
     /// The sounds the game's ticks started, oldest first (the last
     /// [`LOGGED_SOUNDS`](super::LOGGED_SOUNDS)): each once, at the tick that
     /// asked for it, however often a rollback ran that tick.
+    #[cfg(feature = "audio")]
     pub fn played_sounds(&self) -> impl Iterator<Item = &Played> {
         self.audio.played()
     }
@@ -417,14 +425,16 @@ impl<G: Game> GameSession<G> {
     /// instead and goes on silently. The window calls it at the start, a
     /// page at the first key press, click or touch (a browser lets a page
     /// play sound only after one); headless runs and replays stay silent.
+    #[cfg(feature = "audio")]
     pub fn open_audio_device(&mut self) {
         match self.audio.open_device() {
-            Ok(()) => say("tickwork: sound plays through the audio device"),
-            Err(why) => say(&format!("tickwork: sound is silent: {why}")),
+            Ok(()) => crate::platform::say("tickwork: sound plays through the audio device"),
+            Err(why) => crate::platform::say(&format!("tickwork: sound is silent: {why}")),
         }
     }
 
     /// The clock, to give back steps a rollback session could not run.
+    #[cfg(feature = "netcode")]
     pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
         &mut self.clock
     }
@@ -455,6 +465,7 @@ impl<G: Game> GameSession<G> {
     }
 
     /// The game, to save and load it (rollback).
+    #[cfg(feature = "netcode")]
     pub(super) fn game_mut(&mut self) -> &mut G {
         &mut self.game
     }
@@ -725,6 +736,7 @@ impl<G: Game> FrameSource for GameSession<G> {
         Ok(())
     }
 
+    #[cfg(feature = "panel")]
     fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
         let rate_fixed = self.is_recording() || self.replay().is_some();
         let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, rate_fixed);

@@ -100,6 +100,7 @@ pub trait FrameSource {
     /// Lays out the window's control panel, adding the controls chosen in
     /// it to `chosen` (applied by the runner before the next frame's
     /// steps). Default: no panel.
+    #[cfg(feature = "panel")]
     fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
         let _ = (ctx, chosen);
     }

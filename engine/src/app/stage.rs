@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::backend::{StepFailure, Stepper};
 use super::draw::Viewport;
+#[cfg(feature = "audio")]
 use super::sound::Sound;
 use crate::clock::{FixedStep, Rate};
 use crate::gpu_step::GpuStepError;
@@ -342,6 +343,7 @@ pub struct Stage {
     /// [`Key`](crate::input::Key) is the game's anyway.
     pub claimed_keys: KeySet,
     /// The sounds this tick's `fixed_update` asked for, in order.
+    #[cfg(feature = "audio")]
     pub(crate) sounds_due: Vec<Sound>,
     /// The GPU the worlds on the GPU step on: the runner's (the one it
     /// draws with), or one of their own for a run that draws nothing.
@@ -365,6 +367,7 @@ impl Default for Stage {
             settings: Settings::default(),
             viewport: Viewport::default(),
             claimed_keys: KeySet::EMPTY,
+            #[cfg(feature = "audio")]
             sounds_due: Vec::new(),
             gpu: None,
         }
@@ -398,6 +401,7 @@ impl Stage {
     /// one (a window run built with the `audio-device` feature), silently
     /// otherwise; either way [`GameSession::played_sounds`](super::GameSession::played_sounds)
     /// lists it (a test asserts "the explosion started at tick 812").
+    #[cfg(feature = "audio")]
     pub fn play(&mut self, sound: &Sound) {
         self.sounds_due.push(sound.clone());
     }

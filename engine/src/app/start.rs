@@ -19,8 +19,14 @@ use super::run::RunSummary;
 /// adapter, a failed step, a file that exists (without `--force`).
 pub fn run<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     // In a browser the page's runner plays it (and returns at once).
-    #[cfg(target_arch = "wasm32")]
+    #[cfg(all(target_arch = "wasm32", feature = "window"))]
     let run = super::page::run_in_page;
+    #[cfg(all(target_arch = "wasm32", not(feature = "window")))]
+    let run = |_: G, _: RunOptions| {
+        Err(RunError::Limit(
+            "a page draws on its canvas through Tickwork's `window` feature, which this game was built without".into(),
+        ))
+    };
     #[cfg(not(target_arch = "wasm32"))]
     let run = super::run::run_native;
     run(game, options)

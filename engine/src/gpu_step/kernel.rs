@@ -11,10 +11,10 @@ use crate::world::World;
 
 /// The step's shader: the common part, then the contacts inside the step,
 /// then the method's `advance`.
-const COMMON: &str = include_str!("../../../assets/shaders/gpu_step/step.wgsl");
+const COMMON: &str = include_str!("../../shaders/gpu_step/step.wgsl");
 
 /// Contacts inside the step (`ContactRule::InStep` planes and boxes).
-const IN_STEP: &str = include_str!("../../../assets/shaders/gpu_step/in_step.wgsl");
+const IN_STEP: &str = include_str!("../../shaders/gpu_step/in_step.wgsl");
 
 /// The methods with a GPU form: name, WGSL, and the most evaluations of
 /// the acceleration it makes in one step (where a particle starts by RK4:
@@ -22,59 +22,59 @@ const IN_STEP: &str = include_str!("../../../assets/shaders/gpu_step/in_step.wgs
 const METHODS: &[(&str, &str, u32)] = &[
     (
         "semi_implicit_euler",
-        include_str!("../../../assets/shaders/gpu_step/semi_implicit_euler.wgsl"),
+        include_str!("../../shaders/gpu_step/semi_implicit_euler.wgsl"),
         1,
     ),
     (
         "explicit_euler",
-        include_str!("../../../assets/shaders/gpu_step/explicit_euler.wgsl"),
+        include_str!("../../shaders/gpu_step/explicit_euler.wgsl"),
         1,
     ),
     (
         "midpoint",
-        include_str!("../../../assets/shaders/gpu_step/midpoint.wgsl"),
+        include_str!("../../shaders/gpu_step/midpoint.wgsl"),
         2,
     ),
-    ("heun", include_str!("../../../assets/shaders/gpu_step/heun.wgsl"), 2),
-    ("rk4", include_str!("../../../assets/shaders/gpu_step/rk4.wgsl"), 4),
+    ("heun", include_str!("../../shaders/gpu_step/heun.wgsl"), 2),
+    ("rk4", include_str!("../../shaders/gpu_step/rk4.wgsl"), 4),
     (
         "forest_ruth",
-        include_str!("../../../assets/shaders/gpu_step/forest_ruth.wgsl"),
+        include_str!("../../shaders/gpu_step/forest_ruth.wgsl"),
         3,
     ),
     (
         "velocity_verlet",
-        include_str!("../../../assets/shaders/gpu_step/velocity_verlet.wgsl"),
+        include_str!("../../shaders/gpu_step/velocity_verlet.wgsl"),
         2,
     ),
     (
         "leapfrog",
-        include_str!("../../../assets/shaders/gpu_step/leapfrog.wgsl"),
+        include_str!("../../shaders/gpu_step/leapfrog.wgsl"),
         2,
     ),
     (
         "position_verlet",
-        include_str!("../../../assets/shaders/gpu_step/position_verlet.wgsl"),
+        include_str!("../../shaders/gpu_step/position_verlet.wgsl"),
         4,
     ),
     (
         "beeman",
-        include_str!("../../../assets/shaders/gpu_step/beeman.wgsl"),
+        include_str!("../../shaders/gpu_step/beeman.wgsl"),
         5,
     ),
     (
         "adams_bashforth2",
-        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
         4,
     ),
     (
         "adams_bashforth3",
-        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
         4,
     ),
     (
         "adams_bashforth4",
-        include_str!("../../../assets/shaders/gpu_step/adams_bashforth.wgsl"),
+        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
         4,
     ),
 ];

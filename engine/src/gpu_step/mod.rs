@@ -1,6 +1,6 @@
 //! The fixed step on the GPU: a particle world's state in storage buffers,
 //! stepped by compute dispatches, each method's formula a WGSL file of its
-//! own (`assets/shaders/gpu_step/`), checked against the CPU's f32 step.
+//! own (`engine/shaders/gpu_step/`), checked against the CPU's f32 step.
 //!
 //! A [`GpuWorld`] is made from a [`World`](crate::World): its particles are
 //! uploaded once, then [`GpuWorld::step`] records any number of fixed steps

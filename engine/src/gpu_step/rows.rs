@@ -1,7 +1,7 @@
 //! A GPU world's rows following its CPU world's: the world logs each row
 //! it swap-removes and adds ([`RowChange`]), this turns a step's log into
 //! the moves and new records that leave the GPU's rows in the CPU's order
-//! (`assets/shaders/gpu_step/rows.wgsl`), planned in O(changes), applied
+//! (`engine/shaders/gpu_step/rows.wgsl`), planned in O(changes), applied
 //! after the step.
 //!
 //! Why the CPU plans it: which rows expire is known there without the
@@ -155,7 +155,7 @@ impl RowKernel {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tickwork gpu rows"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gpu_step/rows.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/gpu_step/rows.wgsl").into()),
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu rows"),

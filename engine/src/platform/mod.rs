@@ -108,7 +108,7 @@ pub fn ready_now<F: Future>(future: F) -> Option<F::Output> {
 ///
 /// # Errors
 /// In a page, the browser's message if the canvas cannot be made.
-#[cfg(feature = "render")]
+#[cfg(feature = "window")]
 pub fn window_attributes(
     attributes: winit::window::WindowAttributes,
     size: Option<(u32, u32)>,

@@ -35,7 +35,7 @@ pub(super) fn ready_now<F: Future>(future: F) -> Option<F::Output> {
     Some(pollster::block_on(future))
 }
 
-#[cfg(feature = "render")]
+#[cfg(feature = "window")]
 pub(super) fn window_attributes(
     attributes: winit::window::WindowAttributes,
     size: Option<(u32, u32)>,

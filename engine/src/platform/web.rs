@@ -60,7 +60,7 @@ pub(super) fn ready_now<F: Future>(future: F) -> Option<F::Output> {
     }
 }
 
-#[cfg(feature = "render")]
+#[cfg(feature = "window")]
 pub(super) fn window_attributes(
     attributes: winit::window::WindowAttributes,
     size: Option<(u32, u32)>,

@@ -1,5 +1,5 @@
 //! GPU worlds' particles gathered into the frame's instance records
-//! (`assets/shaders/gather.wgsl`): one compute pass a frame writes each
+//! (`engine/shaders/gather.wgsl`): one compute pass a frame writes each
 //! GPU world's previous and current positions, radii and colours after
 //! the CPU worlds' records, so the quads and the splat draw every world
 //! the same way. Nothing is uploaded or read back: 32 bytes a particle
@@ -38,7 +38,7 @@ impl Gather {
     pub(crate) fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tickwork gather"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../../assets/shaders/gather.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/gather.wgsl").into()),
         });
         let buffer = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
         use wgpu::BufferBindingType::{Storage, Uniform};

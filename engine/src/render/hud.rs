@@ -1,4 +1,4 @@
-//! Text with glyphon, from the font shipped in `assets/fonts/` (never the
+//! Text with glyphon, from the font shipped in `engine/fonts/` (never the
 //! machine's fonts, so golden images are the same everywhere): the HUD
 //! line, drawn over the frame, and the game's texts, in runs drawn where
 //! the frame's order puts them (one glyphon renderer per run, sharing one
@@ -10,21 +10,10 @@ use glyphon::{
 };
 
 use super::Gpu;
-use super::overlay::Anchor;
+use super::overlay::{Anchor, PlacedText};
 use super::target::DEPTH_FORMAT;
 use super::text_layout::{LINE_HEIGHT, font_system, lay_out};
 
-/// A game's text as the frame places it: its anchor point in pixels from
-/// the top-left corner.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct PlacedText {
-    pub text: String,
-    pub x: f32,
-    pub y: f32,
-    pub size: f32,
-    pub colour: [u8; 4],
-    pub anchor: Anchor,
-}
 
 /// A laid-out text of the game's, kept from frame to frame: laid out again
 /// only when its text or size changes.

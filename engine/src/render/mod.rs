@@ -21,15 +21,15 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-/// A shader's WGSL source: `assets/shaders/common.wgsl` (uniforms, the
+/// A shader's WGSL source: `engine/shaders/common.wgsl` (uniforms, the
 /// particle record, colour conversions), then the named file. WGSL has no
 /// includes; this keeps the shared definitions in one place.
 macro_rules! shader {
     ($file:literal) => {
         concat!(
-            include_str!("../../../assets/shaders/common.wgsl"),
+            include_str!("../../shaders/common.wgsl"),
             "\n",
-            include_str!(concat!("../../../assets/shaders/", $file))
+            include_str!(concat!("../../shaders/", $file))
         )
     };
 }
@@ -42,6 +42,12 @@ mod gather;
 mod golden;
 mod gpu;
 mod hermite;
+// Text through glyphon with the `text` feature; without it, nothing draws
+// text (`Draw::text` is not there).
+#[cfg(feature = "text")]
+mod hud;
+#[cfg(not(feature = "text"))]
+#[path = "no_text.rs"]
 mod hud;
 mod line_vertices;
 mod offscreen;
@@ -55,6 +61,7 @@ mod sprites;
 mod stroke;
 mod target;
 pub(crate) mod tessellate;
+#[cfg(feature = "text")]
 mod text_layout;
 mod texture;
 mod trails;
@@ -76,6 +83,7 @@ pub use renderer::Renderer;
 pub use sprite::Sprite;
 pub use stroke::{Cap, Join, Stroke, Width};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
+#[cfg(feature = "text")]
 pub use text_layout::measure_text;
 pub use texture::{MAX_TEXTURE_SIDE, Texture, TextureError};
 pub use trails::Trails;

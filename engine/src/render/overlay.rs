@@ -140,6 +140,7 @@ impl Anchor {
     }
 
     /// How the text's lines are aligned within its box.
+    #[cfg(feature = "text")]
     pub(crate) fn align(self) -> glyphon::cosmic_text::Align {
         use glyphon::cosmic_text::Align;
         match self.fractions().0 {
@@ -232,4 +233,16 @@ impl Text {
         self.anchor = anchor;
         self
     }
+}
+
+/// A game's text as the frame places it: its anchor point in pixels from
+/// the top-left corner.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PlacedText {
+    pub text: String,
+    pub x: f32,
+    pub y: f32,
+    pub size: f32,
+    pub colour: [u8; 4],
+    pub anchor: Anchor,
 }

@@ -1,6 +1,6 @@
 //! The compute splat path: many small particles in a 2D view drawn by one
 //! compute invocation each instead of one quad each (see
-//! `assets/shaders/splat.wgsl` for the method and why). In Hermite mode the
+//! `engine/shaders/splat.wgsl` for the method and why). In Hermite mode the
 //! splat places the discs by the same `hermite_from_end` as the quads, from
 //! a second bind group that adds the velocities (built on first use).
 

@@ -9,9 +9,9 @@ use glam::Vec2;
 use glyphon::cosmic_text::Align;
 use glyphon::{Attrs, Buffer, Family, FontSystem, Metrics, Shaping};
 
-/// DejaVu Sans, shipped with its licence in `assets/fonts/` (never the
+/// DejaVu Sans, shipped with its licence in `engine/fonts/` (never the
 /// machine's fonts, so golden images are the same everywhere).
-const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+const FONT: &[u8] = include_bytes!("../../fonts/DejaVuSans.ttf");
 
 /// Line height as a multiple of the size, for a game's placed text.
 pub(crate) const LINE_HEIGHT: f32 = 1.2;

@@ -72,6 +72,7 @@ pub(crate) struct Hidden(pub bool);
 
 impl World {
     /// Whether any entity has a heading (what the GPU step refuses).
+    #[cfg(feature = "render")]
     pub(crate) fn has_headings(&self) -> bool {
         self.columns.get::<Heading>().is_some()
     }

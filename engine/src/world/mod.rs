@@ -38,6 +38,7 @@ pub use particles::Particles;
 pub use removal::{Removal, RemovalCause};
 pub use rigid::{RigidBodies, RigidBody};
 pub use snapshot::Snapshot;
+#[cfg(feature = "render")]
 pub(crate) use world::RowChange;
 pub use world::World;
 

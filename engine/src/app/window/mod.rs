@@ -42,7 +42,8 @@ use gamepads::Gamepads;
 use keys::KeyAction;
 pub use options::WindowOptions;
 use panel::draw_panel;
-use surface::{Panel, WindowState, open, screenshot};
+use panel::Panel;
+use surface::{WindowState, open, screenshot};
 use touch::{Mouse, TouchMouse};
 
 /// The window's GPU, once found: the event the start-up sends back to the
@@ -550,7 +551,7 @@ impl App<'_> {
         if self.panel_visible
             && !runner_key
             && let (Some(panel), Some(state)) = (self.panel.as_mut(), self.state.as_ref())
-            && panel.input.on_window_event(&state.window, &event).consumed
+            && panel.takes(&state.window, &event)
         {
             return;
         }

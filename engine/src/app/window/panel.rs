@@ -1,12 +1,86 @@
-//! The pass that draws the control panel over a finished frame (the panel
-//! returns controls; it changes nothing).
+//! The window's control panel: its egui state, the events it takes, and
+//! the pass that draws it over a finished frame (the panel returns
+//! controls; it changes nothing). Without the `panel` feature a window has
+//! none: [`Panel`] takes no event and draws nothing.
+
+use winit::event::WindowEvent;
+use winit::window::Window;
 
 use super::super::control::Control;
 use super::super::source::FrameSource;
-use super::surface::{Panel, WindowState};
+use super::surface::WindowState;
+use crate::render::Gpu;
+
+/// The egui side of the window: context, winit input state, wgpu renderer.
+#[cfg(feature = "panel")]
+pub(super) struct Panel {
+    context: egui::Context,
+    input: egui_winit::State,
+    renderer: egui_wgpu::Renderer,
+}
+
+/// No panel: the `panel` feature is off.
+#[cfg(not(feature = "panel"))]
+pub(super) struct Panel;
+
+impl Panel {
+    /// The panel of `window`, drawn by `gpu` in `format`.
+    #[cfg(feature = "panel")]
+    pub(super) fn new(window: &Window, gpu: &Gpu, format: wgpu::TextureFormat) -> Self {
+        let context = egui::Context::default();
+        Self {
+            input: egui_winit::State::new(
+                context.clone(),
+                egui::ViewportId::ROOT,
+                window,
+                Some(window.scale_factor() as f32),
+                None,
+                Some(gpu.device.limits().max_texture_dimension_2d as usize),
+            ),
+            context,
+            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
+        }
+    }
+
+    /// No panel.
+    #[cfg(not(feature = "panel"))]
+    pub(super) fn new(window: &Window, gpu: &Gpu, format: wgpu::TextureFormat) -> Self {
+        let _ = (window, gpu, format);
+        Self
+    }
+
+    /// Whether the panel takes `event` (a click on it, a key while it has
+    /// the focus), so the game does not see it.
+    #[cfg(feature = "panel")]
+    pub(super) fn takes(&mut self, window: &Window, event: &WindowEvent) -> bool {
+        self.input.on_window_event(window, event).consumed
+    }
+
+    /// No panel takes nothing.
+    #[cfg(not(feature = "panel"))]
+    pub(super) fn takes(&mut self, window: &Window, event: &WindowEvent) -> bool {
+        let _ = (window, event);
+        false
+    }
+}
+
+/// No panel draws nothing.
+#[cfg(not(feature = "panel"))]
+pub(super) fn draw_panel(
+    panel: &mut Panel,
+    source: &dyn FrameSource,
+    chosen: &mut Vec<Control>,
+    state: &WindowState,
+    encoder: &mut wgpu::CommandEncoder,
+    output: &wgpu::TextureView,
+) -> Vec<wgpu::CommandBuffer> {
+    let _ = (panel, source, chosen, state, encoder, output);
+    Vec::new()
+}
 
 /// Lays out the panel, uploads its meshes and records its pass over
 /// `output` (loaded, not cleared); returns the upload command buffers.
+#[cfg(feature = "panel")]
 pub(super) fn draw_panel(
     panel: &mut Panel,
     source: &dyn FrameSource,

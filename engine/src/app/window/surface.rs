@@ -12,6 +12,7 @@ use winit::window::Window;
 use super::super::error::RunError;
 use super::super::source::FrameSource;
 use super::options::WindowOptions;
+use super::panel::Panel;
 use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer};
 
 /// Everything that exists only while the window does.
@@ -91,13 +92,6 @@ impl Relay {
             self.blitter.copy(device, encoder, view, target);
         }
     }
-}
-
-/// The egui side of the window: context, winit input state, wgpu renderer.
-pub(super) struct Panel {
-    pub(super) context: egui::Context,
-    pub(super) input: egui_winit::State,
-    pub(super) renderer: egui_wgpu::Renderer,
 }
 
 /// A window with its surface, waiting for the GPU ([`Opening::connect`]).
@@ -196,19 +190,7 @@ impl Opening {
         };
         let renderer = Renderer::new(&gpu, format, options.renderer.clone())?;
         let relay = (format != surface_format).then(|| Relay::new(&gpu.device, format));
-        let context = egui::Context::default();
-        let panel = Panel {
-            input: egui_winit::State::new(
-                context.clone(),
-                egui::ViewportId::ROOT,
-                &window,
-                Some(window.scale_factor() as f32),
-                None,
-                Some(gpu.device.limits().max_texture_dimension_2d as usize),
-            ),
-            context,
-            renderer: egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default()),
-        };
+        let panel = Panel::new(&window, &gpu, format);
         let mut state = WindowState {
             gpu,
             surface,
