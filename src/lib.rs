@@ -53,10 +53,10 @@ pub use tickwork_engine::app::{exit_code, run};
 pub mod prelude {
     pub use crate::glam::{Quat, Vec2, Vec3};
     pub use crate::math;
-    #[cfg(feature = "cli")]
-    pub use tickwork_engine::app::parse_args;
     #[cfg(feature = "audio")]
     pub use tickwork_engine::app::Sound;
+    #[cfg(feature = "cli")]
+    pub use tickwork_engine::app::parse_args;
     #[cfg(feature = "render")]
     pub use tickwork_engine::app::{
         Draw, Game, GameError, OnFailure, RunOptions, RunSummary, Settings, Stage, Viewport, WorldId, exit_code, run,

@@ -620,18 +620,29 @@ fn manifest(name: &str, dependency: &str) -> String {
 /// `tickwork web build` on `dir`, into `out`: its exit status and stderr.
 fn web_build(dir: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> (bool, String) {
     let manifest = dir.join("Cargo.toml");
-    let mut args = vec!["web", "build", "--manifest-path", manifest.to_str().expect("utf-8"), "--out"];
+    let mut args = vec![
+        "web",
+        "build",
+        "--manifest-path",
+        manifest.to_str().expect("utf-8"),
+        "--out",
+    ];
     args.push(out.to_str().expect("utf-8"));
     args.extend(extra);
     let output = tickwork(&args);
-    (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+    (
+        output.status.success(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
 }
 
 #[test]
 fn web_build_refuses_a_crate_that_cannot_be_a_page_before_building_anything() {
     let tickwork_dep = format!("tickwork = {{ path = {:?} }}", checkout());
     let main = "fn main() {}\n";
-    let cases: [(&str, Vec<(&str, String)>, &[&str], &str); 4] = [
+    // (name, files, extra arguments, what the error says)
+    type Case<'a> = (&'a str, Vec<(&'a str, String)>, &'a [&'a str], &'a str);
+    let cases: [Case<'_>; 4] = [
         (
             "nogame",
             vec![("Cargo.toml", manifest("nogame", "")), ("src/main.rs", main.into())],
@@ -640,7 +651,10 @@ fn web_build_refuses_a_crate_that_cannot_be_a_page_before_building_anything() {
         ),
         (
             "nobin",
-            vec![("Cargo.toml", manifest("nobin", &tickwork_dep)), ("src/lib.rs", String::new())],
+            vec![
+                ("Cargo.toml", manifest("nobin", &tickwork_dep)),
+                ("src/lib.rs", String::new()),
+            ],
             &[],
             "nobin has no binary (",
         ),
@@ -656,7 +670,10 @@ fn web_build_refuses_a_crate_that_cannot_be_a_page_before_building_anything() {
         ),
         (
             "nosuchbin",
-            vec![("Cargo.toml", manifest("nosuchbin", &tickwork_dep)), ("src/main.rs", main.into())],
+            vec![
+                ("Cargo.toml", manifest("nosuchbin", &tickwork_dep)),
+                ("src/main.rs", main.into()),
+            ],
             &["--bin", "other"],
             "tickwork: --bin other: nosuchbin has no such binary (it has: nosuchbin)",
         ),
@@ -672,7 +689,10 @@ fn web_build_refuses_a_crate_that_cannot_be_a_page_before_building_anything() {
         assert!(!dir.join("target").exists(), "{name}: nothing built");
         let _ = std::fs::remove_dir_all(&dir);
     }
-    let dir = scratch_crate("nogame-text", &[("Cargo.toml", &manifest("plain", "")), ("src/main.rs", main)]);
+    let dir = scratch_crate(
+        "nogame-text",
+        &[("Cargo.toml", &manifest("plain", "")), ("src/main.rs", main)],
+    );
     let (_, stderr) = web_build(&dir, &dir.join("site"), &[]);
     assert!(
         stderr.contains("depends on neither tickwork nor tickwork-engine, so it has no Game to build a page of"),
@@ -686,7 +706,11 @@ fn web_build_never_overwrites_a_folder_of_other_files() {
     let tickwork_dep = format!("tickwork = {{ path = {:?} }}", checkout());
     let dir = scratch_crate(
         "notours",
-        &[("Cargo.toml", &manifest("notours", &tickwork_dep)), ("src/main.rs", "fn main() {}\n"), ("site/mine.txt", "mine")],
+        &[
+            ("Cargo.toml", &manifest("notours", &tickwork_dep)),
+            ("src/main.rs", "fn main() {}\n"),
+            ("site/mine.txt", "mine"),
+        ],
     );
     let (ok, stderr) = web_build(&dir, &dir.join("site"), &[]);
     assert!(!ok);
@@ -694,7 +718,10 @@ fn web_build_never_overwrites_a_folder_of_other_files() {
         stderr.contains("the folder holds files no web build wrote, and nothing was overwritten"),
         "{stderr}"
     );
-    assert_eq!(std::fs::read_to_string(dir.join("site/mine.txt")).expect("kept"), "mine");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("site/mine.txt")).expect("kept"),
+        "mine"
+    );
     assert!(!dir.join("target").exists(), "nothing built");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -705,7 +732,10 @@ fn new_writes_a_game_crate_and_never_into_a_folder_that_is_not_empty() {
     let output = tickwork(&["new", dir.to_str().expect("utf-8")]);
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("the folder is not empty, and nothing was written"), "{stderr}");
+    assert!(
+        stderr.contains("the folder is not empty, and nothing was written"),
+        "{stderr}"
+    );
     assert_eq!(std::fs::read_to_string(dir.join("notes.txt")).expect("kept"), "mine");
     assert!(!dir.join("Cargo.toml").exists());
 
@@ -714,17 +744,32 @@ fn new_writes_a_game_crate_and_never_into_a_folder_that_is_not_empty() {
     let output = tickwork(&["new", game.to_str().expect("utf-8"), "--name", "space-race"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(stdout.contains("tickwork web serve --release"), "it says what to run next: {stdout}");
+    assert!(
+        stdout.contains("tickwork web serve --release"),
+        "it says what to run next: {stdout}"
+    );
     let cargo_toml = std::fs::read_to_string(game.join("Cargo.toml")).expect("Cargo.toml");
     assert!(cargo_toml.contains("name = \"space-race\""), "{cargo_toml}");
-    assert!(cargo_toml.contains(&format!("tickwork = {{ path = {:?} }}", checkout())), "{cargo_toml}");
+    assert!(
+        cargo_toml.contains(&format!("tickwork = {{ path = {:?} }}", checkout())),
+        "{cargo_toml}"
+    );
     let lib = std::fs::read_to_string(game.join("src/lib.rs")).expect("src/lib.rs");
-    assert!(lib.contains("pub struct SpaceRaceGame") && lib.contains("\"space-race\""), "{lib}");
+    assert!(
+        lib.contains("pub struct SpaceRaceGame") && lib.contains("\"space-race\""),
+        "{lib}"
+    );
     let main = std::fs::read_to_string(game.join("src/main.rs")).expect("src/main.rs");
     assert!(main.contains("space_race::SpaceRaceGame::default()"), "{main}");
     let recording = std::fs::read_to_string(game.join("recordings/kicks.ron")).expect("the recording");
     assert!(recording.contains("game: \"space-race\""), "{recording}");
-    for file in ["tests/game.rs", "tests/golden/first_second.png", "README.md", ".gitignore", "Cargo.lock"] {
+    for file in [
+        "tests/game.rs",
+        "tests/golden/first_second.png",
+        "README.md",
+        ".gitignore",
+        "Cargo.lock",
+    ] {
         assert!(game.join(file).is_file(), "{file} written");
     }
     let png = std::fs::read(game.join("tests/golden/first_second.png")).expect("the golden image");
@@ -732,10 +777,16 @@ fn new_writes_a_game_crate_and_never_into_a_folder_that_is_not_empty() {
     // A second time into the same folder: refused, nothing changed.
     let output = tickwork(&["new", game.to_str().expect("utf-8")]);
     assert!(!output.status.success());
-    assert_eq!(std::fs::read_to_string(game.join("Cargo.toml")).expect("kept"), cargo_toml);
+    assert_eq!(
+        std::fs::read_to_string(game.join("Cargo.toml")).expect("kept"),
+        cargo_toml
+    );
     let output = tickwork(&["new", dir.with_file_name("9lives").to_str().expect("utf-8")]);
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("\"9lives\" cannot name a crate: it must start with a letter; pass --name NAME"), "{stderr}");
+    assert!(
+        stderr.contains("\"9lives\" cannot name a crate: it must start with a letter; pass --name NAME"),
+        "{stderr}"
+    );
     assert!(!dir.with_file_name("9lives").exists());
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&game);

@@ -48,8 +48,12 @@ fn end_lines(text: &str) -> Vec<String> {
 fn page_matches_native(backend: &str, expected_adapter: &str) {
     let dir = own_game();
     let native = end_lines(&std::fs::read_to_string(dir.join("native.txt")).expect("native.txt"));
-    assert_eq!(native.len(), 2, "the native replay printed its end and final state: {native:?}");
-    assert!(native[1].contains("the final state at tick 240 has checksum"), "{native:?}");
+    assert!(
+        native
+            .iter()
+            .any(|l| l.contains("the final state at tick 240 has checksum")),
+        "the native replay printed its final state: {native:?}"
+    );
     let server = Server::start(&dir.join("site")).expect("the file server starts");
     let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
     let url = server.url(&format!(
@@ -63,13 +67,21 @@ fn page_matches_native(backend: &str, expected_adapter: &str) {
         )
         .unwrap_or_else(|e| panic!("{e}"));
     let printed: Vec<String> = page.console().iter().map(|l| l.text.clone()).collect();
-    assert!(!ended.starts_with("error"), "the page stopped: {ended}\n{}", printed.join("\n"));
+    assert!(
+        !ended.starts_with("error"),
+        "the page stopped: {ended}\n{}",
+        printed.join("\n")
+    );
     let adapter = printed.iter().find(|l| l.starts_with("tickwork: drawing with"));
     assert!(
         adapter.is_some_and(|l| l.contains(expected_adapter)),
         "drawn with {adapter:?}, expected {expected_adapter}"
     );
-    assert_eq!(end_lines(&printed.join("\n")), native, "the page's end against the native run's");
+    assert_eq!(
+        end_lines(&printed.join("\n")),
+        native,
+        "the page's end against the native run's"
+    );
 }
 
 #[test]
@@ -86,7 +98,11 @@ fn the_new_games_page_ends_in_its_native_state_under_webgl2() {
 /// content type and the body's length.
 fn get(port: &str, path: &str) -> (String, String, usize) {
     let mut stream = TcpStream::connect(format!("127.0.0.1:{port}")).expect("the server takes a connection");
-    write!(stream, "GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n").expect("the request");
+    write!(
+        stream,
+        "GET {path} HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"
+    )
+    .expect("the request");
     let mut response = Vec::new();
     stream.read_to_end(&mut response).expect("the response");
     let text = String::from_utf8_lossy(&response);
@@ -139,8 +155,14 @@ fn web_serve_builds_and_serves_the_page_with_the_types_a_browser_needs() {
     let _ = serve.kill();
     let _ = serve.wait();
     let _ = std::fs::remove_dir_all(&out);
-    assert_eq!((page.0.as_str(), page.1.as_str()), ("HTTP/1.1 200 OK", "text/html; charset=utf-8"));
-    assert_eq!((wasm.0.as_str(), wasm.1.as_str()), ("HTTP/1.1 200 OK", "application/wasm"));
+    assert_eq!(
+        (page.0.as_str(), page.1.as_str()),
+        ("HTTP/1.1 200 OK", "text/html; charset=utf-8")
+    );
+    assert_eq!(
+        (wasm.0.as_str(), wasm.1.as_str()),
+        ("HTTP/1.1 200 OK", "application/wasm")
+    );
     assert!(wasm.2 > 100_000, "the wasm is whole: {} bytes", wasm.2);
     assert_eq!(recording.0, "HTTP/1.1 200 OK");
     assert!(outside.0.contains("404"), "nothing outside the site: {}", outside.0);

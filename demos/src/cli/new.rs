@@ -44,7 +44,10 @@ const TEMPLATE: [(&str, &str); 7] = [
     ("src/lib.rs", include_str!("../../templates/game/src/lib.rs")),
     ("src/main.rs", include_str!("../../templates/game/src/main.rs")),
     ("tests/game.rs", include_str!("../../templates/game/tests/game.rs")),
-    ("recordings/kicks.ron", include_str!("../../templates/game/recordings/kicks.ron")),
+    (
+        "recordings/kicks.ron",
+        include_str!("../../templates/game/recordings/kicks.ron"),
+    ),
     ("README.md", include_str!("../../templates/game/README.md")),
     (".gitignore", include_str!("../../templates/game/gitignore")),
 ];
@@ -75,7 +78,10 @@ impl Source {
         match self {
             Self::Path(path) => format!("tickwork = {{ path = {:?} }}", path.display().to_string()),
             Self::Git { url, at: None } => format!("tickwork = {{ git = {url:?} }}"),
-            Self::Git { url, at: Some((key, value)) } => format!("tickwork = {{ git = {url:?}, {key} = {value:?} }}"),
+            Self::Git {
+                url,
+                at: Some((key, value)),
+            } => format!("tickwork = {{ git = {url:?}, {key} = {value:?} }}"),
             Self::Version(version) => format!("tickwork = {version:?}"),
         }
     }
@@ -100,7 +106,11 @@ pub struct NewGame {
 pub fn run(args: &NewArgs) -> Result<NewGame, WebError> {
     let game = write(args)?;
     let shown = game.path.display();
-    println!("tickwork new: wrote the game {} into {shown}, depending on {}", game.name, game.source.dependency());
+    println!(
+        "tickwork new: wrote the game {} into {shown}, depending on {}",
+        game.name,
+        game.source.dependency()
+    );
     println!("  cd {shown}");
     println!("  cargo run --release                 # play it in a window (--headless: frames off-screen)");
     println!("  cargo test                          # its golden image and its recording");
@@ -146,8 +156,10 @@ pub fn write(args: &NewArgs) -> Result<NewGame, WebError> {
             .replace("@DEPENDENCY@", &source.dependency())
             .replace("@TICKWORK_URL@", &url)
     };
-    let mut files: Vec<(PathBuf, Vec<u8>)> =
-        TEMPLATE.iter().map(|(file, text)| (path.join(file), fill(text).into_bytes())).collect();
+    let mut files: Vec<(PathBuf, Vec<u8>)> = TEMPLATE
+        .iter()
+        .map(|(file, text)| (path.join(file), fill(text).into_bytes()))
+        .collect();
     files.push((path.join("tests/golden/first_second.png"), GOLDEN.to_vec()));
     if let Source::Path(checkout) = &source {
         // The versions Tickwork was tested with; cargo drops what the game
@@ -221,7 +233,10 @@ fn check_name(name: &str) -> Result<(), WebError> {
     if name.starts_with("tickwork") && matches!(name, "tickwork" | "tickwork-engine" | "tickwork-integrators") {
         return bad("it is the name of a Tickwork crate the game depends on");
     }
-    if matches!(name, "test" | "core" | "std" | "alloc" | "proc_macro" | "self" | "crate" | "super") {
+    if matches!(
+        name,
+        "test" | "core" | "std" | "alloc" | "proc_macro" | "self" | "crate" | "super"
+    ) {
         return bad("the name is reserved by Rust");
     }
     Ok(())
@@ -263,7 +278,10 @@ mod tests {
     fn names_cargo_would_refuse_are_refused_with_why() {
         assert!(check_name("my-game").is_ok());
         let why = |name: &str| check_name(name).unwrap_err().to_string();
-        assert_eq!(why("1up"), "\"1up\" cannot name a crate: it must start with a letter; pass --name NAME");
+        assert_eq!(
+            why("1up"),
+            "\"1up\" cannot name a crate: it must start with a letter; pass --name NAME"
+        );
         assert!(why("my game").contains("only ASCII letters"));
         assert!(why("tickwork").contains("a Tickwork crate"));
         assert!(why("").contains("empty"));
@@ -272,12 +290,18 @@ mod tests {
 
     #[test]
     fn each_source_is_a_dependency_line_cargo_reads() {
-        assert_eq!(Source::Path("/src/tickwork".into()).dependency(), "tickwork = { path = \"/src/tickwork\" }");
+        assert_eq!(
+            Source::Path("/src/tickwork".into()).dependency(),
+            "tickwork = { path = \"/src/tickwork\" }"
+        );
         let git = Source::Git {
             url: "https://example.org/tickwork.git".into(),
             at: Some(("rev", "abc123".into())),
         };
-        assert_eq!(git.dependency(), "tickwork = { git = \"https://example.org/tickwork.git\", rev = \"abc123\" }");
+        assert_eq!(
+            git.dependency(),
+            "tickwork = { git = \"https://example.org/tickwork.git\", rev = \"abc123\" }"
+        );
         assert_eq!(Source::Version("0.1".into()).dependency(), "tickwork = \"0.1\"");
     }
 }

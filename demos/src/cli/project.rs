@@ -67,17 +67,18 @@ impl Project {
         if !manifest.is_file() {
             return Err(WebError::NoManifest(manifest));
         }
-        let manifest = manifest
-            .canonicalize()
-            .map_err(|source| WebError::Io {
-                doing: format!("cannot read {}", manifest.display()),
-                source,
-            })?;
+        let manifest = manifest.canonicalize().map_err(|source| WebError::Io {
+            doing: format!("cannot read {}", manifest.display()),
+            source,
+        })?;
         let output = Command::new(cargo())
             .args(["metadata", "--format-version", "1", "--no-deps", "--manifest-path"])
             .arg(&manifest)
             .output()
-            .map_err(|source| WebError::Spawn { program: "cargo".into(), source })?;
+            .map_err(|source| WebError::Spawn {
+                program: "cargo".into(),
+                source,
+            })?;
         if !output.status.success() {
             return Err(WebError::Cargo {
                 doing: format!("cargo metadata --manifest-path {}", manifest.display()),
@@ -94,7 +95,11 @@ impl Project {
     /// The project of `manifest` in `cargo metadata`'s JSON.
     fn from_metadata(metadata: &Value, manifest: &Path) -> Result<Self, WebError> {
         let text = |value: &Value, key: &str| value.get(key).and_then(Value::as_str).map(str::to_owned);
-        let packages = metadata.get("packages").and_then(Value::as_array).cloned().unwrap_or_default();
+        let packages = metadata
+            .get("packages")
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
         let package = packages
             .iter()
             .find(|p| text(p, "manifest_path").is_some_and(|m| Path::new(&m) == manifest))
@@ -134,7 +139,9 @@ impl Project {
             name: text(package, "name").unwrap_or_default(),
             manifest: manifest.to_path_buf(),
             workspace_root: text(metadata, "workspace_root").map(PathBuf::from).unwrap_or_default(),
-            target_directory: text(metadata, "target_directory").map(PathBuf::from).unwrap_or_default(),
+            target_directory: text(metadata, "target_directory")
+                .map(PathBuf::from)
+                .unwrap_or_default(),
             bins,
             depends_on_tickwork,
             web,
@@ -223,7 +230,10 @@ fn locate_manifest() -> Result<PathBuf, WebError> {
     let output = Command::new(cargo())
         .args(["locate-project", "--message-format", "plain"])
         .output()
-        .map_err(|source| WebError::Spawn { program: "cargo".into(), source })?;
+        .map_err(|source| WebError::Spawn {
+            program: "cargo".into(),
+            source,
+        })?;
     if !output.status.success() {
         return Err(WebError::Cargo {
             doing: "cargo locate-project (no --manifest-path given)".into(),
@@ -259,12 +269,18 @@ mod tests {
     fn one_binary_is_chosen_alone_and_two_need_a_name() {
         assert_eq!(project(&["game"]).choose_bins(&[]).unwrap(), ["game"]);
         let error = project(&["a", "b"]).choose_bins(&[]).unwrap_err().to_string();
-        assert_eq!(error, "game has 2 binaries (a, b): pass --bin NAME for each page to build");
+        assert_eq!(
+            error,
+            "game has 2 binaries (a, b): pass --bin NAME for each page to build"
+        );
         let error = project(&[]).choose_bins(&[]).unwrap_err().to_string();
         assert!(error.starts_with("game has no binary"), "{error}");
         let error = project(&["a"]).choose_bins(&["c".into()]).unwrap_err().to_string();
         assert_eq!(error, "--bin c: game has no such binary (it has: a)");
-        assert_eq!(project(&["a", "b"]).choose_bins(&["b".into(), "b".into()]).unwrap(), ["b"]);
+        assert_eq!(
+            project(&["a", "b"]).choose_bins(&["b".into(), "b".into()]).unwrap(),
+            ["b"]
+        );
     }
 
     #[test]

@@ -5,9 +5,9 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::render::tessellate;
 #[cfg(feature = "text")]
 use crate::render::measure_text;
+use crate::render::tessellate;
 use crate::render::{Batch, Line, Shapes, Sprite, Stroke, Text, Texture, Triangle, Width, extend_batches};
 use crate::world::Colour;
 

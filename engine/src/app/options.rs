@@ -74,7 +74,10 @@ pub struct RunOptions {
     /// whose state differs (with `--replay`, its inputs; `--frames` ticks,
     /// default 300 or the recording's).
     #[cfg(feature = "netcode")]
-    #[cfg_attr(feature = "cli", arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true))]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "TICKS", conflicts_with = "record", allow_negative_numbers = true)
+    )]
     pub sync_test: Option<usize>,
     /// Host a two-player match on this UDP port (0: any free port, printed)
     /// and play player 1 (the other player runs `--join`).

@@ -79,6 +79,8 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
     #[cfg(feature = "netcode")]
     let sync_inputs = options.sync_test.and(replay.clone());
     // (A page's recording is a download: nothing to overwrite.)
+    // Mutable for the sync test (netcode).
+    #[cfg_attr(not(feature = "netcode"), allow(unused_mut))]
     let mut session = GameSession::new(game, super::run::session_options(&options, replay))?;
     #[cfg(feature = "netcode")]
     if let Some(distance) = options.sync_test {

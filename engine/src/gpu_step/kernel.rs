@@ -30,11 +30,7 @@ const METHODS: &[(&str, &str, u32)] = &[
         include_str!("../../shaders/gpu_step/explicit_euler.wgsl"),
         1,
     ),
-    (
-        "midpoint",
-        include_str!("../../shaders/gpu_step/midpoint.wgsl"),
-        2,
-    ),
+    ("midpoint", include_str!("../../shaders/gpu_step/midpoint.wgsl"), 2),
     ("heun", include_str!("../../shaders/gpu_step/heun.wgsl"), 2),
     ("rk4", include_str!("../../shaders/gpu_step/rk4.wgsl"), 4),
     (
@@ -47,21 +43,13 @@ const METHODS: &[(&str, &str, u32)] = &[
         include_str!("../../shaders/gpu_step/velocity_verlet.wgsl"),
         2,
     ),
-    (
-        "leapfrog",
-        include_str!("../../shaders/gpu_step/leapfrog.wgsl"),
-        2,
-    ),
+    ("leapfrog", include_str!("../../shaders/gpu_step/leapfrog.wgsl"), 2),
     (
         "position_verlet",
         include_str!("../../shaders/gpu_step/position_verlet.wgsl"),
         4,
     ),
-    (
-        "beeman",
-        include_str!("../../shaders/gpu_step/beeman.wgsl"),
-        5,
-    ),
+    ("beeman", include_str!("../../shaders/gpu_step/beeman.wgsl"), 5),
     (
         "adams_bashforth2",
         include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),

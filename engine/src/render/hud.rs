@@ -14,7 +14,6 @@ use super::overlay::{Anchor, PlacedText};
 use super::target::DEPTH_FORMAT;
 use super::text_layout::{LINE_HEIGHT, font_system, lay_out};
 
-
 /// A laid-out text of the game's, kept from frame to frame: laid out again
 /// only when its text or size changes.
 struct LaidOut {

@@ -107,7 +107,11 @@ impl fmt::Display for WebError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let list = |names: &[String]| names.join(", ");
         match self {
-            Self::NoManifest(path) => write!(f, "{}: no such file; pass --manifest-path to a game's Cargo.toml", path.display()),
+            Self::NoManifest(path) => write!(
+                f,
+                "{}: no such file; pass --manifest-path to a game's Cargo.toml",
+                path.display()
+            ),
             Self::VirtualManifest(path) => write!(
                 f,
                 "{} is a workspace without a package; pass --manifest-path to the game's own Cargo.toml",

@@ -153,9 +153,16 @@ pub fn build(args: &BuildArgs) -> Result<Vec<BuiltPage>, WebError> {
     let bins = project.choose_bins(&args.bins)?;
     site::check_out(&args.out)?;
     let toolchain = Toolchain::choose()?;
-    let target_dir = args.target_dir.clone().unwrap_or_else(|| project.target_directory.join("wasm"));
+    let target_dir = args
+        .target_dir
+        .clone()
+        .unwrap_or_else(|| project.target_directory.join("wasm"));
     let profile = if args.release { "release" } else { "debug" };
-    toolchain::say(&format!("building {} for {} ({profile})", bins.join(" "), toolchain::WASM_TARGET));
+    toolchain::say(&format!(
+        "building {} for {} ({profile})",
+        bins.join(" "),
+        toolchain::WASM_TARGET
+    ));
     let mut cargo = toolchain.cargo_build(&target_dir);
     cargo.arg("--manifest-path").arg(&project.manifest);
     for bin in &bins {

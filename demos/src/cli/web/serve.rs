@@ -18,7 +18,10 @@ pub fn serve(site: &Path, port: u16) -> Result<(), WebError> {
         source: std::io::Error::other(e.to_string()),
     })?;
     let port = server.server_addr().to_ip().map_or(port, |a| a.port());
-    println!("tickwork web: serving {} on http://127.0.0.1:{port}/ (Ctrl-C stops)", site.display());
+    println!(
+        "tickwork web: serving {} on http://127.0.0.1:{port}/ (Ctrl-C stops)",
+        site.display()
+    );
     for request in server.incoming_requests() {
         let response = match file_for(site, request.url()) {
             Some(path) => match std::fs::File::open(&path) {
@@ -81,7 +84,10 @@ mod tests {
         std::fs::write(site.join("game/game_bg.wasm"), "").unwrap();
         assert_eq!(file_for(&site, "/"), Some(site.join("index.html")));
         assert_eq!(file_for(&site, "/game/?hz=120"), Some(site.join("game/index.html")));
-        assert_eq!(file_for(&site, "/game/game_bg.wasm"), Some(site.join("game/game_bg.wasm")));
+        assert_eq!(
+            file_for(&site, "/game/game_bg.wasm"),
+            Some(site.join("game/game_bg.wasm"))
+        );
         assert_eq!(file_for(&site, "/../etc/passwd"), None);
         assert_eq!(file_for(&site, "/game/../../x"), None);
         assert_eq!(file_for(&site, "/missing.js"), None);

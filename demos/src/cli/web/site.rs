@@ -88,16 +88,25 @@ pub fn write(
         std::fs::remove_dir_all(out).map_err(io_error(format!("cannot empty {}", out.display())))?;
     }
     std::fs::create_dir_all(out.join("recordings")).map_err(io_error(format!("cannot create {}", out.display())))?;
-    std::fs::write(out.join(MARKER), "written by `tickwork web build`; the next build replaces this folder\n")
-        .map_err(io_error(format!("cannot write in {}", out.display())))?;
+    std::fs::write(
+        out.join(MARKER),
+        "written by `tickwork web build`; the next build replaces this folder\n",
+    )
+    .map_err(io_error(format!("cannot write in {}", out.display())))?;
     let several = bins.len() > 1;
     let mut pages = Vec::new();
     for bin in bins {
         let dir = if several { out.join(bin) } else { out.to_path_buf() };
         let mut glue = Command::new(bindgen);
-        glue.args(["--target", "web", "--no-typescript", "--remove-producers-section", "--out-dir"])
-            .arg(&dir)
-            .arg(wasm_dir.join(format!("{bin}.wasm")));
+        glue.args([
+            "--target",
+            "web",
+            "--no-typescript",
+            "--remove-producers-section",
+            "--out-dir",
+        ])
+        .arg(&dir)
+        .arg(wasm_dir.join(format!("{bin}.wasm")));
         run(&mut glue)?;
         let page = dir.join("index.html");
         let html = PAGE
@@ -107,7 +116,9 @@ pub fn write(
         let mut gzipped = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
         for file in [dir.join(format!("{bin}_bg.wasm")), dir.join(format!("{bin}.js"))] {
             let bytes = std::fs::read(&file).map_err(io_error(format!("cannot read {}", file.display())))?;
-            gzipped.write_all(&bytes).map_err(io_error("cannot gzip the page's files"))?;
+            gzipped
+                .write_all(&bytes)
+                .map_err(io_error("cannot gzip the page's files"))?;
         }
         let gzipped = gzipped.finish().map_err(io_error("cannot gzip the page's files"))?;
         pages.push(BuiltPage {
@@ -128,7 +139,12 @@ pub fn write(
 fn write_landing(project: &Project, bins: &[String], out: &Path) -> Result<(), WebError> {
     let mut links = String::new();
     for bin in bins {
-        let about = project.web.about.iter().find(|(b, _)| b == bin).map(|(_, line)| line.as_str());
+        let about = project
+            .web
+            .about
+            .iter()
+            .find(|(b, _)| b == bin)
+            .map(|(_, line)| line.as_str());
         match about {
             Some(line) => links.push_str(&format!("<li><a href=\"{bin}/\">{bin}</a>: {line}</li>\n")),
             None => links.push_str(&format!("<li><a href=\"{bin}/\">{bin}</a></li>\n")),
@@ -174,10 +190,12 @@ fn copy_files(project: &Project, out: &Path) -> Result<(), WebError> {
         None => Some(root.join("recordings")).filter(|p| p.is_dir()),
     };
     if let Some(folder) = recordings {
-        let entries =
-            std::fs::read_dir(&folder).map_err(io_error(format!("cannot read the recordings in {}", folder.display())))?;
+        let entries = std::fs::read_dir(&folder)
+            .map_err(io_error(format!("cannot read the recordings in {}", folder.display())))?;
         for entry in entries {
-            let path = entry.map_err(io_error(format!("cannot read {}", folder.display())))?.path();
+            let path = entry
+                .map_err(io_error(format!("cannot read {}", folder.display())))?
+                .path();
             if path.extension().is_some_and(|e| e == "ron")
                 && let Some(name) = path.file_name()
             {
@@ -202,9 +220,11 @@ fn copy(from: &Path, to: &Path) -> Result<(), WebError> {
         if let Some(parent) = to.parent() {
             std::fs::create_dir_all(parent).map_err(io_error(format!("cannot create {}", parent.display())))?;
         }
-        std::fs::copy(from, to)
-            .map(drop)
-            .map_err(io_error(format!("cannot copy {} to {}", from.display(), to.display())))
+        std::fs::copy(from, to).map(drop).map_err(io_error(format!(
+            "cannot copy {} to {}",
+            from.display(),
+            to.display()
+        )))
     }
 }
 

@@ -18,7 +18,13 @@ pub const WASM_TARGET: &str = "wasm32-unknown-unknown";
 
 /// Debian's packages of the web-browser Rust, and the linker it needs
 /// (`rust-lld` links to `lld-22`, which nothing else pulls in).
-const DEBIAN_WEB_RUST: [&str; 5] = ["rustc-web", "cargo-web", "libstd-rust-web-dev", "rust-web-src", "lld-22"];
+const DEBIAN_WEB_RUST: [&str; 5] = [
+    "rustc-web",
+    "cargo-web",
+    "libstd-rust-web-dev",
+    "rust-web-src",
+    "lld-22",
+];
 
 /// The same SIMD width as x86_64's SSE2, so glam takes its vector paths on
 /// both and a page's checksums are the native build's (ARCHITECTURE,
@@ -44,7 +50,12 @@ impl Toolchain {
         let rustup_has_target = Command::new("rustup")
             .args(["target", "list", "--installed"])
             .output()
-            .is_ok_and(|o| o.status.success() && String::from_utf8_lossy(&o.stdout).lines().any(|l| l.trim() == WASM_TARGET));
+            .is_ok_and(|o| {
+                o.status.success()
+                    && String::from_utf8_lossy(&o.stdout)
+                        .lines()
+                        .any(|l| l.trim() == WASM_TARGET)
+            });
         if rustup_has_target {
             say(&format!("toolchain: rustup's {WASM_TARGET} target"));
             return Ok(Self::Rustup);
@@ -75,7 +86,10 @@ impl Toolchain {
                 command
                     .env("PATH", format!("/usr/bin:{path}"))
                     .env("RUSTC_BOOTSTRAP", "1")
-                    .env("CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_LINKER", "/usr/lib/llvm-22/bin/wasm-ld")
+                    .env(
+                        "CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_LINKER",
+                        "/usr/lib/llvm-22/bin/wasm-ld",
+                    )
                     // rustup's choices would point Debian's cargo at rustup's rustc.
                     .env_remove("RUSTC")
                     .env_remove("RUSTDOC")
@@ -107,10 +121,11 @@ pub fn bindgen(lock: &Path) -> Result<PathBuf, WebError> {
         .or_else(|| std::env::var_os("HOME").map(|home| Path::new(&home).join(".cargo")))
         .unwrap_or_else(|| PathBuf::from(".cargo"));
     let bindgen = cargo_home.join("bin").join("wasm-bindgen");
-    let installed = Command::new(&bindgen)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim().ends_with(&format!(" {version}")));
+    let installed = Command::new(&bindgen).arg("--version").output().is_ok_and(|o| {
+        String::from_utf8_lossy(&o.stdout)
+            .trim()
+            .ends_with(&format!(" {version}"))
+    });
     if !installed {
         say(&format!("installing wasm-bindgen-cli {version} (cargo install)"));
         let mut install = Command::new(super::super::project::cargo());
@@ -163,7 +178,11 @@ pub fn apt_install(packages: &[&str]) -> Result<(), WebError> {
         .output()
         .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
     let apt = |args: &[&str]| {
-        let mut command = if root { Command::new("apt-get") } else { Command::new("sudo") };
+        let mut command = if root {
+            Command::new("apt-get")
+        } else {
+            Command::new("sudo")
+        };
         if !root {
             command.arg("apt-get");
         }

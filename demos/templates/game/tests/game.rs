@@ -6,9 +6,9 @@
 use std::path::Path;
 
 use @CRATE@::@TYPE@;
+use tickwork::engine::Recording;
 use tickwork::engine::app::{FrameSource, GameSession, OffscreenRun, SessionOptions, renderer_config};
 use tickwork::engine::render::{GoldenImages, Gpu};
-use tickwork::prelude::*;
 
 #[test]
 fn the_first_second_looks_as_it_should() -> Result<(), Box<dyn std::error::Error>> {

@@ -41,8 +41,8 @@ use crate::render::RenderError;
 use gamepads::Gamepads;
 use keys::KeyAction;
 pub use options::WindowOptions;
-use panel::draw_panel;
 use panel::Panel;
+use panel::draw_panel;
 use surface::{WindowState, open, screenshot};
 use touch::{Mouse, TouchMouse};
 
