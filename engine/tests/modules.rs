@@ -6,7 +6,8 @@
 //! re-exporting module's), and the graph that makes is checked for cycles
 //! between the engine's top-level modules and at each level of folders
 //! within them. In `app/`, no module uses an item its folder's `mod.rs`
-//! defines.
+//! defines, and each optional feature's crates are named only in its own
+//! folder.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -303,18 +304,21 @@ fn no_module_imports_one_that_imports_it() {
         let (a, b) = (split(a), split(b));
         edges.iter().any(|(from, to)| within(from, &a) && within(to, &b))
     };
-    assert!(edge("app/session", "app/game"), "use super::game::..: {edges:?}");
     assert!(
-        edge("app/network/session", "app/session"),
+        edge("app/session", "app/api/game"),
+        "use crate::app::api::game::..: {edges:?}"
+    );
+    assert!(
+        edge("app/net/session", "app/session"),
         "crate::app::GameSession: {edges:?}"
     );
     assert!(
-        edge("app/window/surface", "app/window/options"),
+        edge("app/runner/window/surface", "app/runner/window/options"),
         "use super::options::..: {edges:?}"
     );
     assert!(
-        edge("app/window/keys", "app/control"),
-        "super::super::control: {edges:?}"
+        edge("app/runner/window/keys", "app/api/control"),
+        "crate::app::api::control: {edges:?}"
     );
     assert!(edge("step", "world"), "use crate::world::..: {edges:?}");
     assert!(edge("scene", "forces"), "use crate::forces::..: {edges:?}");
@@ -326,6 +330,57 @@ fn no_module_imports_one_that_imports_it() {
         edge("input/recording", "platform"),
         "crate::platform::write_text: {edges:?}"
     );
+}
+
+/// Each optional feature's crates are named only in its own folder of
+/// `app/` (or the one module of `render/` or `platform/` that needs them),
+/// so a feature is one `#[cfg]` on one `mod` line, and a reader finds the
+/// netcode, the sound or the window in one place.
+#[test]
+fn each_features_crates_stay_in_its_folder() {
+    let rules: [(&str, &str, &[&str]); 10] = [
+        ("netcode", "ggrs::", &["app/net"]),
+        ("netcode", "bincode::", &["app/net"]),
+        ("audio", "kira::", &["app/audio"]),
+        ("cli", "clap::", &["app/runner/options"]),
+        ("window", "winit::", &["app/runner/window", "platform"]),
+        ("gamepad", "gilrs::", &["app/runner/window/gamepads"]),
+        (
+            "text",
+            "glyphon::",
+            &["render/hud", "render/text_layout", "render/overlay"],
+        ),
+        ("panel", "egui_plot::", &["app/panel"]),
+        ("panel", "egui_wgpu::", &["app/runner/window/panel"]),
+        ("panel", "egui_winit::", &["app/runner/window/panel"]),
+    ];
+    let all = modules();
+    let mut found = Vec::new();
+    let mut seen = BTreeSet::new();
+    for (module, code) in &all {
+        for (feature, prefix, allowed) in rules {
+            let named = code.match_indices(prefix).any(|(at, _)| {
+                code[..at]
+                    .chars()
+                    .next_back()
+                    .is_none_or(|c| !(c.is_alphanumeric() || c == '_' || c == ':'))
+            });
+            if !named {
+                continue;
+            }
+            seen.insert(prefix);
+            if !allowed.iter().any(|a| within(module, &split(a))) {
+                found.push(format!(
+                    "src/{} names {prefix} (the `{feature}` feature's), which only {} may",
+                    module.join("/"),
+                    allowed.join(", ")
+                ));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+    // The check sees each crate where it is used.
+    assert_eq!(seen.len(), rules.len(), "crates named somewhere: {seen:?}");
 }
 
 /// The groups of `graph`'s nodes that reach one another (its strongly

@@ -9,8 +9,8 @@
 
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
-use super::control::{Control, next_time_scale};
-use super::stage::EnergyTrace;
+use crate::app::api::control::{Control, next_time_scale};
+use crate::app::api::stage::EnergyTrace;
 use crate::clock::FixedClock;
 use crate::world::Colour;
 use tickwork_integrators::METHODS;

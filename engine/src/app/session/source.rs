@@ -1,9 +1,9 @@
 //! [`FrameSource`]: what the runners show frame by frame, a game's
-//! [`GameSession`](super::GameSession) or a scene's
-//! [`Playback`](super::Playback).
+//! [`GameSession`](crate::app::GameSession) or a scene's
+//! [`Playback`](crate::app::Playback).
 
-use super::control::Control;
-use super::error::RunError;
+use crate::app::api::control::Control;
+use crate::app::api::error::RunError;
 use crate::input::{InputEvent as Event, KeySet};
 use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
@@ -38,7 +38,7 @@ pub trait FrameSource {
     }
 
     /// The runner's keys the source takes for itself while it takes input
-    /// (see [`Stage::claimed_keys`](super::Stage)); the others stay the
+    /// (see [`Stage::claimed_keys`](crate::app::Stage)); the others stay the
     /// runner's. Default: none.
     fn claimed_keys(&self) -> KeySet {
         KeySet::EMPTY

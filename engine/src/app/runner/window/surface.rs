@@ -9,10 +9,10 @@ use std::sync::Arc;
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
-use super::super::error::RunError;
-use super::super::source::FrameSource;
 use super::options::WindowOptions;
 use super::panel::Panel;
+use crate::app::api::error::RunError;
+use crate::app::session::source::FrameSource;
 use crate::render::{FrameBuffers, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, RenderError, Renderer};
 
 /// Everything that exists only while the window does.

@@ -1,4 +1,6 @@
-//! Two players over the network with rollback, on GGRS: a [`Lobby`] finds
+//! Netcode (the `netcode` feature; GGRS and bincode live only here):
+//! rollback ([`Rollback`], the sync test) and two players over the
+//! network with it: a [`Lobby`] finds
 //! the other player over UDP, a [`NetSession`] plays the match (every
 //! machine runs the whole simulation, predicts the other's input, and
 //! rolls back to re-run ticks when the real input differs), and an
@@ -18,6 +20,7 @@ mod impairment;
 mod lobby;
 mod match_report;
 mod net_options;
+pub(crate) mod rollback;
 mod session;
 mod transport;
 
@@ -25,5 +28,6 @@ pub use impairment::{ImpairedSocket, Impairment, ImpairmentCounts};
 pub use lobby::{Lobby, Peer};
 pub use match_report::MatchReport;
 pub use net_options::NetOptions;
+pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
 pub use session::NetSession;
 pub use transport::Welcome;

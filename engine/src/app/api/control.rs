@@ -5,7 +5,7 @@
 //! The runners apply controls in one place, between frames, before the
 //! frame's steps: always at a tick boundary, never in the middle of a
 //! frame. The panel only *returns* the controls chosen in it (it reads the
-//! source and cannot change it). A [`GameSession`](super::GameSession)
+//! source and cannot change it). A [`GameSession`](crate::app::GameSession)
 //! records the controls that change the simulation (integrator switches)
 //! with the tick they came before, so a replay repeats them there.
 

@@ -14,14 +14,14 @@ use crate::render::{Camera, FrameView, Trails};
 use crate::scene::Scene;
 use crate::world::{Backend, Snapshot, World};
 
-use super::backend::{StepFailure, Stepper};
-use super::control::{Control, chosen_integrator, clock_control};
-use super::error::{PlaybackError, RunError};
-use super::frame_rate::FrameRate;
+use crate::app::api::backend::{StepFailure, Stepper};
+use crate::app::api::control::{Control, chosen_integrator, clock_control};
+use crate::app::api::error::{PlaybackError, RunError};
+use crate::app::api::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
 #[cfg(feature = "panel")]
-use super::panel::{ClockRow, WorldRow};
-use super::source::FrameSource;
-use super::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
+use crate::app::panel::{ClockRow, WorldRow};
+use crate::app::session::frame_rate::FrameRate;
+use crate::app::session::source::FrameSource;
 use crate::render::Gpu;
 
 /// A world, its clock, its initial state and what the viewer shows.
@@ -364,7 +364,7 @@ impl FrameSource for Playback {
             energy: &self.energy_trace,
             on_gpu: self.world.config().backend == Backend::Gpu,
         }];
-        super::panel::lay_out(ctx, &clock, &rows, chosen);
+        crate::app::panel::lay_out(ctx, &clock, &rows, chosen);
     }
 
     fn camera_mut(&mut self) -> &mut Camera {

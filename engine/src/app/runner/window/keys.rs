@@ -3,7 +3,7 @@
 
 use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 
-use super::super::control::Control;
+use crate::app::api::control::Control;
 use crate::input::Key as GameKey;
 
 /// What one of the runner's keys asks for.

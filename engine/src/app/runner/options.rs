@@ -109,7 +109,7 @@ pub struct RunOptions {
     /// try a bad network on one machine.
     #[cfg(feature = "netcode")]
     #[cfg_attr(feature = "cli", arg(long, value_name = "SPEC"))]
-    pub impair: Option<super::Impairment>,
+    pub impair: Option<crate::app::Impairment>,
     /// In a match: seconds to wait for the other player to join or answer.
     #[cfg(feature = "netcode")]
     #[cfg_attr(feature = "cli", arg(long, default_value_t = 60.0, value_parser = positive_f64))]
@@ -173,20 +173,20 @@ impl RunOptions {
     /// The networked side of these options: the peer (`--host`, `--join`)
     /// and how the match is played, if a match was asked for.
     #[must_use]
-    pub fn network(&self) -> Option<(super::Peer, super::NetOptions)> {
+    pub fn network(&self) -> Option<(crate::app::Peer, crate::app::NetOptions)> {
         let peer = match (self.host, self.join) {
-            (Some(port), _) => super::Peer::Host { port },
-            (None, Some(host)) => super::Peer::Join { host },
+            (Some(port), _) => crate::app::Peer::Host { port },
+            (None, Some(host)) => crate::app::Peer::Join { host },
             (None, None) => return None,
         };
         Some((
             peer,
-            super::NetOptions {
+            crate::app::NetOptions {
                 input_delay: self.input_delay,
                 max_prediction: self.max_prediction,
                 impairment: self.impair,
                 wait_seconds: self.wait_seconds,
-                ..super::NetOptions::default()
+                ..crate::app::NetOptions::default()
             },
         ))
     }

@@ -31,9 +31,9 @@ use winit::event_loop::{ActiveEventLoop, EventLoop, EventLoopProxy};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
-use super::control::Control;
-use super::error::RunError;
-use super::source::FrameSource;
+use crate::app::api::control::Control;
+use crate::app::api::error::RunError;
+use crate::app::session::source::FrameSource;
 use crate::clock::{RealTime, TimeSource};
 use crate::input::{InputEvent, Key as GameKey};
 use crate::platform::say;
@@ -41,18 +41,18 @@ use crate::render::RenderError;
 use gamepads::Gamepads;
 use keys::KeyAction;
 pub use options::WindowOptions;
-use panel::Panel;
 use panel::draw_panel;
+use panel::{Panel, PanelTarget};
 use surface::{WindowState, open, screenshot};
 use touch::{Mouse, TouchMouse};
 
 /// The window's GPU, once found: the event the start-up sends back to the
 /// loop (natively at once, in a page when the browser has answered).
-pub(super) struct Connected(Result<(WindowState, Panel), RunError>);
+pub(crate) struct Connected(Result<(WindowState, Panel), RunError>);
 
 /// Called with the run's result when a page's window run ends (a page's
 /// loop never returns to its caller).
-pub(super) type WhenDone = Box<dyn FnOnce(Result<WindowSummary, RunError>)>;
+pub(crate) type WhenDone = Box<dyn FnOnce(Result<WindowSummary, RunError>)>;
 
 /// What a window run did.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,7 +69,7 @@ pub struct WindowSummary {
 
 /// Whether a window can be opened: on Linux and the BSDs, a display server
 /// is named (`DISPLAY`, `WAYLAND_DISPLAY` or `WAYLAND_SOCKET`).
-pub(super) fn display_available() -> bool {
+pub(crate) fn display_available() -> bool {
     !cfg!(all(unix, not(target_os = "macos")))
         || ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
             .iter()
@@ -129,7 +129,7 @@ fn check_options(options: &WindowOptions) -> Result<(), RunError> {
 /// # Errors
 /// As [`run_window`], for what is known before the loop starts.
 #[cfg(target_arch = "wasm32")]
-pub(super) fn spawn_window(
+pub(crate) fn spawn_window(
     source: &'static mut dyn FrameSource,
     options: WindowOptions,
     done: WhenDone,
@@ -368,7 +368,13 @@ impl App<'_> {
         if self.panel_visible
             && let Some(panel) = self.panel.as_mut()
         {
-            commands = draw_panel(panel, &*self.source, &mut self.controls, state, &mut encoder, &output);
+            let target = PanelTarget {
+                window: &state.window,
+                gpu: &state.gpu,
+                width: state.config.width,
+                height: state.config.height,
+            };
+            commands = draw_panel(panel, &*self.source, &mut self.controls, &target, &mut encoder, &output);
         }
         commands.push(encoder.finish());
         state.gpu.queue.submit(commands);

@@ -1,16 +1,16 @@
-//! [`SessionOptions`]: what a [`GameSession`](super::GameSession) is
+//! [`SessionOptions`]: what a [`GameSession`](crate::app::GameSession) is
 //! started with (the game's settings, the rate and time scale, and the
 //! recording to make or replay), each with its default.
 
 use std::path::PathBuf;
 
-use super::stage::Settings;
+use crate::app::api::stage::Settings;
 use crate::input::Recording;
 
-/// What a [`GameSession`](super::GameSession) is started with.
+/// What a [`GameSession`](crate::app::GameSession) is started with.
 #[derive(Clone, Debug)]
 pub struct SessionOptions {
-    /// Passed to [`Game::setup`](super::Game::setup).
+    /// Passed to [`Game::setup`](crate::app::Game::setup).
     pub settings: Settings,
     /// Fixed steps per second, overriding the stage's rate (default: none).
     pub hz: Option<f64>,

@@ -8,10 +8,10 @@ use core::fmt;
 
 use glam::{Vec2, Vec3};
 
-use super::backend::{StepFailure, Stepper};
-use super::draw::Viewport;
+use crate::app::api::backend::{StepFailure, Stepper};
+use crate::app::api::draw::Viewport;
 #[cfg(feature = "audio")]
-use super::sound::Sound;
+use crate::app::audio::sound::Sound;
 use crate::clock::{FixedStep, Rate};
 use crate::gpu_step::GpuStepError;
 use crate::input::KeySet;
@@ -126,7 +126,7 @@ pub struct StageWorld {
     pub sprite: Option<Texture>,
     /// The layer its particles, trails and outlines are drawn on: after
     /// the shapes of that layer (default `None`: the frame's
-    /// [`Draw::particle_layer`](super::Draw::particle_layer)).
+    /// [`Draw::particle_layer`](crate::app::Draw::particle_layer)).
     pub layer: Option<i32>,
     /// Where its steps run, and its GPU copy once it has one.
     pub(crate) stepper: Stepper,
@@ -186,7 +186,7 @@ impl EnergyTrace {
     }
 }
 
-/// What [`Game::setup`](super::Game::setup) is told by the command line.
+/// What [`Game::setup`](crate::app::Game::setup) is told by the command line.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
     /// `--integrator`, as given (the runner also applies it to every world
@@ -388,7 +388,7 @@ const PALETTE: [Colour; 8] = [
 
 impl Stage {
     /// The command line's settings (seed, integrator), the same ones
-    /// [`Game::setup`](super::Game::setup) was given: a game that starts a
+    /// [`Game::setup`](crate::app::Game::setup) was given: a game that starts a
     /// level again from `fixed_update` builds it from these.
     #[must_use]
     pub fn settings(&self) -> &Settings {
@@ -399,7 +399,7 @@ impl Stage {
     /// the tick that asked for it, once, however often a rollback runs that
     /// tick again. It plays on the machine's audio device where there is
     /// one (a window run built with the `audio-device` feature), silently
-    /// otherwise; either way [`GameSession::played_sounds`](super::GameSession::played_sounds)
+    /// otherwise; either way [`GameSession::played_sounds`](crate::app::GameSession::played_sounds)
     /// lists it (a test asserts "the explosion started at tick 812").
     #[cfg(feature = "audio")]
     pub fn play(&mut self, sound: &Sound) {
@@ -407,7 +407,7 @@ impl Stage {
     }
 
     /// The size and scale of the last frame drawn (before the first, 640 x
-    /// 360): where a game's [`update`](super::Game::update) places things
+    /// 360): where a game's [`update`](crate::app::Game::update) places things
     /// by the window's shape. Not for `fixed_update`, whose results must
     /// not depend on the window (a replay has none).
     #[must_use]
@@ -614,7 +614,7 @@ impl WorldBuilder<'_> {
 
     /// Draws its particles, trails and outlines after the shapes of
     /// `layer` and before those of higher layers, whatever the frame's
-    /// [`Draw::particle_layer`](super::Draw::particle_layer): a background
+    /// [`Draw::particle_layer`](crate::app::Draw::particle_layer): a background
     /// world of stars under the game's shapes, sparks over them.
     pub fn layer(mut self, layer: i32) -> Self {
         self.shown().layer = Some(layer);

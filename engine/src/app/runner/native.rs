@@ -1,25 +1,25 @@
-//! A game run natively ([`run`](super::run) hands it here): in a window
+//! A game run natively ([`run`](crate::app::run) hands it here): in a window
 //! when a display is available, off-screen otherwise, with the shared
 //! command-line options; and [`exit_code`] for a game's `main`.
 
 use std::path::{Path, PathBuf};
 
-use super::error::RunError;
-use super::game::Game;
+use crate::app::api::error::RunError;
+use crate::app::api::game::Game;
 #[cfg(feature = "netcode")]
-use super::game::GameError;
+use crate::app::api::game::GameError;
+use crate::app::api::stage::{Settings, Stage};
 #[cfg(feature = "netcode")]
-use super::network::{Lobby, MatchReport, NetOptions, NetSession, Peer};
-use super::offscreen::{FrameOutput, MAX_OFFSCREEN_FRAMES, OffscreenRun, check_output};
-use super::options::RunOptions;
+use crate::app::net::rollback::sync_test;
 #[cfg(feature = "netcode")]
-use super::rollback::sync_test;
-use super::session::GameSession;
-use super::session_options::SessionOptions;
-use super::source::FrameSource;
-use super::stage::{Settings, Stage};
+use crate::app::net::{Lobby, MatchReport, NetOptions, NetSession, Peer};
+use crate::app::runner::offscreen::{FrameOutput, MAX_OFFSCREEN_FRAMES, OffscreenRun, check_output};
+use crate::app::runner::options::RunOptions;
 #[cfg(feature = "window")]
-use super::window::{WindowOptions, display_available, run_window};
+use crate::app::runner::window::{WindowOptions, display_available, run_window};
+use crate::app::session::game_session::GameSession;
+use crate::app::session::options::SessionOptions;
+use crate::app::session::source::FrameSource;
 use crate::clock::FixedCadence;
 use crate::input::Recording;
 use crate::render::{Gpu, RendererConfig};
@@ -49,7 +49,7 @@ pub struct RunSummary {
 
 impl RunSummary {
     /// A run that has done nothing yet.
-    pub(super) fn nothing_yet(windowed: bool) -> Self {
+    pub(crate) fn nothing_yet(windowed: bool) -> Self {
         Self {
             windowed,
             frames: 0,
@@ -63,7 +63,7 @@ impl RunSummary {
     }
 }
 
-/// The renderer settings [`run`](super::run) draws a stage's frames `height` pixels
+/// The renderer settings [`run`](crate::app::run) draws a stage's frames `height` pixels
 /// tall with (for a test that draws a game as `run` does): the stage's
 /// background, and its HUD size from 540 px up, shrinking with smaller
 /// frames down to 10/16 of it, so a legend that fits a window fits a small
@@ -128,9 +128,9 @@ fn check_output_file(path: &std::path::Path, overwrite: bool) -> Result<(), RunE
     Ok(())
 }
 
-/// [`run`](super::run) natively: a window or off-screen frames.
+/// [`run`](crate::app::run) natively: a window or off-screen frames.
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
-pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+pub(crate) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     if options.backend.is_some() {
         return Err(RunError::Limit(
             "--backend chooses a page's graphics backend (webgpu or webgl2); natively, WGPU_BACKEND chooses \
@@ -223,7 +223,7 @@ pub(super) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
 
 /// The session a run alone asks for: `options`' settings, rate, time
 /// scale and recording, playing `replay` if given.
-pub(super) fn session_options(options: &RunOptions, replay: Option<Recording>) -> SessionOptions {
+pub(crate) fn session_options(options: &RunOptions, replay: Option<Recording>) -> SessionOptions {
     SessionOptions {
         settings: Settings {
             integrator: options.integrator.clone(),
@@ -372,7 +372,7 @@ pub const MAX_SYNC_TEST_TICKS: u64 = 1_000_000;
 /// `--sync-test`: the game headless under a rollback sync test, for
 /// `--frames` ticks (default: the recording's, or 300), with the
 /// recording's inputs if one is given.
-pub(super) fn sync_test_run<G: Game + Clone + 'static>(
+pub(crate) fn sync_test_run<G: Game + Clone + 'static>(
     session: &mut GameSession<G>,
     distance: usize,
     options: &RunOptions,
@@ -423,7 +423,7 @@ pub(super) fn sync_test_run<G: Game + Clone + 'static>(
     })
 }
 
-/// The window or off-screen part of [`run`](super::run).
+/// The window or off-screen part of [`run`](crate::app::run).
 fn show<G: Game>(
     session: &mut GameSession<G>,
     options: &RunOptions,

@@ -18,7 +18,7 @@
 use std::collections::VecDeque;
 use std::sync::Arc;
 
-use super::sound::Sound;
+use crate::app::audio::sound::Sound;
 
 /// Ticks a started sound's key is kept: 10 s at 60 Hz, far past GGRS's
 /// prediction window (8 ticks) and the sync test's check distance.

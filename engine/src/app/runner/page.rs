@@ -1,4 +1,4 @@
-//! The page's runner: [`run`](super::run) in a browser, where a game plays
+//! The page's runner: [`run`](crate::app::run) in a browser, where a game plays
 //! on a canvas and its `main` returns before the first frame.
 //!
 //! A page differs from a native run in what it can do, not in what it
@@ -14,13 +14,13 @@
 //! which the browser tests wait for. What a page cannot do (a match over
 //! UDP, frames written to files) is refused with a message on the page.
 
-use super::error::RunError;
-use super::game::Game;
-use super::options::RunOptions;
-use super::run::{RunSummary, renderer_config};
-use super::session::GameSession;
-use super::source::FrameSource;
-use super::window::{WindowOptions, spawn_window};
+use crate::app::api::error::RunError;
+use crate::app::api::game::Game;
+use crate::app::runner::native::{RunSummary, renderer_config};
+use crate::app::runner::options::RunOptions;
+use crate::app::runner::window::{WindowOptions, spawn_window};
+use crate::app::session::game_session::GameSession;
+use crate::app::session::source::FrameSource;
 use crate::input::{Recording, RecordingError};
 use crate::platform::{complain, say, web};
 
@@ -31,7 +31,7 @@ use crate::platform::{complain, say, web};
 /// # Errors
 /// What a page cannot do (networking, off-screen files, a sync test
 /// without a recording to fetch is fine, so only the first two).
-pub(super) fn run_in_page<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
+pub(crate) fn run_in_page<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Result<RunSummary, RunError> {
     web::install_panic_hook();
     #[cfg(feature = "netcode")]
     if options.network().is_some() {
@@ -81,10 +81,10 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
     // (A page's recording is a download: nothing to overwrite.)
     // Mutable for the sync test (netcode).
     #[cfg_attr(not(feature = "netcode"), allow(unused_mut))]
-    let mut session = GameSession::new(game, super::run::session_options(&options, replay))?;
+    let mut session = GameSession::new(game, crate::app::runner::native::session_options(&options, replay))?;
     #[cfg(feature = "netcode")]
     if let Some(distance) = options.sync_test {
-        super::run::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
+        crate::app::runner::native::sync_test_run(&mut session, distance, &options, sync_inputs.as_ref())?;
         return Ok(());
     }
     // A browser plays a page's sound only after the user's first key
@@ -209,7 +209,7 @@ impl<G: Game> FrameSource for PageRun<G> {
         Ok(())
     }
 
-    fn control(&mut self, control: super::Control) -> Result<(), RunError> {
+    fn control(&mut self, control: crate::app::Control) -> Result<(), RunError> {
         self.session.control(control)
     }
 
@@ -265,7 +265,7 @@ impl<G: Game> FrameSource for PageRun<G> {
     }
 
     #[cfg(feature = "panel")]
-    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<super::Control>) {
+    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<crate::app::Control>) {
         self.session.panel(ctx, chosen);
     }
 }

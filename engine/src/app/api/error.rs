@@ -1,11 +1,11 @@
 //! Why a run stopped: [`RunError`], and [`PlaybackError`] for a scene's
 //! playback. The runners and sources return them; this file depends on no
-//! other module of `app/` but [`game`](super::game) (for [`GameError`]).
+//! other module of `app/` but `api/game.rs` (for [`GameError`]).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use super::game::GameError;
+use crate::app::api::game::GameError;
 use crate::clock::ClockError;
 use crate::render::RenderError;
 use crate::scene::SceneError;

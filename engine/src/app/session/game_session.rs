@@ -10,19 +10,19 @@
 
 use std::path::PathBuf;
 
+use crate::app::api::backend::StepFailure;
+use crate::app::api::control::{Control, chosen_integrator, clock_control};
+use crate::app::api::draw::{Draw, Viewport};
+use crate::app::api::error::RunError;
+use crate::app::api::game::{Game, GameError};
+use crate::app::api::stage::{Stage, StageWorld};
 #[cfg(feature = "audio")]
-use super::audio::{Audio, Played};
-use super::backend::StepFailure;
-use super::control::{Control, chosen_integrator, clock_control};
-use super::draw::{Draw, Viewport};
-use super::error::RunError;
-use super::frame_rate::FrameRate;
-use super::game::{Game, GameError};
+use crate::app::audio::mixer::{Audio, Played};
 #[cfg(feature = "panel")]
-use super::panel::{ClockRow, WorldRow};
-use super::session_options::SessionOptions;
-use super::source::FrameSource;
-use super::stage::{Stage, StageWorld};
+use crate::app::panel::{ClockRow, WorldRow};
+use crate::app::session::frame_rate::FrameRate;
+use crate::app::session::options::SessionOptions;
+use crate::app::session::source::FrameSource;
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
 use crate::interpolation::Interpolation;
@@ -366,13 +366,13 @@ impl<G: Game> GameSession<G> {
     /// from the window's events (a networked session sends it to the
     /// other players rather than recording it here).
     #[cfg(feature = "netcode")]
-    pub(super) fn local_input(&mut self, end: f64) -> TickInput {
+    pub(crate) fn local_input(&mut self, end: f64) -> TickInput {
         self.queue.tick(end)
     }
 
     /// One fixed step of the game: [`Game::fixed_update_players`] with
     /// every player's input, then every world of the stage.
-    pub(super) fn run_tick(&mut self, step: crate::clock::FixedStep, inputs: &[TickInput]) -> Result<(), RunError> {
+    pub(crate) fn run_tick(&mut self, step: crate::clock::FixedStep, inputs: &[TickInput]) -> Result<(), RunError> {
         #[cfg(feature = "audio")]
         self.stage.sounds_due.clear();
         self.game
@@ -397,7 +397,7 @@ impl<G: Game> GameSession<G> {
 
     /// Feeds a frame of `seconds` to the clock, gives the frame's input
     /// events their simulated times, and says which steps are due.
-    pub(super) fn advance_clock(&mut self, seconds: f64) -> Result<Frame, RunError> {
+    pub(crate) fn advance_clock(&mut self, seconds: f64) -> Result<Frame, RunError> {
         let from = self.present();
         let frame = self.clock.advance(seconds)?;
         self.queue.stamp(from, self.present());
@@ -406,13 +406,13 @@ impl<G: Game> GameSession<G> {
     }
 
     /// Ends a frame whose steps ran: [`Game::update`] once.
-    pub(super) fn finish_frame(&mut self, frame: Frame) {
+    pub(crate) fn finish_frame(&mut self, frame: Frame) {
         self.last = frame;
         self.game.update(&mut self.stage, &self.last);
     }
 
     /// The sounds the game's ticks started, oldest first (the last
-    /// [`LOGGED_SOUNDS`](super::LOGGED_SOUNDS)): each once, at the tick that
+    /// [`LOGGED_SOUNDS`](crate::app::LOGGED_SOUNDS)): each once, at the tick that
     /// asked for it, however often a rollback ran that tick.
     #[cfg(feature = "audio")]
     pub fn played_sounds(&self) -> impl Iterator<Item = &Played> {
@@ -435,7 +435,7 @@ impl<G: Game> GameSession<G> {
 
     /// The clock, to give back steps a rollback session could not run.
     #[cfg(feature = "netcode")]
-    pub(super) fn clock_mut(&mut self) -> &mut FixedClock {
+    pub(crate) fn clock_mut(&mut self) -> &mut FixedClock {
         &mut self.clock
     }
 
@@ -466,7 +466,7 @@ impl<G: Game> GameSession<G> {
 
     /// The game, to save and load it (rollback).
     #[cfg(feature = "netcode")]
-    pub(super) fn game_mut(&mut self) -> &mut G {
+    pub(crate) fn game_mut(&mut self) -> &mut G {
         &mut self.game
     }
 
@@ -754,7 +754,7 @@ impl<G: Game> FrameSource for GameSession<G> {
                 on_gpu: w.world.config().backend == Backend::Gpu,
             })
             .collect();
-        super::panel::lay_out(ctx, &clock, &rows, chosen);
+        crate::app::panel::lay_out(ctx, &clock, &rows, chosen);
     }
 }
 

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, RgbaImage};
 
-use super::error::RunError;
-use super::source::FrameSource;
+use crate::app::api::error::RunError;
+use crate::app::session::source::FrameSource;
 use crate::clock::TimeSource;
 use crate::render::{Gpu, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
 
@@ -168,7 +168,7 @@ pub const MAX_OFFSCREEN_FRAMES: u64 = 1_000_000;
 
 /// Refuses more than [`MAX_OFFSCREEN_FRAMES`] frames, and a frames'
 /// directory that is a file; [`OffscreenRun::run`] checks, and
-/// [`run`](super::run) before a session starts.
+/// [`run`](crate::app::run) before a session starts.
 pub(crate) fn check_output(frames: u64, dir: Option<&Path>) -> Result<(), RunError> {
     if frames > MAX_OFFSCREEN_FRAMES {
         return Err(RunError::Limit(format!(

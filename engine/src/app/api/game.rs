@@ -1,7 +1,7 @@
 //! The game API: a [`Game`] builds a [`Stage`] of worlds, reacts to each
 //! fixed step's [`TickInput`], and adds lines and HUD text to each frame.
 //!
-//! The runner ([`run`](super::run)) owns the clock: it calls
+//! The runner ([`run`](crate::app::run)) owns the clock: it calls
 //! [`Game::fixed_update`] once per fixed step with that tick's input, then
 //! steps every world of the stage; [`Game::update`] once per displayed
 //! frame; and [`Game::draw`] before drawing. Because a step sees only the
@@ -10,8 +10,8 @@
 
 use std::fmt;
 
-use super::draw::Draw;
-use super::stage::{Settings, Stage};
+use crate::app::api::draw::Draw;
+use crate::app::api::stage::{Settings, Stage};
 use crate::clock::{FixedStep, Frame};
 use crate::input::TickInput;
 use crate::step::SimulationError;
@@ -106,8 +106,8 @@ engine_errors!(
     crate::world::SpawnError,
     crate::world::EntityError,
     crate::colliders::ColliderError,
-    super::stage::StageError,
-    super::stage::ReadBackError,
+    crate::app::api::stage::StageError,
+    crate::app::api::stage::ReadBackError,
     crate::gpu_step::GpuStepError,
     crate::world::WorldError,
     crate::scene::SceneError,
@@ -121,7 +121,7 @@ engine_errors!(
     crate::render::GoldenError,
     crate::render::TextureError,
     #[cfg(feature = "audio")]
-    super::sound::SoundError,
+    crate::app::audio::sound::SoundError,
     crate::sensor::SensorError,
 );
 // `PlaybackError` and `RunError` convert too: their `From` impls are in
@@ -135,7 +135,7 @@ pub trait Game {
 
     /// The asset files [`setup`](Game::setup) loads (textures, sounds),
     /// by the paths it gives [`Texture::load`](crate::render::Texture::load)
-    /// and [`Sound::load`](super::Sound::load): a page, which cannot read
+    /// and [`Sound::load`](crate::app::Sound::load): a page, which cannot read
     /// files, fetches each before setup (a missing one stops the page with
     /// its URL). Natively files are read when loaded and this list is not
     /// needed; none by default.

@@ -6,9 +6,8 @@
 use winit::event::WindowEvent;
 use winit::window::Window;
 
-use super::super::control::Control;
-use super::super::source::FrameSource;
-use super::surface::WindowState;
+use crate::app::api::control::Control;
+use crate::app::session::source::FrameSource;
 use crate::render::Gpu;
 
 /// The egui side of the window: context, winit input state, wgpu renderer.
@@ -17,6 +16,20 @@ pub(super) struct Panel {
     context: egui::Context,
     input: egui_winit::State,
     renderer: egui_wgpu::Renderer,
+}
+
+/// What the panel is drawn onto: the window, its GPU and its size in
+/// pixels (the window's state without its renderer, which the panel does
+/// not use).
+pub(super) struct PanelTarget<'a> {
+    /// The window, for egui's input and cursor.
+    pub(super) window: &'a Window,
+    /// The window's GPU.
+    pub(super) gpu: &'a Gpu,
+    /// The surface's width in pixels.
+    pub(super) width: u32,
+    /// The surface's height in pixels.
+    pub(super) height: u32,
 }
 
 /// No panel: the `panel` feature is off.
@@ -70,11 +83,11 @@ pub(super) fn draw_panel(
     panel: &mut Panel,
     source: &dyn FrameSource,
     chosen: &mut Vec<Control>,
-    state: &WindowState,
+    target: &PanelTarget<'_>,
     encoder: &mut wgpu::CommandEncoder,
     output: &wgpu::TextureView,
 ) -> Vec<wgpu::CommandBuffer> {
-    let _ = (panel, source, chosen, state, encoder, output);
+    let _ = (panel, source, chosen, target, encoder, output);
     Vec::new()
 }
 
@@ -85,27 +98,27 @@ pub(super) fn draw_panel(
     panel: &mut Panel,
     source: &dyn FrameSource,
     chosen: &mut Vec<Control>,
-    state: &WindowState,
+    target: &PanelTarget<'_>,
     encoder: &mut wgpu::CommandEncoder,
     output: &wgpu::TextureView,
 ) -> Vec<wgpu::CommandBuffer> {
-    let raw = panel.input.take_egui_input(&state.window);
+    let raw = panel.input.take_egui_input(target.window);
     let mut full = panel.context.run_pass(raw, |ctx| source.panel(ctx, chosen));
     panel
         .input
-        .handle_platform_output(&state.window, std::mem::take(&mut full.platform_output));
+        .handle_platform_output(target.window, std::mem::take(&mut full.platform_output));
     let pixels_per_point = full.pixels_per_point;
     let jobs = panel
         .context
         .tessellate(std::mem::take(&mut full.shapes), pixels_per_point);
-    let (device, queue) = (&state.gpu.device, &state.gpu.queue);
+    let (device, queue) = (&target.gpu.device, &target.gpu.queue);
     for (id, deltas) in &full.textures_delta.set {
         for delta in deltas {
             panel.renderer.update_texture(device, queue, *id, delta);
         }
     }
     let screen = egui_wgpu::ScreenDescriptor {
-        size_in_pixels: [state.config.width, state.config.height],
+        size_in_pixels: [target.width, target.height],
         pixels_per_point,
     };
     let commands = panel.renderer.update_buffers(device, queue, encoder, &jobs, &screen);

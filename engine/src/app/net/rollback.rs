@@ -19,10 +19,10 @@ use core::marker::PhantomData;
 
 use ggrs::{Config, GgrsError, GgrsRequest, PredictRepeatLast, SessionBuilder};
 
-use super::error::RunError;
-use super::game::{Game, GameError};
-use super::session::GameSession;
-use super::source::FrameSource;
+use crate::app::api::error::RunError;
+use crate::app::api::game::{Game, GameError};
+use crate::app::session::game_session::GameSession;
+use crate::app::session::source::FrameSource;
 use crate::clock::FixedStep;
 use crate::input::{KeySet, MAX_PADS, PadButtons, PadInput, TickInput};
 use crate::world::Snapshot;
@@ -185,7 +185,7 @@ impl<G: Game + Clone> GameSession<G> {
 /// Where a rollback session stands and what it did: the next tick to run,
 /// the rollbacks and the ticks simulated again.
 #[derive(Debug)]
-pub(super) struct RollbackCursor {
+pub(crate) struct RollbackCursor {
     /// The session's tick at GGRS's frame 0.
     start: u64,
     /// The next tick to run (the stage's state is at its start).
@@ -202,7 +202,7 @@ pub(super) struct RollbackCursor {
 
 impl RollbackCursor {
     /// A cursor whose GGRS frame 0 is the session's tick `start`.
-    pub(super) fn new(start: u64) -> Self {
+    pub(crate) fn new(start: u64) -> Self {
         Self {
             start,
             tick: start,
@@ -225,7 +225,7 @@ impl RollbackCursor {
 /// into the slot's reused buffers, loads a saved one, or runs a tick with
 /// the players' inputs. `saved(tick, state, checksum)` sees every save,
 /// `advanced(tick, inputs)` every tick run.
-pub(super) fn fulfil<G: Game + Clone + 'static>(
+pub(crate) fn fulfil<G: Game + Clone + 'static>(
     session: &mut GameSession<G>,
     requests: Vec<GgrsRequest<Rollback<G>>>,
     cursor: &mut RollbackCursor,

@@ -10,7 +10,7 @@ use std::time::Duration;
 use kira::sound::static_sound::StaticSoundData;
 
 /// A sound effect or a piece of music, ready to play:
-/// [`Stage::play`](super::Stage::play) in `fixed_update`.
+/// [`Stage::play`](crate::app::Stage::play) in `fixed_update`.
 #[derive(Clone)]
 pub struct Sound {
     pub(crate) name: Arc<str>,
@@ -85,7 +85,7 @@ impl Sound {
     /// A sound from a WAV or Ogg Vorbis asset file, named by its file's
     /// stem (`"boom"` for `sounds/boom.wav`): natively read from disk, in a
     /// page the bytes it fetched for `path` (list the path in
-    /// [`Game::assets`](super::Game::assets)); a relative path is found as
+    /// [`Game::assets`](crate::app::Game::assets)); a relative path is found as
     /// [`platform::read_asset`](crate::platform::read_asset) says.
     ///
     /// # Errors

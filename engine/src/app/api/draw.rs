@@ -33,13 +33,13 @@ impl Default for Viewport {
 }
 
 /// What a game draws with its worlds this frame, in world coordinates
-/// (metres), cleared before each [`Game::draw`](super::Game::draw).
+/// (metres), cleared before each [`Game::draw`](crate::app::Game::draw).
 ///
 /// Shapes are drawn in the order they are added, on the current
 /// [`layer`](Self::layer) (lower layers first; default 0); the worlds'
 /// particles come after the shapes of [`particle_layer`](Self::particle_layer)
 /// (default 0; a world may have its own:
-/// [`WorldBuilder::layer`](super::WorldBuilder::layer)), so a background
+/// [`WorldBuilder::layer`](crate::app::WorldBuilder::layer)), so a background
 /// drawn on layer 0 is behind them and a panel on layer 1 over them. Texts
 /// are ordered with the shapes; only the HUD line is drawn over everything.
 #[derive(Debug, Default)]
@@ -133,7 +133,7 @@ impl Draw {
 
     /// Draws the worlds (outlines, trails, particles) after the shapes of
     /// `layer` and before those of higher layers (default 0, each frame);
-    /// a world given its own layer ([`WorldBuilder::layer`](super::WorldBuilder::layer))
+    /// a world given its own layer ([`WorldBuilder::layer`](crate::app::WorldBuilder::layer))
     /// keeps it.
     pub fn particle_layer(&mut self, layer: i32) {
         self.particle_layer = layer;

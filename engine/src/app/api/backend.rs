@@ -1,8 +1,8 @@
 //! Where a runner steps a world: on the CPU ([`World::step`]), or on the
 //! GPU ([`GpuWorld::advance`]) where the world's
 //! [`WorldConfig::backend`](crate::WorldConfig) is [`Backend::Gpu`]. The
-//! one place the two differ for the runners: a [`GameSession`](super::GameSession)'s
-//! worlds and a [`Playback`](super::Playback) both step through a
+//! one place the two differ for the runners: a [`GameSession`](crate::app::GameSession)'s
+//! worlds and a [`Playback`](crate::app::Playback) both step through a
 //! [`Stepper`], and draw a GPU world from its own buffers.
 //!
 //! A GPU world is made from the world at its first step (after the game's

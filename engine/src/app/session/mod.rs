@@ -1,0 +1,10 @@
+//! What the runners show frame by frame ([`FrameSource`](crate::app::FrameSource)):
+//! a game's [`GameSession`](crate::app::GameSession) (clock, input,
+//! recording and replay, the fixed steps) and a scene's
+//! [`Playback`](crate::app::Playback).
+
+pub(crate) mod frame_rate;
+pub(crate) mod game_session;
+pub(crate) mod options;
+pub(crate) mod playback;
+pub(crate) mod source;
