@@ -40,9 +40,9 @@ pub enum WebAction {
     Serve(ServeArgs),
 }
 
-/// What to build, and where.
+/// Which game to build, and how (what `build` and `serve` share).
 #[derive(Debug, Clone, Args)]
-pub struct BuildArgs {
+pub struct GameArgs {
     /// The game crate's Cargo.toml (default: the one cargo finds from here).
     #[arg(long)]
     pub manifest_path: Option<PathBuf>,
@@ -60,6 +60,14 @@ pub struct BuildArgs {
     /// game's target directory).
     #[arg(long)]
     pub target_dir: Option<PathBuf>,
+}
+
+/// `tickwork web build`'s arguments: the game, and where its site goes.
+#[derive(Debug, Clone, Args)]
+pub struct BuildArgs {
+    /// The game and how to build it.
+    #[command(flatten)]
+    pub game: GameArgs,
     /// The folder to write the site into (a folder a build wrote is
     /// replaced; one holding other files is refused).
     #[arg(long)]
@@ -69,37 +77,16 @@ pub struct BuildArgs {
 /// `tickwork web serve`'s arguments.
 #[derive(Debug, Args)]
 pub struct ServeArgs {
-    /// What to build.
+    /// The game and how to build it.
     #[command(flatten)]
-    pub build: ServeBuild,
-    /// The port on localhost (0: any free port, printed).
-    #[arg(long, default_value_t = 8000)]
-    pub port: u16,
-}
-
-/// [`BuildArgs`] with `--out` optional (default: `web` in the game's target
-/// directory).
-#[derive(Debug, Args)]
-pub struct ServeBuild {
-    /// The game crate's Cargo.toml (default: the one cargo finds from here).
-    #[arg(long)]
-    pub manifest_path: Option<PathBuf>,
-    /// The binary to build (default: the crate's only one).
-    #[arg(long = "bin", value_name = "NAME")]
-    pub bins: Vec<String>,
-    /// Build with the release profile.
-    #[arg(long)]
-    pub release: bool,
-    /// Features of the game crate to turn on.
-    #[arg(long)]
-    pub features: Option<String>,
-    /// Cargo's target directory for the wasm build.
-    #[arg(long)]
-    pub target_dir: Option<PathBuf>,
+    pub game: GameArgs,
     /// The folder to write the site into (default: `web` in the game's
     /// target directory).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// The port on localhost (0: any free port, printed).
+    #[arg(long, default_value_t = 8000)]
+    pub port: u16,
 }
 
 /// Runs `tickwork web`.
@@ -110,24 +97,14 @@ pub fn run(args: WebArgs) -> Result<(), WebError> {
     match args.action {
         WebAction::Build(build_args) => build(&build_args).map(drop),
         WebAction::Serve(serve_args) => {
-            let ServeBuild {
-                manifest_path,
-                bins,
-                release,
-                features,
-                target_dir,
-                out,
-            } = serve_args.build;
-            let out = match out {
+            let out = match serve_args.out {
                 Some(out) => out,
-                None => Project::read(manifest_path.as_deref())?.target_directory.join("web"),
+                None => Project::read(serve_args.game.manifest_path.as_deref())?
+                    .target_directory
+                    .join("web"),
             };
             let build_args = BuildArgs {
-                manifest_path,
-                bins,
-                release,
-                features,
-                target_dir,
+                game: serve_args.game,
                 out,
             };
             build(&build_args)?;
@@ -143,21 +120,23 @@ pub fn run(args: WebArgs) -> Result<(), WebError> {
 /// built), a failed build, a file that cannot be written.
 pub fn build(args: &BuildArgs) -> Result<Vec<BuiltPage>, WebError> {
     let started = std::time::Instant::now();
-    let project = Project::read(args.manifest_path.as_deref())?;
+    let game = &args.game;
+    let project = Project::read(game.manifest_path.as_deref())?;
     if !project.depends_on_tickwork {
         return Err(WebError::NotAGame {
             package: project.name.clone(),
             manifest: project.manifest.clone(),
         });
     }
-    let bins = project.choose_bins(&args.bins)?;
+    let bins = project.choose_bins(&game.bins)?;
     site::check_out(&args.out)?;
     let toolchain = Toolchain::choose()?;
     let target_dir = args
+        .game
         .target_dir
         .clone()
         .unwrap_or_else(|| project.target_directory.join("wasm"));
-    let profile = if args.release { "release" } else { "debug" };
+    let profile = if game.release { "release" } else { "debug" };
     toolchain::say(&format!(
         "building {} for {} ({profile})",
         bins.join(" "),
@@ -168,10 +147,10 @@ pub fn build(args: &BuildArgs) -> Result<Vec<BuiltPage>, WebError> {
     for bin in &bins {
         cargo.args(["--bin", bin]);
     }
-    if args.release {
+    if game.release {
         cargo.arg("--release");
     }
-    if let Some(features) = &args.features {
+    if let Some(features) = &game.features {
         cargo.args(["--features", features]);
     }
     toolchain::run(&mut cargo)?;
