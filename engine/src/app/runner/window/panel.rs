@@ -21,6 +21,7 @@ pub(super) struct Panel {
 /// What the panel is drawn onto: the window, its GPU and its size in
 /// pixels (the window's state without its renderer, which the panel does
 /// not use).
+#[cfg_attr(not(feature = "panel"), allow(dead_code))]
 pub(super) struct PanelTarget<'a> {
     /// The window, for egui's input and cursor.
     pub(super) window: &'a Window,
