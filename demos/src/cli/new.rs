@@ -230,7 +230,7 @@ fn check_name(name: &str) -> Result<(), WebError> {
     if name.len() > 64 {
         return bad("cargo takes at most 64 characters");
     }
-    if name.starts_with("tickwork") && matches!(name, "tickwork" | "tickwork-engine" | "tickwork-integrators") {
+    if matches!(name, "tickwork" | "tickwork-engine" | "tickwork-integrators") {
         return bad("it is the name of a Tickwork crate the game depends on");
     }
     if matches!(

@@ -76,7 +76,7 @@ impl Toolchain {
         }
         let mut command = match self {
             Self::Rustup => {
-                let mut command = Command::new(super::super::project::cargo());
+                let mut command = Command::new(crate::cli::project::cargo());
                 command.arg("build");
                 command
             }
@@ -128,7 +128,7 @@ pub fn bindgen(lock: &Path) -> Result<PathBuf, WebError> {
     });
     if !installed {
         say(&format!("installing wasm-bindgen-cli {version} (cargo install)"));
-        let mut install = Command::new(super::super::project::cargo());
+        let mut install = Command::new(crate::cli::project::cargo());
         install
             .args(["install", "wasm-bindgen-cli", "--version"])
             .arg(format!("={version}"))
