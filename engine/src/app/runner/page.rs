@@ -210,7 +210,19 @@ impl<G: Game> FrameSource for PageRun<G> {
     }
 
     fn control(&mut self, control: crate::app::Control) -> Result<(), RunError> {
-        self.session.control(control)
+        self.session.control(control)?;
+        // The page says when its clock stops or goes on (a browser test
+        // waits on it; the console shows what a click on the panel did).
+        if control == crate::app::Control::TogglePause {
+            let ticks = FrameSource::ticks(&self.session);
+            let state = if self.session.clock().is_paused() {
+                "paused"
+            } else {
+                "resumed"
+            };
+            say(&format!("tickwork: {state} at tick {ticks}"));
+        }
+        Ok(())
     }
 
     fn takes_input(&self) -> bool {
