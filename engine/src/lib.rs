@@ -69,7 +69,7 @@ pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};
 pub use colliders::{
-    BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, Material, Plane,
+    AxisPlane, BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, Material, Plane,
     SphereCollisions, Touched,
 };
 pub use emitter::Emitter;

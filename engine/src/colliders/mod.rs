@@ -32,7 +32,7 @@ pub(crate) use contact::bounce;
 pub use contact::{ContactRule, Material};
 pub use contacts::{ColliderId, Contact, PairTouch, Touched};
 pub(crate) use contacts::{RowTouch, diff_touches};
-pub use plane::Plane;
+pub use plane::{AxisPlane, Plane};
 pub use set::ColliderError;
 pub use spheres::SphereCollisions;
 pub(crate) use sweep::EventOverflow;
@@ -282,6 +282,15 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
         let _ = (start, columns, dt, resolve);
         settled.fill(0);
         false
+    }
+
+    /// The plane at rest along an axis this collider is, if it is one and
+    /// finds its contacts inside the step (default: `None`). The step then
+    /// follows the paths that meet it four particles at a time, in `f32`
+    /// lanes, where this collider is the world's only in-step one and does
+    /// not report (see [`AxisPlane`]); `first_contact` follows the rest.
+    fn axis_plane(&self) -> Option<AxisPlane> {
+        None
     }
 
     /// Moves a kinematic collider by its own velocity over a step of `dt`

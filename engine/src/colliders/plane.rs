@@ -61,6 +61,21 @@ impl Plane {
     }
 }
 
+/// A plane at rest whose normal is an axis, `n = ±e_axis` (a floor, a
+/// wall, a ceiling), as [`Collider::axis_plane`] describes it: the free
+/// side is `n . x >= offset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisPlane {
+    /// The axis of the normal: 0 (x), 1 (y) or 2 (z).
+    pub axis: usize,
+    /// Whether the normal is `-e_axis` (a ceiling, for axis 1).
+    pub negative: bool,
+    /// The plane's offset along its normal.
+    pub offset: f32,
+    /// Its bounce and friction.
+    pub material: Material,
+}
+
 /// `(axis, sign)` when the normal is `sign * e_axis` exactly.
 fn axis_of(n: Vec3) -> Option<(usize, f32)> {
     let a = n.to_array();
@@ -572,6 +587,19 @@ impl Collider for Plane {
         }
         self.settle(start, &c, dt, rest_dt, settled);
         false
+    }
+
+    fn axis_plane(&self) -> Option<AxisPlane> {
+        if self.contact != ContactRule::InStep || self.speed != 0.0 {
+            return None;
+        }
+        let (axis, sign) = axis_of(self.normal)?;
+        Some(AxisPlane {
+            axis,
+            negative: sign < 0.0,
+            offset: self.offset,
+            material: self.material,
+        })
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {

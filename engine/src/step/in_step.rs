@@ -48,9 +48,10 @@
 
 use core::ops::Range;
 
-use glam::{DVec3, Vec3A};
+use glam::{DVec3, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
+use super::follow::{Followed, PlaneLanes};
 use super::reporting::{Reporting, resolve_rows};
 use crate::colliders::{
     BlockColumns, Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce,
@@ -77,6 +78,10 @@ pub(super) struct Sweep<'a> {
     /// it settles and resolves a chunk in one pass
     /// ([`Collider::settle_blocks`] with `resolve`).
     pub lone: Option<usize>,
+    /// The only in-step collider's plane, where it is a plane at rest
+    /// along an axis (reporting or not): the paths that meet it are
+    /// followed four at a time ([`PlaneLanes`]).
+    pub plane: Option<PlaneLanes>,
 }
 
 /// A chunk of particles in blocks of four, as the in-step pass changes it:
@@ -132,20 +137,33 @@ impl<'a> Sweep<'a> {
             .filter(|(_, c)| c.in_step())
             .map(|(k, _)| k);
         let first = in_step.next()?;
-        let lone = (in_step.next().is_none() && !reports[first]).then_some(first);
+        // The only in-step collider, if it is; lone where it does not report.
+        let only = in_step.next().is_none().then_some(first);
+        let lone = only.filter(|&k| !reports[k]);
+        // Finite: an infinite rest speed rests every finite approach as
+        // f32::MAX does, and an infinite one on every path alike.
+        let rest_speed = if rest_speed >= 0.0 {
+            rest_speed.min(f32::MAX)
+        } else {
+            0.0
+        };
+        let affine = affine_sum(forces);
+        let plane = only.and_then(|k| colliders[k].axis_plane().map(|plane| (k, plane)));
+        let plane = plane.map(|(collider, plane)| PlaneLanes {
+            plane,
+            collider,
+            dt,
+            rest_speed,
+            affine,
+        });
         Some(Self {
             colliders,
             reports,
             dt,
-            // Finite: an infinite rest speed rests every finite approach
-            // as f32::MAX does, and an infinite one on every path alike.
-            rest_speed: if rest_speed >= 0.0 {
-                rest_speed.min(f32::MAX)
-            } else {
-                0.0
-            },
-            affine: affine_sum(forces),
+            rest_speed,
+            affine,
             lone,
+            plane,
         })
     }
 
@@ -191,6 +209,29 @@ impl<'a> Sweep<'a> {
         // The padding lanes of a short last block count as settled.
         if let Some(last) = settled.last_mut() {
             *last |= padding(rows, blocks - 1);
+        }
+        if let Some(plane) = self.plane {
+            // The lanes that meet the only in-step collider, a plane:
+            // followed four at a time; where it settled and resolved blocks
+            // whole, each block whose lanes are then all decided is
+            // resolved too.
+            let follow = match plane.plane.axis {
+                0 => Self::follow_plane::<0>,
+                1 => Self::follow_plane::<1>,
+                _ => Self::follow_plane::<2>,
+            };
+            follow(
+                self,
+                &plane,
+                plane.collider,
+                folded.is_some(),
+                first_row,
+                start,
+                &mut c,
+                settled,
+                scratch,
+                touches,
+            );
         }
         // Most chunks, most steps: every lane settled (an AND over the
         // bytes, which vectorises), and nothing to follow.
@@ -243,6 +284,102 @@ impl<'a> Sweep<'a> {
         }
         settled.fill(ALL);
         first
+    }
+
+    /// [`PlaneLanes::follow`] on the chunk's lanes not settled, gathered
+    /// four at a time into one block (a block of a crowd rarely has more
+    /// than one such lane): their bits in `settled` set where it decides
+    /// them, the contacts met reported if collider `k`, the plane,
+    /// reports. Then, with `resolve`, the plane's end-of-step rule on each
+    /// block whose lanes are now all decided (the others are resolved after
+    /// their paths are followed).
+    #[allow(clippy::too_many_arguments)]
+    fn follow_plane<const AXIS: usize>(
+        &self,
+        plane: &PlaneLanes,
+        k: usize,
+        resolve: bool,
+        first_row: usize,
+        start: &[Vec3x4],
+        c: &mut Chunk<'_>,
+        settled: &mut [u8],
+        scratch: &mut Rows,
+        touches: &mut Vec<RowTouch>,
+    ) {
+        const ALL: u8 = 0b1111;
+        let normal = Followed::normal::<AXIS>(&plane.plane);
+        let reports = self.reports[k];
+        // Up to four lanes, by (block, lane), gathered into one block.
+        let mut held = [(0usize, 0usize); 4];
+        let mut count = 0;
+        let mut follow = |held: &[(usize, usize)], c: &mut Chunk<'_>, settled: &mut [u8]| {
+            let (mut x0, mut x, mut v) = (Vec3x4::ZERO, Vec3x4::ZERO, Vec3x4::ZERO);
+            let (mut r, mut w) = ([0.0f32; 4], [0.0f32; 4]);
+            for (lane, &(b, j)) in held.iter().enumerate() {
+                x0.set_lane(lane, start[b].lane(j));
+                x.set_lane(lane, c.x[b].lane(j));
+                v.set_lane(lane, c.v[b].lane(j));
+                r[lane] = c.radius[b * 4 + j];
+                w[lane] = c.inverse_mass[b * 4 + j];
+            }
+            // Lanes past `held` have inverse mass 0: left alone.
+            let todo = 0b1111 >> (4 - held.len());
+            let (r, w) = (Vec4::from_array(r), Vec4::from_array(w));
+            let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
+            for (lane, &(b, j)) in held.iter().enumerate() {
+                if followed.decided & (1 << lane) == 0 {
+                    continue;
+                }
+                settled[b] |= 1 << j;
+                if followed.met & (1 << lane) == 0 {
+                    continue;
+                }
+                c.x[b].set_lane(j, x.lane(lane));
+                c.v[b].set_lane(j, v.lane(lane));
+                if reports {
+                    touches.push(RowTouch {
+                        collider: k as u32,
+                        row: (first_row + b * 4 + j) as u32,
+                        other: u32::MAX,
+                        point: followed.point(lane),
+                        normal,
+                        impulse: followed.impulse[lane],
+                        fraction: followed.fraction[lane],
+                        event: 1,
+                    });
+                }
+            }
+        };
+        // The blocks with lanes to follow, as bits.
+        let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
+        for (b, &lanes) in settled.iter().enumerate() {
+            open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
+        }
+        for_each_bit(&open, |b| {
+            let lanes = settled[b];
+            for lane in (0..4).filter(|lane| lanes & (1 << lane) == 0) {
+                held[count] = (b, lane);
+                count += 1;
+                if count == 4 {
+                    follow(&held, c, settled);
+                    count = 0;
+                }
+            }
+        });
+        if count > 0 {
+            follow(&held[..count], c, settled);
+        }
+        if !resolve {
+            return;
+        }
+        // The blocks that had lanes to follow and are now decided whole:
+        // the end-of-step rule (those still open are resolved after `row`).
+        let collider = self.colliders[k].as_ref();
+        for_each_bit(&open, |b| {
+            if settled[b] == ALL {
+                self.end_of_step(k, collider, first_row, c, b..b + 1, scratch, touches);
+            }
+        });
     }
 
     /// In-step collider `k`'s end-of-step rule on `blocks` of the chunk
@@ -425,6 +562,18 @@ impl World {
         p.position.gather_into(&mut g.x, parallel);
         p.velocity.gather_into(&mut g.v, parallel);
         first
+    }
+}
+
+/// Calls `f` with the index of each set bit of `words`, in order.
+#[inline(always)]
+fn for_each_bit(words: &[u64], mut f: impl FnMut(usize)) {
+    for (word, &bits) in words.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            f(word * 64 + bits.trailing_zeros() as usize);
+            bits &= bits - 1;
+        }
     }
 }
 

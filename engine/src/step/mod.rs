@@ -26,6 +26,7 @@
 //! particle's arithmetic is the same.
 
 mod error;
+mod follow;
 mod in_step;
 mod lane_step;
 mod reporting;

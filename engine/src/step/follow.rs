@@ -1,0 +1,381 @@
+//! Paths that meet one plane at rest along an axis, four particles at a
+//! time: the in-step rule of [`Sweep::row`](super::in_step::Sweep::row) in
+//! `f32` lanes, for a world whose only in-step collider is a floor, a wall
+//! or a ceiling (the default world of a game) and does not report.
+//!
+//! Along the normal `n = ±e_axis`, the path `q(s) = x0 + b s + a s^2` has
+//! the gap `g(s) = c + b_n s + a_n s^2`, `c = n . x0 - offset - r`. A lane
+//! that crosses (`c > m`, `g(1) < -m`, `m` a margin of rounding) meets the
+//! plane once in the step, at
+//!
+//! ```text
+//! s  = c / q  or  q / a_n,   q = -(b_n + sign(b_n) sqrt(b_n^2 - 4 a_n c)) / 2   (the root in [0, 1])
+//! x_c = q(s),  v_c = (b + 2 a s) / dt,  a_q = 2 a / dt^2
+//! v' = bounce(v_c; e', friction)      e' = 0 resting, else the restitution that keeps the method's energy
+//! x = x_c + v' r + a_q r^2 / 2,   v = v' + a_q r,   r = (1 - s) dt
+//! ```
+//!
+//! exactly [`Sweep::row`](super::in_step::Sweep::row)'s first contact
+//! (the same formulas, [`kept_restitution`](super::in_step) included), in
+//! `f32` rather than `f64`. A lane is decided here only where that
+//! arithmetic decides it with room to spare: it crossed, or started inside
+//! (no contact in the step), and after its one contact it rests, or leaves
+//! the surface and ends the step above it by more than the margin. Every
+//! other lane (a graze within the margin, a dip below and back inside the
+//! step, a hop that comes back within the step, a non-finite value) is
+//! left to `row`, in `f64`, one at a time. Each lane's answer depends on
+//! its own values only, so any chunking and any number of threads give
+//! the same bits.
+
+use glam::{BVec4A, Vec3A, Vec4};
+use tickwork_integrators::Vec3x4;
+
+use crate::colliders::AxisPlane;
+
+/// One step's in-step rule against one plane at rest along an axis, for
+/// blocks of four particles.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PlaneLanes {
+    /// The plane.
+    pub plane: AxisPlane,
+    /// Its index among the world's colliders.
+    pub collider: usize,
+    /// The step, seconds.
+    pub dt: f32,
+    /// The world's rest speed, m/s (finite, at least 0).
+    pub rest_speed: f32,
+    /// The forces affine in velocity, summed: the acceleration `c - b v`.
+    pub affine: (Vec3A, f32),
+}
+
+/// What [`PlaneLanes::follow`] decided for a block: which lanes, which of
+/// them met the plane, and the contacts they met (as a reporting collider
+/// reports them: the point on the surface, the impulse per unit mass over
+/// the inverse mass, the instant).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Followed {
+    /// The lanes decided (bits): met the plane, or left alone.
+    pub decided: u8,
+    /// The lanes that met the plane (bits), their states changed.
+    pub met: u8,
+    /// Where each met it, on the surface.
+    pub point: [Vec4; 3],
+    /// The impulse of each contact along the normal.
+    pub impulse: Vec4,
+    /// The fraction of the step each met it at.
+    pub fraction: Vec4,
+}
+
+impl Followed {
+    /// The lanes of `bits` as a lane mask.
+    fn lanes(bits: u8) -> BVec4A {
+        BVec4A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0, bits & 8 != 0)
+    }
+
+    /// Lane `k`'s contact point.
+    pub fn point(&self, k: usize) -> Vec3A {
+        Vec3A::new(self.point[0][k], self.point[1][k], self.point[2][k])
+    }
+
+    /// The plane's normal as a vector.
+    pub fn normal<const AXIS: usize>(plane: &AxisPlane) -> Vec3A {
+        let mut n = Vec3A::ZERO;
+        n[AXIS] = if plane.negative { -1.0 } else { 1.0 };
+        n
+    }
+}
+
+/// The three components of a block, by axis.
+#[inline(always)]
+fn parts(p: &Vec3x4) -> [Vec4; 3] {
+    [p.x, p.y, p.z]
+}
+
+/// `if mask { a } else { b }` lane by lane.
+#[inline(always)]
+fn pick(mask: BVec4A, a: Vec4, b: Vec4) -> Vec4 {
+    Vec4::select(mask, a, b)
+}
+
+impl PlaneLanes {
+    /// Follows lanes `todo` (bits) of one block (`start`: the start
+    /// positions; `x`, `v`: the method's end state, changed in place for
+    /// the lanes that meet the plane; `r`, `w`: radii and inverse masses)
+    /// along their paths against the plane of normal `±e_AXIS`: the lanes
+    /// decided here and the contacts met. The others are unchanged, for
+    /// [`Sweep::row`](super::in_step::Sweep::row).
+    #[inline(always)]
+    pub(super) fn follow<const AXIS: usize>(
+        &self,
+        start: &Vec3x4,
+        x: &mut Vec3x4,
+        v: &mut Vec3x4,
+        r: Vec4,
+        w: Vec4,
+        todo: u8,
+    ) -> Followed {
+        let sign = if self.plane.negative { -1.0 } else { 1.0 };
+        let along = |p: Vec4| p * sign;
+        let dt = self.dt;
+        let inv_dt = 1.0 / dt;
+        let (x0, x1, v1) = (parts(start), parts(x), parts(v));
+        // The path's coefficients, per component.
+        let mut b = [Vec4::ZERO; 3];
+        let mut a = [Vec4::ZERO; 3];
+        for i in 0..3 {
+            let delta = x1[i] - x0[i];
+            let vdt = v1[i] * dt;
+            b[i] = delta + delta - vdt;
+            a[i] = vdt - delta;
+        }
+        let offset = Vec4::splat(self.plane.offset);
+        let d0 = along(x0[AXIS]);
+        let c = d0 - offset - r;
+        let (bn, an) = (along(b[AXIS]), along(a[AXIS]));
+        let end_gap = c + bn + an;
+        // Each term is rounded a few times at its own magnitude.
+        let scale = d0.abs() + along(x1[AXIS]).abs() + (v1[AXIS] * dt).abs() + r + offset.abs();
+        let margin = scale * 1e-6 + Vec4::splat(f32::MIN_POSITIVE);
+        // Immovable (or NaN inverse mass): the rule leaves it alone.
+        let movable = w.cmpgt(Vec4::ZERO);
+        let inside = c.cmplt(-margin);
+        let crossing = c.cmpgt(margin) & end_gap.cmplt(-margin);
+        // The root in [0, 1], without cancellation (with a_n = 0 it is
+        // c / q = -c / b_n, and q / a_n is infinite).
+        let disc = (bn * bn - an * c * 4.0).max(Vec4::ZERO);
+        let root = disc.sqrt();
+        let q = (bn + pick(bn.cmplt(Vec4::ZERO), -root, root)) * -0.5;
+        let (r1, r2) = (q / an, c / q);
+        let within = |s: Vec4| s.cmpge(Vec4::ZERO) & s.cmple(Vec4::ONE);
+        let (in1, in2) = (within(r1), within(r2));
+        let s = pick(in2 & (!in1 | r2.cmple(r1)), r2, r1);
+        let found = in1 | in2;
+        let s = s.clamp(Vec4::ZERO, Vec4::ONE);
+        // The state at the instant, and the path's acceleration.
+        let mut at = [Vec4::ZERO; 3];
+        let mut arriving = [Vec4::ZERO; 3];
+        let mut accel = [Vec4::ZERO; 3];
+        for i in 0..3 {
+            at[i] = x0[i] + (b[i] + a[i] * s) * s;
+            arriving[i] = (b[i] + (a[i] + a[i]) * s) * inv_dt;
+            accel[i] = (a[i] + a[i]) * (inv_dt * inv_dt);
+        }
+        let vn = along(arriving[AXIS]);
+        let approach = -vn;
+        let resting = approach.cmple(Vec4::splat(self.rest_speed));
+        // The restitution that keeps the method's own energy (see
+        // `kept_restitution`): the part of the acceleration into the
+        // plane that the path leaves out.
+        let (cf, bf) = self.affine;
+        let forces_n = along(Vec4::splat(cf[AXIS]) - arriving[AXIS] * bf);
+        let missing_n = along(accel[AXIS]) - forces_n;
+        let into = (-forces_n).max(Vec4::ZERO);
+        let g = missing_n.max(Vec4::ZERO).min(into);
+        let k = pick(g.cmplt(into * 0.01), Vec4::ZERO, g * dt * (Vec4::splat(0.5) - s));
+        let e = Vec4::splat(self.plane.material.restitution);
+        let u = approach;
+        let out = -k + (k * k + e * e * (u * u - k * u * 2.0)).sqrt();
+        let kept = pick(
+            k.cmpeq(Vec4::ZERO) | e.cmpeq(Vec4::ZERO),
+            e,
+            pick(out.cmpgt(Vec4::ZERO), out / u, Vec4::ZERO),
+        );
+        let restitution = pick(resting, Vec4::ZERO, kept);
+        // The bounce: the normal part reflected, the tangential braked by
+        // friction (not past zero).
+        let dvn = -(restitution + 1.0) * vn.min(Vec4::ZERO);
+        let mut speed2 = Vec4::ZERO;
+        for (i, t) in arriving.iter().enumerate() {
+            if i != AXIS {
+                speed2 += *t * *t;
+            }
+        }
+        let brake = dvn * self.plane.material.friction;
+        let keep_t = pick(
+            (brake * brake).cmpge(speed2),
+            Vec4::ZERO,
+            (Vec4::ONE - brake / speed2.sqrt().max(Vec4::splat(f32::MIN_POSITIVE))).max(Vec4::ZERO),
+        );
+        let rest = (Vec4::ONE - s) * dt;
+        let half = rest * rest * 0.5;
+        let mut end = [Vec4::ZERO; 3];
+        let mut velocity = [Vec4::ZERO; 3];
+        let after_n = along(vn + dvn);
+        for i in 0..3 {
+            let after = if i == AXIS { after_n } else { arriving[i] * keep_t };
+            end[i] = at[i] + after * rest + accel[i] * half;
+            velocity[i] = after + accel[i] * rest;
+        }
+        // A resting lane ends on the surface with nothing going into it.
+        let gap = along(end[AXIS]) - offset - r;
+        end[AXIS] = pick(resting & gap.cmplt(Vec4::ZERO), end[AXIS] - along(gap), end[AXIS]);
+        let into_v = along(velocity[AXIS]);
+        velocity[AXIS] = pick(
+            resting & into_v.cmplt(Vec4::ZERO),
+            velocity[AXIS] - along(into_v),
+            velocity[AXIS],
+        );
+        // One contact settles it: it rests, the step ends at it, or it
+        // leaves the surface and ends the step clear of it (its path,
+        // starting on the surface and moving away, stays above it: an
+        // arc's lowest point is at an end).
+        let end_margin = (along(end[AXIS]).abs() + r + offset.abs()) * 1e-6 + Vec4::splat(f32::MIN_POSITIVE);
+        let leaves = (vn + dvn).cmpgt(Vec4::ZERO) & gap.cmpgt(end_margin);
+        let settles = resting | s.cmpge(Vec4::ONE) | leaves;
+        let met = movable & crossing & found & settles;
+        let met_bits = met.bitmask() as u8 & todo;
+        if met_bits != 0 {
+            let lanes = Followed::lanes(met_bits);
+            x.x = pick(lanes, end[0], x.x);
+            x.y = pick(lanes, end[1], x.y);
+            x.z = pick(lanes, end[2], x.z);
+            v.x = pick(lanes, velocity[0], v.x);
+            v.y = pick(lanes, velocity[1], v.y);
+            v.z = pick(lanes, velocity[2], v.z);
+        }
+        let unchanged = (!movable | inside).bitmask() as u8;
+        let mut point = at;
+        point[AXIS] -= along(r);
+        Followed {
+            decided: (met_bits | unchanged) & todo,
+            met: met_bits,
+            point,
+            impulse: along(after_n - arriving[AXIS]) / w,
+            fraction: s,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::colliders::{Collider, ContactRule, Material, Plane};
+    use crate::forces::{Force, Gravity, LinearDrag};
+    use crate::step::in_step::Sweep;
+
+    /// Random lanes near planes along each axis and sign, under gravity
+    /// and drag, stepped by semi-implicit Euler's path (straight) or a
+    /// parabola: where the lanes decide a lane, its state is `row`'s (in
+    /// `f64`) to `f32` rounding; most crossing lanes are decided.
+    #[test]
+    fn the_lanes_agree_with_the_exact_rule_to_rounding() {
+        let mut seed = 0x2545_f491_u32;
+        let mut random = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let dt = 1.0 / 60.0;
+        let (mut decided, mut crossing, mut compared) = (0, 0, 0);
+        for case in 0..6_000 {
+            let axis = case % 3;
+            let negative = case % 2 == 1;
+            let sign = if negative { -1.0 } else { 1.0 };
+            let mut normal = Vec3::ZERO;
+            normal[axis] = sign;
+            let material = Material {
+                restitution: [0.0, 0.5, 0.8, 1.0][case % 4],
+                friction: [0.0, 0.3][(case / 4) % 2],
+            };
+            let offset = [0.0, 1.5, -3.0][(case / 8) % 3];
+            let plane = Plane {
+                normal,
+                offset,
+                material,
+                ..Plane::default()
+            };
+            let mut gravity = Vec3::ZERO;
+            gravity[axis] = -9.81 * sign;
+            let forces: Vec<Box<dyn Force>> = vec![
+                Box::new(Gravity { acceleration: gravity }),
+                Box::new(LinearDrag { rate: 0.1 }),
+            ];
+            let colliders: Vec<Box<dyn Collider>> = vec![Box::new(plane)];
+            let rest_speed = [0.0, 0.1, 0.5][(case / 24) % 3];
+            let sweep = Sweep::new(&colliders, &[false], &forces, dt, rest_speed).expect("an in-step plane");
+            let lanes = sweep.plane.expect("a lone plane along an axis");
+            assert_eq!(lanes.plane.axis, axis);
+            // Four particles about to meet the plane, or just past it.
+            let mut start = [Vec3A::ZERO; 4];
+            let mut x = [Vec3A::ZERO; 4];
+            let mut v = [Vec3A::ZERO; 4];
+            let mut r = [0.0f32; 4];
+            for k in 0..4 {
+                let speed = [0.05, 1.0, 8.0, 60.0][(case + k) % 4] * (0.5 + random());
+                let mut velocity = Vec3A::new(random() - 0.5, random() - 0.5, random() - 0.5) * 4.0;
+                velocity[axis] = -sign * speed;
+                let radius = if (case + k) % 3 == 0 { 0.0 } else { random() * 0.2 };
+                let height = offset + radius + (random() * 1.5 - 0.2) * speed * dt;
+                let mut x0 = Vec3A::new(random() * 10.0 - 5.0, random() * 10.0 - 5.0, random() * 10.0 - 5.0);
+                x0[axis] = sign * height;
+                // Semi-implicit Euler's straight path, or the parabola of
+                // a method that carries the acceleration.
+                let bend = if (case / 2) % 2 == 0 { 0.0 } else { 0.5 };
+                let a = Vec3A::from(gravity);
+                let v1 = velocity + a * dt;
+                let x1 = x0 + v1 * dt - a * (bend * dt * dt);
+                start[k] = x0;
+                x[k] = x1;
+                v[k] = v1;
+                r[k] = radius;
+            }
+            let (mut xb, mut vb) = (Vec3x4::from_lanes(x), Vec3x4::from_lanes(v));
+            let r4 = Vec4::from_array(r);
+            let follow = match axis {
+                0 => PlaneLanes::follow::<0>,
+                1 => PlaneLanes::follow::<1>,
+                _ => PlaneLanes::follow::<2>,
+            };
+            let done = follow(
+                &lanes,
+                &Vec3x4::from_lanes(start),
+                &mut xb,
+                &mut vb,
+                r4,
+                Vec4::ONE,
+                0b1111,
+            )
+            .decided;
+            for k in 0..4 {
+                let (mut xk, mut vk) = (x[k], v[k]);
+                let mut touches = Vec::new();
+                let within = sweep.row(k, start[k], &mut xk, &mut vk, r[k], 1.0, &mut touches);
+                if within.is_err() {
+                    // Past the event limit (a ball pinned by restitution
+                    // 0 with no rest speed): never one the lanes decide.
+                    assert_eq!(done & (1 << k), 0, "case {case}, lane {k}: decided, but row overflows");
+                    continue;
+                }
+                let gap0 = sign * start[k][axis] - offset - r[k];
+                let gap1 = sign * x[k][axis] - offset - r[k];
+                // A clear crossing that bounces (a bounce of restitution 0
+                // meets the surface again, slowly: `row`'s).
+                let clear = gap0 > 1e-3 && gap1 < -1e-3 && material.restitution > 0.0 && v[k].length() > 1.0;
+                crossing += usize::from(clear);
+                if done & (1 << k) == 0 {
+                    // Left to `row`: nothing changed here.
+                    assert_eq!((xb.lane(k), vb.lane(k)), (x[k], v[k]), "case {case}, lane {k}");
+                    continue;
+                }
+                decided += usize::from(clear);
+                compared += 1;
+                let scale = 1.0 + vk.length();
+                let (dx, dv) = ((xb.lane(k) - xk).length(), (vb.lane(k) - vk).length());
+                assert!(
+                    dx <= 2e-6 * scale && dv <= 4e-5 * scale,
+                    "case {case}, lane {k}: lanes {} {} against row {xk} {vk} (axis {axis}, sign {sign}, {material:?})",
+                    xb.lane(k),
+                    vb.lane(k)
+                );
+            }
+        }
+        assert!(compared > 10_000, "{compared} lanes compared");
+        assert!(
+            decided * 10 > crossing * 9,
+            "{decided} of {crossing} clearly crossing, bouncing lanes decided in lanes"
+        );
+    }
+}
