@@ -7,7 +7,7 @@ use tickwork_integrators::Vec3x4;
 
 use super::contact::{ContactRule, Material, resolve};
 use super::sweep::{
-    StepPath, SweptHit, all_clear_axis, clear_axis4, resting_at_rest4, resting4, settle_plane, starts_resting4,
+    StepPath, SweptHit, all_clear_axis, clear_axis_lanes, resting_at_rest4, settle_plane, starts_resting4,
 };
 use super::{BlockColumns, Collider, ContactColumns};
 
@@ -74,6 +74,29 @@ pub struct AxisPlane {
     pub offset: f32,
     /// Its bounce and friction.
     pub material: Material,
+}
+
+impl AxisPlane {
+    /// The plane's end-of-step rule on one block of four particles (radii
+    /// `r`, inverse masses `w`; approaches no faster than `rest` m/s rest):
+    /// the same bits as [`Plane::resolve_blocks`] on that block.
+    #[inline]
+    pub(crate) fn resolve_block<const AXIS: usize>(&self, x: &mut Vec3x4, v: &mut Vec3x4, r: Vec4, w: Vec4, rest: f32) {
+        let mut normal = Vec3::ZERO;
+        normal[AXIS] = if self.negative { -1.0 } else { 1.0 };
+        let plane = Plane {
+            normal,
+            offset: self.offset,
+            material: self.material,
+            speed: 0.0,
+            contact: ContactRule::InStep,
+        };
+        if self.negative {
+            plane.contact_block::<AXIS, true>(x, v, r, w, rest);
+        } else {
+            plane.contact_block::<AXIS, false>(x, v, r, w, rest);
+        }
+    }
 }
 
 /// `(axis, sign)` when the normal is `sign * e_axis` exactly.
@@ -391,65 +414,71 @@ impl Plane {
                 }
             }
         }
-        // From here block by block; after a block that rests whole, the
-        // resting run is taken up again (a settling pile's few bouncing
-        // particles break it only where they are).
-        let blocks = c.rows.div_ceil(4);
-        let mut resting_first = false;
-        while b < blocks {
-            if resting_first && b < whole {
-                b += self.resolve_resting_from::<AXIS, NEGATIVE>(b, start, &mut c, dt, rest_dt);
-                if b == blocks {
-                    break;
-                }
-            }
-            let (r, w) = if b < whole {
-                if c.movable && c.point {
-                    (Vec4::ZERO, Vec4::ONE)
-                } else {
-                    let first = b * 4;
-                    (
-                        Vec4::from_slice(&c.radius[first..first + 4]),
-                        Vec4::from_slice(&c.inverse_mass[first..first + 4]),
-                    )
-                }
+        // From here block by block, a mixed chunk (a crowd that bounces,
+        // a settling pile): each block's lanes settled by both tests at
+        // once (clear of the plane, or resting on it), and resolved where
+        // all are; the one branch a block is on that (rarely taken: the
+        // lanes that meet the plane are few).
+        if b < whole {
+            if c.movable && c.point {
+                self.settle_mixed::<AXIS, NEGATIVE, true>(b, start, &mut c, dt, rest_dt, settled);
             } else {
-                c.block_scalars(b)
-            };
+                self.settle_mixed::<AXIS, NEGATIVE, false>(b, start, &mut c, dt, rest_dt, settled);
+            }
+            b = whole;
+        }
+        // The short last block, whose padding lanes count as settled.
+        if b < c.rows.div_ceil(4) {
+            let (r, w) = c.block_scalars(b);
             let (x, v) = (&mut c.position[b], &mut c.velocity[b]);
             let (d0, d1, dv) = (pick(&start[b]), pick(x), pick(v) * dt);
-            // The padding lanes of a short last block count as settled.
-            let padding = if b < whole {
-                0
-            } else {
-                0b1111 << (c.rows - b * 4) & 0b1111
-            };
-            // Neighbouring blocks are usually alike: the test that settled
-            // the last block whole goes first, and the other only where
-            // it did not settle this one (either order, the same lanes).
-            let clear_of = || clear_axis4(d0, d1, dv, r, self.offset, 0.0);
-            let resting_of = || resting4(d0, d1, dv, 0.0, rest_dt).bitmask() as u8;
-            let (clear, resting) = if resting_first {
-                let resting = resting_of();
-                (if resting | padding == ALL { 0 } else { clear_of() }, resting)
-            } else {
-                let clear = clear_of();
-                (clear, if clear | padding == ALL { 0 } else { resting_of() })
-            };
-            if clear | padding == ALL {
-                // Clear all along the step: the end-of-step rule would
-                // leave every lane as it is (the same bits).
-                settled[b] |= padding;
-                resting_first = false;
-            } else {
-                resting_first = resting | padding == ALL;
-                let mask = settled[b] & (clear | resting);
-                settled[b] = mask;
-                if mask | padding == ALL {
-                    self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
-                }
+            let padding = 0b1111 << (c.rows - b * 4) & 0b1111;
+            let lanes = clear_axis_lanes(d0, d1, dv, r, self.offset, 0.0) | resting_at_rest4(d0, d1, dv, rest_dt);
+            let mask = settled[b] & (lanes.bitmask() as u8 | padding);
+            settled[b] = mask;
+            if mask == ALL {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, c.rest_speed);
             }
-            b += 1;
+        }
+    }
+
+    /// [`settle_axis_blocks`](Self::settle_axis_blocks)'s whole blocks from
+    /// block `first` on, in a mixed chunk: each block's lanes clear of the
+    /// plane or resting on it, resolved when all are (`FIXED`: movable point
+    /// particles, no radius or mass read).
+    fn settle_mixed<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool>(
+        &self,
+        first: usize,
+        start: &[Vec3x4],
+        c: &mut BlockColumns<'_>,
+        dt: f32,
+        rest_dt: f32,
+        settled: &mut [u8],
+    ) {
+        const ALL: u8 = 0b1111;
+        let pick = along::<AXIS, NEGATIVE>;
+        let whole = c.rows / 4;
+        let rest = c.rest_speed;
+        let (x, v) = (&mut c.position[first..whole], &mut c.velocity[first..whole]);
+        let blocks = start[first..whole].iter().zip(x.iter_mut()).zip(v.iter_mut());
+        for (b, ((start, x), v)) in (first..whole).zip(blocks) {
+            let (d0, d1, dv) = (pick(start), pick(x), pick(v) * dt);
+            let (r, w) = if FIXED {
+                (Vec4::ZERO, Vec4::ONE)
+            } else {
+                let first = b * 4;
+                (
+                    Vec4::from_slice(&c.radius[first..first + 4]),
+                    Vec4::from_slice(&c.inverse_mass[first..first + 4]),
+                )
+            };
+            let lanes = clear_axis_lanes(d0, d1, dv, r, self.offset, 0.0) | resting_at_rest4(d0, d1, dv, rest_dt);
+            let mask = settled[b] & lanes.bitmask() as u8;
+            if mask == ALL {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, rest);
+            } else {
+                settled[b] = mask;
+            }
         }
     }
 

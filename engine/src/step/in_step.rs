@@ -53,6 +53,7 @@ use tickwork_integrators::Vec3x4;
 
 use super::follow::{Followed, PlaneLanes};
 use super::reporting::{Reporting, resolve_rows};
+use crate::colliders::sweep::radius4;
 use crate::colliders::{
     BlockColumns, Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce,
 };
@@ -229,7 +230,6 @@ impl<'a> Sweep<'a> {
                 start,
                 &mut c,
                 settled,
-                scratch,
                 touches,
             );
         }
@@ -303,7 +303,6 @@ impl<'a> Sweep<'a> {
         start: &[Vec3x4],
         c: &mut Chunk<'_>,
         settled: &mut [u8],
-        scratch: &mut Rows,
         touches: &mut Vec<RowTouch>,
     ) {
         const ALL: u8 = 0b1111;
@@ -374,10 +373,11 @@ impl<'a> Sweep<'a> {
         }
         // The blocks that had lanes to follow and are now decided whole:
         // the end-of-step rule (those still open are resolved after `row`).
-        let collider = self.colliders[k].as_ref();
+        let rest = self.rest_speed;
         for_each_bit(&open, |b| {
             if settled[b] == ALL {
-                self.end_of_step(k, collider, first_row, c, b..b + 1, scratch, touches);
+                let (r, w) = (radius4(c.radius, b), radius4(c.inverse_mass, b));
+                plane.plane.resolve_block::<AXIS>(&mut c.x[b], &mut c.v[b], r, w, rest);
             }
         });
     }
