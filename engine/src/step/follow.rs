@@ -42,10 +42,27 @@ pub(super) struct PlaneLanes {
     pub collider: usize,
     /// The step, seconds.
     pub dt: f32,
+    /// Its inverse.
+    pub inv_dt: f32,
     /// The world's rest speed, m/s (finite, at least 0).
     pub rest_speed: f32,
     /// The forces affine in velocity, summed: the acceleration `c - b v`.
     pub affine: (Vec3A, f32),
+}
+
+impl PlaneLanes {
+    /// The rule of one step of `dt` seconds against `plane`, collider
+    /// `collider` of the world.
+    pub fn new(plane: AxisPlane, collider: usize, dt: f32, rest_speed: f32, affine: (Vec3A, f32)) -> Self {
+        Self {
+            plane,
+            collider,
+            dt,
+            inv_dt: 1.0 / dt,
+            rest_speed,
+            affine,
+        }
+    }
 }
 
 /// What [`PlaneLanes::follow`] decided for a block: which lanes, which of
@@ -60,8 +77,9 @@ pub(super) struct Followed {
     pub met: u8,
     /// Where each met it, on the surface.
     pub point: [Vec4; 3],
-    /// The impulse of each contact along the normal.
-    pub impulse: Vec4,
+    /// The change of each contact's velocity along the normal (its
+    /// impulse times the inverse mass).
+    pub impulse_w: Vec4,
     /// The fraction of the step each met it at.
     pub fraction: Vec4,
 }
@@ -116,8 +134,7 @@ impl PlaneLanes {
     ) -> Followed {
         let sign = if self.plane.negative { -1.0 } else { 1.0 };
         let along = |p: Vec4| p * sign;
-        let dt = self.dt;
-        let inv_dt = 1.0 / dt;
+        let (dt, inv_dt) = (self.dt, self.inv_dt);
         let (x0, x1, v1) = (parts(start), parts(x), parts(v));
         // The path's coefficients, per component.
         let mut b = [Vec4::ZERO; 3];
@@ -190,12 +207,17 @@ impl PlaneLanes {
                 speed2 += *t * *t;
             }
         }
-        let brake = dvn * self.plane.material.friction;
-        let keep_t = pick(
-            (brake * brake).cmpge(speed2),
-            Vec4::ZERO,
-            (Vec4::ONE - brake / speed2.sqrt().max(Vec4::splat(f32::MIN_POSITIVE))).max(Vec4::ZERO),
-        );
+        let friction = self.plane.material.friction;
+        let brake = dvn * friction;
+        let stops = (brake * brake).cmpge(speed2);
+        // Without friction `1 - 0 / |v_t|` is 1 (a NaN speed aside, which
+        // no lane decided here has).
+        let slides = if friction == 0.0 {
+            Vec4::ONE
+        } else {
+            (Vec4::ONE - brake / speed2.sqrt().max(Vec4::splat(f32::MIN_POSITIVE))).max(Vec4::ZERO)
+        };
+        let keep_t = pick(stops, Vec4::ZERO, slides);
         let rest = (Vec4::ONE - s) * dt;
         let half = rest * rest * 0.5;
         let mut end = [Vec4::ZERO; 3];
@@ -240,7 +262,7 @@ impl PlaneLanes {
             decided: (met_bits | unchanged) & todo,
             met: met_bits,
             point,
-            impulse: along(after_n - arriving[AXIS]) / w,
+            impulse_w: along(after_n - arriving[AXIS]),
             fraction: s,
         }
     }

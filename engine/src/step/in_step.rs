@@ -150,13 +150,7 @@ impl<'a> Sweep<'a> {
         };
         let affine = affine_sum(forces);
         let plane = only.and_then(|k| colliders[k].axis_plane().map(|plane| (k, plane)));
-        let plane = plane.map(|(collider, plane)| PlaneLanes {
-            plane,
-            collider,
-            dt,
-            rest_speed,
-            affine,
-        });
+        let plane = plane.map(|(collider, plane)| PlaneLanes::new(plane, collider, dt, rest_speed, affine));
         Some(Self {
             colliders,
             reports,
@@ -211,7 +205,12 @@ impl<'a> Sweep<'a> {
         if let Some(last) = settled.last_mut() {
             *last |= padding(rows, blocks - 1);
         }
-        if let Some(plane) = self.plane {
+        // Most chunks, most steps: every lane settled (an AND over the
+        // bytes, which vectorises), and nothing to follow.
+        let all_settled = |settled: &[u8]| settled.iter().fold(ALL, |all, &lanes| all & lanes) == ALL;
+        if !all_settled(settled)
+            && let Some(plane) = self.plane
+        {
             // The lanes that meet the only in-step collider, a plane:
             // followed four at a time; where it settled and resolved blocks
             // whole, each block whose lanes are then all decided is
@@ -233,9 +232,7 @@ impl<'a> Sweep<'a> {
                 touches,
             );
         }
-        // Most chunks, most steps: every lane settled (an AND over the
-        // bytes, which vectorises), and nothing to follow.
-        if settled.iter().fold(ALL, |all, &lanes| all & lanes) == ALL {
+        if all_settled(settled) {
             if folded.is_none() {
                 for (k, collider) in in_step() {
                     self.end_of_step(k, collider.as_ref(), first_row, &mut c, 0..blocks, scratch, touches);
@@ -321,9 +318,9 @@ impl<'a> Sweep<'a> {
                 r[lane] = c.radius[b * 4 + j];
                 w[lane] = c.inverse_mass[b * 4 + j];
             }
+            let (r, w) = (Vec4::from_array(r), Vec4::from_array(w));
             // Lanes past `held` have inverse mass 0: left alone.
             let todo = 0b1111 >> (4 - held.len());
-            let (r, w) = (Vec4::from_array(r), Vec4::from_array(w));
             let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
             for (lane, &(b, j)) in held.iter().enumerate() {
                 if followed.decided & (1 << lane) == 0 {
@@ -342,7 +339,7 @@ impl<'a> Sweep<'a> {
                         other: u32::MAX,
                         point: followed.point(lane),
                         normal,
-                        impulse: followed.impulse[lane],
+                        impulse: followed.impulse_w[lane] / c.inverse_mass[b * 4 + j],
                         fraction: followed.fraction[lane],
                         event: 1,
                     });
