@@ -309,19 +309,32 @@ impl<'a> Sweep<'a> {
         let mut held = [(0usize, 0usize); 4];
         let mut count = 0;
         let mut follow = |held: &[(usize, usize)], c: &mut Chunk<'_>, settled: &mut [u8]| {
-            let (mut x0, mut x, mut v) = (Vec3x4::ZERO, Vec3x4::ZERO, Vec3x4::ZERO);
-            let (mut r, mut w) = ([0.0f32; 4], [0.0f32; 4]);
+            // Gathered through arrays (a lane of a vector in a register
+            // set by index costs a shuffle per lane and index).
+            let mut g = [[0.0f32; 4]; 11];
             for (lane, &(b, j)) in held.iter().enumerate() {
-                x0.set_lane(lane, start[b].lane(j));
-                x.set_lane(lane, c.x[b].lane(j));
-                v.set_lane(lane, c.v[b].lane(j));
-                r[lane] = c.radius[b * 4 + j];
-                w[lane] = c.inverse_mass[b * 4 + j];
+                for (i, p) in [&start[b], &c.x[b], &c.v[b]].into_iter().enumerate() {
+                    g[3 * i][lane] = p.x[j];
+                    g[3 * i + 1][lane] = p.y[j];
+                    g[3 * i + 2][lane] = p.z[j];
+                }
+                g[9][lane] = c.radius[b * 4 + j];
+                g[10][lane] = c.inverse_mass[b * 4 + j];
             }
-            let (r, w) = (Vec4::from_array(r), Vec4::from_array(w));
+            let block = |i: usize| Vec3x4 {
+                x: Vec4::from_array(g[i]),
+                y: Vec4::from_array(g[i + 1]),
+                z: Vec4::from_array(g[i + 2]),
+            };
+            let (x0, mut x, mut v) = (block(0), block(3), block(6));
+            let (r, w) = (Vec4::from_array(g[9]), Vec4::from_array(g[10]));
             // Lanes past `held` have inverse mass 0: left alone.
             let todo = 0b1111 >> (4 - held.len());
             let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
+            let (xs, vs) = (
+                [x.x, x.y, x.z].map(|p| p.to_array()),
+                [v.x, v.y, v.z].map(|p| p.to_array()),
+            );
             for (lane, &(b, j)) in held.iter().enumerate() {
                 if followed.decided & (1 << lane) == 0 {
                     continue;
@@ -330,8 +343,9 @@ impl<'a> Sweep<'a> {
                 if followed.met & (1 << lane) == 0 {
                     continue;
                 }
-                c.x[b].set_lane(j, x.lane(lane));
-                c.v[b].set_lane(j, v.lane(lane));
+                let (xb, vb) = (&mut c.x[b], &mut c.v[b]);
+                (xb.x[j], xb.y[j], xb.z[j]) = (xs[0][lane], xs[1][lane], xs[2][lane]);
+                (vb.x[j], vb.y[j], vb.z[j]) = (vs[0][lane], vs[1][lane], vs[2][lane]);
                 if reports {
                     touches.push(RowTouch {
                         collider: k as u32,
@@ -347,9 +361,17 @@ impl<'a> Sweep<'a> {
             }
         };
         // The blocks with lanes to follow, as bits.
+        // Eight bytes at a time: most are all settled (`ALL` each).
         let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
-        for (b, &lanes) in settled.iter().enumerate() {
-            open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
+        const EIGHT: u64 = u64::from_ne_bytes([ALL; 8]);
+        for (k, bytes) in settled.chunks(8).enumerate() {
+            if <[u8; 8]>::try_from(bytes).is_ok_and(|eight| u64::from_ne_bytes(eight) == EIGHT) {
+                continue;
+            }
+            for (i, &lanes) in bytes.iter().enumerate() {
+                let b = k * 8 + i;
+                open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
+            }
         }
         for_each_bit(&open, |b| {
             let lanes = settled[b];
