@@ -273,7 +273,7 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
-    use crate::colliders::{Collider, ContactRule, Material, Plane};
+    use crate::colliders::{Collider, Material, Plane};
     use crate::forces::{Force, Gravity, LinearDrag};
     use crate::step::in_step::Sweep;
 

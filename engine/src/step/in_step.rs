@@ -42,9 +42,12 @@
 //! speed at both ends of the step, so all along it); a lone floor takes a
 //! chunk that is clear of it, or rests on it, whole. Only the others are
 //! followed; then the collider's end-of-step rule resolves what rests
-//! (restitution 0) and what started inside. Each particle's result depends
-//! on its own lanes only, so any chunking and any number of threads give
-//! the same bits.
+//! (restitution 0) and what started inside. Where the world's only in-step
+//! collider is a plane at rest along an axis, the lanes that cross it are
+//! followed four at a time in `f32` ([`PlaneLanes`], `follow.rs`), and only
+//! what those cannot decide comes to [`Sweep::row`]. Each particle's result
+//! depends on its own lanes only, so any chunking and any number of threads
+//! give the same bits.
 
 use core::ops::Range;
 
