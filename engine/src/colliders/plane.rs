@@ -455,13 +455,34 @@ impl Plane {
         rest_dt: f32,
         settled: &mut [u8],
     ) {
+        if self.material.friction == 0.0 {
+            self.settle_mixed_as::<AXIS, NEGATIVE, FIXED, true>(first, start, c, dt, rest_dt, settled);
+        } else {
+            self.settle_mixed_as::<AXIS, NEGATIVE, FIXED, false>(first, start, c, dt, rest_dt, settled);
+        }
+    }
+
+    /// [`settle_mixed`](Self::settle_mixed) with the friction's case
+    /// chosen once (`FRICTIONLESS`: [`contact_block`](Self::contact_block)'s
+    /// frictionless branch, the same bits).
+    fn settle_mixed_as<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool, const FRICTIONLESS: bool>(
+        &self,
+        first: usize,
+        start: &[Vec3x4],
+        c: &mut BlockColumns<'_>,
+        dt: f32,
+        rest_dt: f32,
+        settled: &mut [u8],
+    ) {
         const ALL: u8 = 0b1111;
         let pick = along::<AXIS, NEGATIVE>;
+        let sign = Vec4::splat(if NEGATIVE { -1.0 } else { 1.0 });
         let whole = c.rows / 4;
         let rest = c.rest_speed;
         let (x, v) = (&mut c.position[first..whole], &mut c.velocity[first..whole]);
         let blocks = start[first..whole].iter().zip(x.iter_mut()).zip(v.iter_mut());
-        for (b, ((start, x), v)) in (first..whole).zip(blocks) {
+        let blocks = blocks.zip(settled[first..whole].iter_mut());
+        for (b, (((start, x), v), settled)) in (first..whole).zip(blocks) {
             let (d0, d1, dv) = (pick(start), pick(x), pick(v) * dt);
             let (r, w) = if FIXED {
                 (Vec4::ZERO, Vec4::ONE)
@@ -473,11 +494,15 @@ impl Plane {
                 )
             };
             let lanes = clear_axis_lanes(d0, d1, dv, r, self.offset, 0.0) | resting_at_rest4(d0, d1, dv, rest_dt);
-            let mask = settled[b] & lanes.bitmask() as u8;
-            if mask == ALL {
-                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, rest);
+            let mask = *settled & lanes.bitmask() as u8;
+            if mask != ALL {
+                *settled = mask;
+            } else if FRICTIONLESS {
+                let vn = *axis_mut::<AXIS>(v) * sign;
+                let factor = bounce4(vn, self.material.restitution, rest);
+                frictionless_block::<AXIS, NEGATIVE, false, false>(x, v, r, w, self.offset, factor);
             } else {
-                settled[b] = mask;
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, rest);
             }
         }
     }
