@@ -3,6 +3,7 @@
 use glam::Vec3;
 use tickwork_integrators::angular::rotational_energy;
 
+use crate::SimulationError;
 use crate::forces::mass_of;
 use crate::world::World;
 
@@ -27,7 +28,15 @@ impl Energy {
 impl World {
     /// The energy now. Takes `&mut self` because spring forces refresh their
     /// entity rows first.
-    pub fn energy(&mut self) -> Energy {
+    ///
+    /// # Errors
+    /// [`SimulationError::PairLimit`] where a force's potential would visit
+    /// more pairs of particles than
+    /// [`WorldConfig::max_pairs`](crate::WorldConfig) allows (n-body among
+    /// too many particles): refused before any pair is visited, as the step
+    /// refuses that force.
+    pub fn energy(&mut self) -> Result<Energy, SimulationError> {
+        self.check_force_pairs(self.tick())?;
         for force in &mut self.forces {
             force.prepare(&self.entities);
         }
@@ -48,6 +57,6 @@ impl World {
             .iter()
             .map(|f| f.potential_energy(&self.gathered.x, &p.inverse_mass))
             .sum();
-        Energy { kinetic, potential }
+        Ok(Energy { kinetic, potential })
     }
 }

@@ -121,7 +121,8 @@ pub fn run_headless<W: Write>(
     let mut clock = FixedClock::default();
     clock.set_rate(rate);
     let start_particles = world.len();
-    let start_energy = world.energy().total();
+    // Refused before it starts where a potential has too many pairs.
+    let start_energy = world.energy()?.total();
     let every = every.max(1);
     if let Some(t) = trace.as_deref_mut() {
         t.write(world)?;
@@ -149,7 +150,7 @@ pub fn run_headless<W: Write>(
         steps,
         time: clock.time(),
         particles: (start_particles, world.len(), peak),
-        energy: (start_energy, world.energy().total()),
+        energy: (start_energy, world.energy()?.total()),
         wall_seconds: started.elapsed().as_secs_f64(),
         particle_steps,
     })

@@ -636,3 +636,52 @@ fn n_body_past_the_pair_limit_is_an_error_naming_it_before_the_step() {
     // No overflow at any size.
     assert_eq!(force.pairs(usize::MAX), u64::MAX / 2);
 }
+
+#[test]
+fn n_body_past_the_pair_limit_is_refused_by_the_energy_and_a_headless_run_before_any_pair() {
+    use tickwork_engine::clock::Rate;
+    use tickwork_engine::{HeadlessError, NBody, SimulationError, run_headless};
+    // 100 000 bodies under the default limit: 5e9 pairs, which the
+    // energy's potential once visited (a minute) before the step refused.
+    let mut w = World::new(tickwork_engine::WorldConfig::default()).expect("world");
+    w.add_force(NBody::new(1.0, 0.1));
+    for k in 0..100_000 {
+        w.spawn(Particle {
+            position: Vec3::new(k as f32, 0.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("spawn");
+    }
+    let refused = |error: &SimulationError| {
+        matches!(
+            error,
+            SimulationError::PairLimit {
+                tick: 0,
+                force: "nbody",
+                particles: 100_000,
+                pairs: 4_999_950_000,
+                limit: 50_000_000,
+            }
+        )
+    };
+    let err = w.energy().expect_err("past the pair limit");
+    assert!(refused(&err), "{err:?}");
+    assert_eq!(
+        err.to_string(),
+        "step 0: force nbody would visit 4999950000 pairs among 100000 particles in one evaluation, past the \
+         limit of 50000000 (WorldConfig::max_pairs); use fewer particles or raise the limit"
+    );
+    let run = run_headless(
+        &mut w,
+        Rate::hz(60).expect("rate"),
+        10,
+        None::<&mut tickwork_engine::TraceWriter<Vec<u8>>>,
+        1,
+        |_| {},
+    );
+    match run {
+        Err(HeadlessError::Simulation(error)) => assert!(refused(&error), "{error:?}"),
+        other => panic!("a headless run starts by refusing it: {other:?}"),
+    }
+    assert_eq!(w.tick(), 0, "no step was taken");
+}

@@ -128,7 +128,7 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let mut backend = "cpu".to_owned();
     // `--gpu`, or a scene whose backend is the GPU.
     let summary = if args.gpu || world.config().backend == tickwork_engine::world::Backend::Gpu {
-        let (summary, adapter) = run_on_gpu(&mut world, rate, steps, |done| bar.set_position(done))?;
+        let (summary, adapter) = run_on_gpu(&mut world, rate, steps, &args.scene, |done| bar.set_position(done))?;
         backend = format!("gpu: {adapter} (read back once, at the end)");
         summary
     } else {
@@ -181,12 +181,14 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
 }
 
 /// Runs `steps` frames of one fixed step each, as [`run_headless`] does, on
-/// the GPU step, and stores the final state into `world`: the summary
-/// and the adapter's name.
+/// the GPU step, and stores the final state into `world` (the scene's
+/// file, `scene`, names it in an error): the summary and the adapter's
+/// name.
 fn run_on_gpu(
     world: &mut World,
     rate: Rate,
     steps: u64,
+    scene: &Path,
     mut progress: impl FnMut(u64),
 ) -> Result<(HeadlessSummary, String), CliError> {
     let gpu = Gpu::headless().map_err(CliError::Gpu)?;
@@ -196,7 +198,11 @@ fn run_on_gpu(
     let mut clock = FixedClock::default();
     clock.set_rate(rate);
     let particles = world.len();
-    let start_energy = world.energy().total();
+    let simulation = |source| CliError::Simulation {
+        path: scene.to_path_buf(),
+        source,
+    };
+    let start_energy = world.energy().map_err(simulation)?.total();
     let started = std::time::Instant::now();
     let (mut pending, mut last) = (0u32, None);
     let (mut peak, mut particle_steps) = (particles, 0u64);
@@ -239,7 +245,7 @@ fn run_on_gpu(
         steps,
         time: clock.time(),
         particles: (particles, world.len(), peak),
-        energy: (start_energy, world.energy().total()),
+        energy: (start_energy, world.energy().map_err(simulation)?.total()),
         wall_seconds: started.elapsed().as_secs_f64(),
         particle_steps,
     };

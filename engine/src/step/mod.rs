@@ -572,6 +572,24 @@ impl World {
     /// before the step changes anything (the world grows between steps,
     /// by spawns and emitters, and forces are added between them).
     fn check_pairs(&self, tick: u64) -> Result<(), SimulationError> {
+        self.check_force_pairs(tick)?;
+        let (particles, limit) = (self.entities.len(), self.config.max_pairs);
+        let pairs = self.sensor_pairs();
+        if pairs > limit {
+            return Err(SimulationError::SensorPairLimit {
+                tick,
+                sensors: self.sensors.list.len(),
+                particles,
+                pairs,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
+    /// The forces' part of [`check_pairs`](Self::check_pairs): also asked
+    /// before the energy's potentials visit their pairs.
+    pub(crate) fn check_force_pairs(&self, tick: u64) -> Result<(), SimulationError> {
         let particles = self.entities.len();
         let limit = self.config.max_pairs;
         for force in &self.forces {
@@ -585,16 +603,6 @@ impl World {
                     limit,
                 });
             }
-        }
-        let pairs = self.sensor_pairs();
-        if pairs > limit {
-            return Err(SimulationError::SensorPairLimit {
-                tick,
-                sensors: self.sensors.list.len(),
-                particles,
-                pairs,
-                limit,
-            });
         }
         Ok(())
     }

@@ -8,6 +8,7 @@ use core::fmt;
 
 use glam::{Vec2, Vec3};
 
+use crate::SimulationError;
 use crate::app::api::backend::{StepFailure, Stepper};
 use crate::app::api::draw::Viewport;
 #[cfg(feature = "audio")]
@@ -160,8 +161,12 @@ impl EnergyTrace {
     pub const CAPACITY: usize = 600;
 
     /// Records the world's energy now (the first call sets `E0`).
-    pub fn sample(&mut self, world: &mut World) {
-        let energy = world.energy().total();
+    ///
+    /// # Errors
+    /// The world's refusal to sum a potential past its pair limit
+    /// ([`World::energy`]); nothing is recorded.
+    pub fn sample(&mut self, world: &mut World) -> Result<(), SimulationError> {
+        let energy = world.energy()?.total();
         let initial = *self.initial.get_or_insert(energy);
         let error = if initial.abs() > 1e-12 {
             (energy - initial) / initial.abs()
@@ -172,6 +177,7 @@ impl EnergyTrace {
             self.samples.pop_front();
         }
         self.samples.push_back((world.time(), error));
+        Ok(())
     }
 
     /// The latest relative error (0 before any sample).
@@ -273,7 +279,7 @@ impl StageWorld {
         }
         self.trails.record(&self.world);
         if self.world.len() <= ENERGY_EVERY_STEP_UP_TO || step.tick.is_multiple_of(30) {
-            self.energy.sample(&mut self.world);
+            self.energy.sample(&mut self.world).map_err(StepFailure::Simulation)?;
         }
         Ok(())
     }

@@ -238,7 +238,10 @@ impl<G: Game> GameSession<G> {
             if self.options.settings.gpu {
                 shown.world.set_backend(Backend::Gpu);
             }
-            shown.energy.sample(&mut shown.world);
+            shown
+                .energy
+                .sample(&mut shown.world)
+                .map_err(|e| RunError::Playback(e.into()))?;
         }
         // The GPU the worlds on it step on stays the runner's.
         stage.gpu = self.stage.gpu.take();

@@ -72,7 +72,7 @@ impl Playback {
             ..ClockConfig::default()
         })?;
         let last = clock.advance(0.0)?;
-        let initial_energy = world.energy().total();
+        let initial_energy = world.energy()?.total();
         let world_len = world.len();
         Ok(Self {
             initial: world.snapshot(),
@@ -205,7 +205,7 @@ impl Playback {
         }
         // (A world on the GPU has its energy there.)
         if self.stepper.on_gpu().is_none() && (frame.steps > 0 || self.energy_trace.samples().next().is_none()) {
-            self.energy_trace.sample(&mut self.world);
+            self.energy_trace.sample(&mut self.world)?;
         }
         self.last = frame;
         Ok(&self.last)
@@ -299,13 +299,16 @@ impl Playback {
             Some((at, _)) => at != tick && (self.world.len() <= ENERGY_EVERY_STEP_UP_TO || tick >= at + 30),
         };
         if stale {
-            self.energy = Some((tick, self.world.energy().total()));
+            // A world grown past its pair limit has no energy to show (its
+            // step refuses it too, and says so).
+            self.energy = self.world.energy().ok().map(|e| (tick, e.total()));
         }
-        let energy = self.energy.map_or(0.0, |(_, e)| e);
+        let energy = self.energy.map(|(_, e)| e);
         // Drift relative to the start, when that means something: same
         // particles, non-zero initial energy.
-        let drift = (self.world.len() == self.initial_len && self.initial_energy.abs() > 1e-9)
-            .then(|| (energy - self.initial_energy) / self.initial_energy.abs());
+        let drift = energy
+            .filter(|_| self.world.len() == self.initial_len && self.initial_energy.abs() > 1e-9)
+            .map(|energy| (energy - self.initial_energy) / self.initial_energy.abs());
         let fps = self.fps();
         out.clear();
         let _ = writeln!(
@@ -324,10 +327,14 @@ impl Playback {
         );
         let _ = write!(
             out,
-            "{} particles  |  t = {:.2} s  |  energy {energy:.4} J",
+            "{} particles  |  t = {:.2} s  |  ",
             self.world.len(),
             self.world.time()
         );
+        let _ = match energy {
+            Some(energy) => write!(out, "energy {energy:.4} J"),
+            None => write!(out, "energy: past WorldConfig::max_pairs"),
+        };
         if let Some(drift) = drift {
             let _ = write!(out, " (drift {drift:+.2e})");
         }
