@@ -45,9 +45,11 @@ pub struct SimArgs {
     #[arg(long)]
     pub force: bool,
     /// Step the scene on the GPU (explicit and semi-implicit Euler,
-    /// midpoint, Heun, RK4, Forest-Ruth; gravity, wind, drag, attractors,
-    /// n-body; axis-aligned planes and boxes at rest; anything else is
-    /// refused by name). The state is read back once, at the end: the
+    /// midpoint, Heun, RK4, Forest-Ruth, velocity Verlet, leapfrog,
+    /// position Verlet, Beeman, Adams-Bashforth 2-4; gravity, wind, drag,
+    /// attractors, n-body; planes along an axis and boxes, at rest or
+    /// kinematic, their contacts inside the step or at its end; anything
+    /// else is refused by name). The state is read back once, at the end: the
     /// checksum is then the CPU's where the adapter computes as the CPU
     /// does (lavapipe does), the adapter's own elsewhere.
     #[arg(long, conflicts_with = "trace")]

@@ -20,8 +20,10 @@
 //! (a tiled all-pairs kernel, a round for each evaluation of the method:
 //! every particle's trial positions there, then the sums);
 //! the colliders planes whose normal is an axis and boxes (containers and
-//! solid), at rest or kinematic, with restitution and friction, resolved
-//! at the end of the step in their order, their contacts read back where
+//! solid), at rest or kinematic, with restitution and friction, their
+//! contacts found inside the step (`ContactRule::InStep`, the default:
+//! `in_step.wgsl`, the CPU's rule in f32, each contact at its instant) or
+//! resolved at the end of the step in their order, and read back where
 //! they report them. Subnormal velocities are flushed to 0 after the same
 //! ticks as on the CPU (every 64th).
 //!
