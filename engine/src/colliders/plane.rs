@@ -420,11 +420,13 @@ impl Plane {
         // all are; the one branch a block is on that (rarely taken: the
         // lanes that meet the plane are few).
         if b < whole {
-            if c.movable && c.point {
-                self.settle_mixed::<AXIS, NEGATIVE, true>(b, start, &mut c, dt, rest_dt, settled);
-            } else {
-                self.settle_mixed::<AXIS, NEGATIVE, false>(b, start, &mut c, dt, rest_dt, settled);
-            }
+            let settle = match (c.movable && c.point, self.material.friction == 0.0) {
+                (true, true) => Self::settle_mixed::<AXIS, NEGATIVE, true, true>,
+                (true, false) => Self::settle_mixed::<AXIS, NEGATIVE, true, false>,
+                (false, true) => Self::settle_mixed::<AXIS, NEGATIVE, false, true>,
+                (false, false) => Self::settle_mixed::<AXIS, NEGATIVE, false, false>,
+            };
+            settle(self, b, start, &mut c, dt, rest_dt, settled);
             b = whole;
         }
         // The short last block, whose padding lanes count as settled.
@@ -445,27 +447,10 @@ impl Plane {
     /// [`settle_axis_blocks`](Self::settle_axis_blocks)'s whole blocks from
     /// block `first` on, in a mixed chunk: each block's lanes clear of the
     /// plane or resting on it, resolved when all are (`FIXED`: movable point
-    /// particles, no radius or mass read).
-    fn settle_mixed<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool>(
-        &self,
-        first: usize,
-        start: &[Vec3x4],
-        c: &mut BlockColumns<'_>,
-        dt: f32,
-        rest_dt: f32,
-        settled: &mut [u8],
-    ) {
-        if self.material.friction == 0.0 {
-            self.settle_mixed_as::<AXIS, NEGATIVE, FIXED, true>(first, start, c, dt, rest_dt, settled);
-        } else {
-            self.settle_mixed_as::<AXIS, NEGATIVE, FIXED, false>(first, start, c, dt, rest_dt, settled);
-        }
-    }
-
-    /// [`settle_mixed`](Self::settle_mixed) with the friction's case
-    /// chosen once (`FRICTIONLESS`: [`contact_block`](Self::contact_block)'s
-    /// frictionless branch, the same bits).
-    fn settle_mixed_as<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool, const FRICTIONLESS: bool>(
+    /// particles, no radius or mass read; `FRICTIONLESS`: the bounce of
+    /// [`contact_block`](Self::contact_block)'s frictionless branch inline,
+    /// the same bits).
+    fn settle_mixed<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool, const FRICTIONLESS: bool>(
         &self,
         first: usize,
         start: &[Vec3x4],

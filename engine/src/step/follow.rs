@@ -30,7 +30,10 @@
 use glam::{BVec4A, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
-use crate::colliders::AxisPlane;
+use super::in_step::Chunk;
+use crate::colliders::sweep::radius4;
+use crate::colliders::{AxisPlane, RowTouch};
+use crate::layout::CHUNK;
 
 /// One step's in-step rule against one plane at rest along an axis, for
 /// blocks of four particles.
@@ -70,7 +73,7 @@ impl PlaneLanes {
 /// reports them: the point on the surface, the impulse per unit mass over
 /// the inverse mass, the instant).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Followed {
+struct Followed {
     /// The lanes decided (bits): met the plane, or left alone.
     pub decided: u8,
     /// The lanes that met the plane (bits), their states changed.
@@ -123,7 +126,7 @@ impl PlaneLanes {
     /// decided here and the contacts met. The others are unchanged, for
     /// [`Sweep::row`](super::in_step::Sweep::row).
     #[inline(always)]
-    pub(super) fn follow<const AXIS: usize>(
+    fn follow<const AXIS: usize>(
         &self,
         start: &Vec3x4,
         x: &mut Vec3x4,
@@ -264,6 +267,137 @@ impl PlaneLanes {
             point,
             impulse_w: along(after_n - arriving[AXIS]),
             fraction: s,
+        }
+    }
+}
+
+impl PlaneLanes {
+    /// [`follow`](Self::follow) on a chunk's lanes not settled, gathered
+    /// four at a time into one block (a block of a crowd rarely has more
+    /// than one such lane): their bits in `settled` set where it decides
+    /// them, the contacts met reported if the plane `reports`. Then, with
+    /// `resolve`, the plane's end-of-step rule on each block whose lanes
+    /// are now all decided (the others are resolved after their paths are
+    /// followed, by [`Sweep::row`](super::in_step::Sweep::row)).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn follow_chunk<const AXIS: usize>(
+        &self,
+        reports: bool,
+        resolve: bool,
+        first_row: usize,
+        start: &[Vec3x4],
+        c: &mut Chunk<'_>,
+        settled: &mut [u8],
+        touches: &mut Vec<RowTouch>,
+    ) {
+        const ALL: u8 = 0b1111;
+        let (plane, k) = (self, self.collider);
+        let normal = Followed::normal::<AXIS>(&plane.plane);
+        // Up to four lanes, by (block, lane), gathered into one block.
+        let mut held = [(0usize, 0usize); 4];
+        let mut count = 0;
+        let mut follow = |held: &[(usize, usize)], c: &mut Chunk<'_>, settled: &mut [u8]| {
+            // Gathered through arrays (a lane of a vector in a register
+            // set by index costs a shuffle per lane and index).
+            let mut g = [[0.0f32; 4]; 11];
+            for (lane, &(b, j)) in held.iter().enumerate() {
+                for (i, p) in [&start[b], &c.x[b], &c.v[b]].into_iter().enumerate() {
+                    g[3 * i][lane] = p.x[j];
+                    g[3 * i + 1][lane] = p.y[j];
+                    g[3 * i + 2][lane] = p.z[j];
+                }
+                g[9][lane] = c.radius[b * 4 + j];
+                g[10][lane] = c.inverse_mass[b * 4 + j];
+            }
+            let block = |i: usize| Vec3x4 {
+                x: Vec4::from_array(g[i]),
+                y: Vec4::from_array(g[i + 1]),
+                z: Vec4::from_array(g[i + 2]),
+            };
+            let (x0, mut x, mut v) = (block(0), block(3), block(6));
+            let (r, w) = (Vec4::from_array(g[9]), Vec4::from_array(g[10]));
+            // Lanes past `held` have inverse mass 0: left alone.
+            let todo = 0b1111 >> (4 - held.len());
+            let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
+            let (xs, vs) = (
+                [x.x, x.y, x.z].map(|p| p.to_array()),
+                [v.x, v.y, v.z].map(|p| p.to_array()),
+            );
+            for (lane, &(b, j)) in held.iter().enumerate() {
+                if followed.decided & (1 << lane) == 0 {
+                    continue;
+                }
+                settled[b] |= 1 << j;
+                if followed.met & (1 << lane) == 0 {
+                    continue;
+                }
+                let (xb, vb) = (&mut c.x[b], &mut c.v[b]);
+                (xb.x[j], xb.y[j], xb.z[j]) = (xs[0][lane], xs[1][lane], xs[2][lane]);
+                (vb.x[j], vb.y[j], vb.z[j]) = (vs[0][lane], vs[1][lane], vs[2][lane]);
+                if reports {
+                    touches.push(RowTouch {
+                        collider: k as u32,
+                        row: (first_row + b * 4 + j) as u32,
+                        other: u32::MAX,
+                        point: followed.point(lane),
+                        normal,
+                        impulse: followed.impulse_w[lane] / c.inverse_mass[b * 4 + j],
+                        fraction: followed.fraction[lane],
+                        event: 1,
+                    });
+                }
+            }
+        };
+        // The blocks with lanes to follow, as bits.
+        // Eight bytes at a time: most are all settled (`ALL` each).
+        let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
+        const EIGHT: u64 = u64::from_ne_bytes([ALL; 8]);
+        for (k, bytes) in settled.chunks(8).enumerate() {
+            if <[u8; 8]>::try_from(bytes).is_ok_and(|eight| u64::from_ne_bytes(eight) == EIGHT) {
+                continue;
+            }
+            for (i, &lanes) in bytes.iter().enumerate() {
+                let b = k * 8 + i;
+                open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
+            }
+        }
+        for_each_bit(&open, |b| {
+            let lanes = settled[b];
+            for lane in (0..4).filter(|lane| lanes & (1 << lane) == 0) {
+                held[count] = (b, lane);
+                count += 1;
+                if count == 4 {
+                    follow(&held, c, settled);
+                    count = 0;
+                }
+            }
+        });
+        if count > 0 {
+            follow(&held[..count], c, settled);
+        }
+        if !resolve {
+            return;
+        }
+        // The blocks that had lanes to follow and are now decided whole:
+        // the end-of-step rule (those still open are resolved after `row`).
+        let rest = plane.rest_speed;
+        for_each_bit(&open, |b| {
+            if settled[b] == ALL {
+                let (r, w) = (radius4(c.radius, b), radius4(c.inverse_mass, b));
+                plane.plane.resolve_block::<AXIS>(&mut c.x[b], &mut c.v[b], r, w, rest);
+            }
+        });
+    }
+}
+
+/// Calls `f` with the index of each set bit of `words`, in order.
+#[inline(always)]
+fn for_each_bit(words: &[u64], mut f: impl FnMut(usize)) {
+    for (word, &bits) in words.iter().enumerate() {
+        let mut bits = bits;
+        while bits != 0 {
+            f(word * 64 + bits.trailing_zeros() as usize);
+            bits &= bits - 1;
         }
     }
 }

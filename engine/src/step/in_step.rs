@@ -51,12 +51,11 @@
 
 use core::ops::Range;
 
-use glam::{DVec3, Vec3A, Vec4};
+use glam::{DVec3, Vec3A};
 use tickwork_integrators::Vec3x4;
 
-use super::follow::{Followed, PlaneLanes};
+use super::follow::PlaneLanes;
 use super::reporting::{Reporting, resolve_rows};
-use crate::colliders::sweep::radius4;
 use crate::colliders::{
     BlockColumns, Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce,
 };
@@ -219,14 +218,14 @@ impl<'a> Sweep<'a> {
             // whole, each block whose lanes are then all decided is
             // resolved too.
             let follow = match plane.plane.axis {
-                0 => Self::follow_plane::<0>,
-                1 => Self::follow_plane::<1>,
-                _ => Self::follow_plane::<2>,
+                0 => PlaneLanes::follow_chunk::<0>,
+                1 => PlaneLanes::follow_chunk::<1>,
+                _ => PlaneLanes::follow_chunk::<2>,
             };
+            let reports = self.reports[plane.collider];
             follow(
-                self,
                 &plane,
-                plane.collider,
+                reports,
                 folded.is_some(),
                 first_row,
                 start,
@@ -284,124 +283,6 @@ impl<'a> Sweep<'a> {
         }
         settled.fill(ALL);
         first
-    }
-
-    /// [`PlaneLanes::follow`] on the chunk's lanes not settled, gathered
-    /// four at a time into one block (a block of a crowd rarely has more
-    /// than one such lane): their bits in `settled` set where it decides
-    /// them, the contacts met reported if collider `k`, the plane,
-    /// reports. Then, with `resolve`, the plane's end-of-step rule on each
-    /// block whose lanes are now all decided (the others are resolved after
-    /// their paths are followed).
-    #[allow(clippy::too_many_arguments)]
-    fn follow_plane<const AXIS: usize>(
-        &self,
-        plane: &PlaneLanes,
-        k: usize,
-        resolve: bool,
-        first_row: usize,
-        start: &[Vec3x4],
-        c: &mut Chunk<'_>,
-        settled: &mut [u8],
-        touches: &mut Vec<RowTouch>,
-    ) {
-        const ALL: u8 = 0b1111;
-        let normal = Followed::normal::<AXIS>(&plane.plane);
-        let reports = self.reports[k];
-        // Up to four lanes, by (block, lane), gathered into one block.
-        let mut held = [(0usize, 0usize); 4];
-        let mut count = 0;
-        let mut follow = |held: &[(usize, usize)], c: &mut Chunk<'_>, settled: &mut [u8]| {
-            // Gathered through arrays (a lane of a vector in a register
-            // set by index costs a shuffle per lane and index).
-            let mut g = [[0.0f32; 4]; 11];
-            for (lane, &(b, j)) in held.iter().enumerate() {
-                for (i, p) in [&start[b], &c.x[b], &c.v[b]].into_iter().enumerate() {
-                    g[3 * i][lane] = p.x[j];
-                    g[3 * i + 1][lane] = p.y[j];
-                    g[3 * i + 2][lane] = p.z[j];
-                }
-                g[9][lane] = c.radius[b * 4 + j];
-                g[10][lane] = c.inverse_mass[b * 4 + j];
-            }
-            let block = |i: usize| Vec3x4 {
-                x: Vec4::from_array(g[i]),
-                y: Vec4::from_array(g[i + 1]),
-                z: Vec4::from_array(g[i + 2]),
-            };
-            let (x0, mut x, mut v) = (block(0), block(3), block(6));
-            let (r, w) = (Vec4::from_array(g[9]), Vec4::from_array(g[10]));
-            // Lanes past `held` have inverse mass 0: left alone.
-            let todo = 0b1111 >> (4 - held.len());
-            let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
-            let (xs, vs) = (
-                [x.x, x.y, x.z].map(|p| p.to_array()),
-                [v.x, v.y, v.z].map(|p| p.to_array()),
-            );
-            for (lane, &(b, j)) in held.iter().enumerate() {
-                if followed.decided & (1 << lane) == 0 {
-                    continue;
-                }
-                settled[b] |= 1 << j;
-                if followed.met & (1 << lane) == 0 {
-                    continue;
-                }
-                let (xb, vb) = (&mut c.x[b], &mut c.v[b]);
-                (xb.x[j], xb.y[j], xb.z[j]) = (xs[0][lane], xs[1][lane], xs[2][lane]);
-                (vb.x[j], vb.y[j], vb.z[j]) = (vs[0][lane], vs[1][lane], vs[2][lane]);
-                if reports {
-                    touches.push(RowTouch {
-                        collider: k as u32,
-                        row: (first_row + b * 4 + j) as u32,
-                        other: u32::MAX,
-                        point: followed.point(lane),
-                        normal,
-                        impulse: followed.impulse_w[lane] / c.inverse_mass[b * 4 + j],
-                        fraction: followed.fraction[lane],
-                        event: 1,
-                    });
-                }
-            }
-        };
-        // The blocks with lanes to follow, as bits.
-        // Eight bytes at a time: most are all settled (`ALL` each).
-        let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
-        const EIGHT: u64 = u64::from_ne_bytes([ALL; 8]);
-        for (k, bytes) in settled.chunks(8).enumerate() {
-            if <[u8; 8]>::try_from(bytes).is_ok_and(|eight| u64::from_ne_bytes(eight) == EIGHT) {
-                continue;
-            }
-            for (i, &lanes) in bytes.iter().enumerate() {
-                let b = k * 8 + i;
-                open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
-            }
-        }
-        for_each_bit(&open, |b| {
-            let lanes = settled[b];
-            for lane in (0..4).filter(|lane| lanes & (1 << lane) == 0) {
-                held[count] = (b, lane);
-                count += 1;
-                if count == 4 {
-                    follow(&held, c, settled);
-                    count = 0;
-                }
-            }
-        });
-        if count > 0 {
-            follow(&held[..count], c, settled);
-        }
-        if !resolve {
-            return;
-        }
-        // The blocks that had lanes to follow and are now decided whole:
-        // the end-of-step rule (those still open are resolved after `row`).
-        let rest = self.rest_speed;
-        for_each_bit(&open, |b| {
-            if settled[b] == ALL {
-                let (r, w) = (radius4(c.radius, b), radius4(c.inverse_mass, b));
-                plane.plane.resolve_block::<AXIS>(&mut c.x[b], &mut c.v[b], r, w, rest);
-            }
-        });
     }
 
     /// In-step collider `k`'s end-of-step rule on `blocks` of the chunk
@@ -584,18 +465,6 @@ impl World {
         p.position.gather_into(&mut g.x, parallel);
         p.velocity.gather_into(&mut g.v, parallel);
         first
-    }
-}
-
-/// Calls `f` with the index of each set bit of `words`, in order.
-#[inline(always)]
-fn for_each_bit(words: &[u64], mut f: impl FnMut(usize)) {
-    for (word, &bits) in words.iter().enumerate() {
-        let mut bits = bits;
-        while bits != 0 {
-            f(word * 64 + bits.trailing_zeros() as usize);
-            bits &= bits - 1;
-        }
     }
 }
 
