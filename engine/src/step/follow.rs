@@ -30,7 +30,7 @@
 use glam::{BVec4A, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
-use super::in_step::Chunk;
+use super::chunk::Chunk;
 use crate::colliders::sweep::radius4;
 use crate::colliders::{AxisPlane, RowTouch};
 use crate::layout::CHUNK;

@@ -54,11 +54,10 @@ use core::ops::Range;
 use glam::{DVec3, Vec3A};
 use tickwork_integrators::Vec3x4;
 
+use super::chunk::Chunk;
 use super::follow::PlaneLanes;
 use super::reporting::{Reporting, resolve_rows};
-use crate::colliders::{
-    BlockColumns, Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce,
-};
+use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
 use crate::forces::Force;
 use crate::layout::{CHUNK, Rows};
 use crate::world::World;
@@ -85,35 +84,6 @@ pub(super) struct Sweep<'a> {
     /// along an axis (reporting or not): the paths that meet it are
     /// followed four at a time ([`PlaneLanes`]).
     pub plane: Option<PlaneLanes>,
-}
-
-/// A chunk of particles in blocks of four, as the in-step pass changes it:
-/// the method's end state, one radius and inverse mass per particle (the
-/// last block may be short), and the chunk's facts (see [`BlockColumns`]).
-pub(super) struct Chunk<'a> {
-    pub x: &'a mut [Vec3x4],
-    pub v: &'a mut [Vec3x4],
-    pub radius: &'a [f32],
-    pub inverse_mass: &'a [f32],
-    pub movable: bool,
-    pub point: bool,
-}
-
-impl Chunk<'_> {
-    /// Blocks `blocks` of the chunk as a collider takes them.
-    fn blocks(&mut self, blocks: Range<usize>, rest_speed: f32) -> BlockColumns<'_> {
-        let rows = blocks.start * 4..(blocks.end * 4).min(self.radius.len());
-        BlockColumns {
-            position: &mut self.x[blocks.clone()],
-            velocity: &mut self.v[blocks],
-            radius: &self.radius[rows.clone()],
-            inverse_mass: &self.inverse_mass[rows.clone()],
-            rows: rows.len(),
-            movable: self.movable,
-            point: self.point,
-            rest_speed,
-        }
-    }
 }
 
 /// The lanes of block `b` past the chunk's `rows` particles, as bits.

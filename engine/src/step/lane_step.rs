@@ -3,7 +3,8 @@
 
 use tickwork_integrators::{StepError, Vec3x4};
 
-use super::in_step::{Chunk, Sweep};
+use super::chunk::Chunk;
+use super::in_step::Sweep;
 use super::reporting::{Reporting, resolve_rows};
 use crate::colliders::{BlockColumns, Collider, EventOverflow};
 use crate::forces::{BlockField, Force, ForceField};

@@ -25,6 +25,7 @@
 //! of the method; results are bit-identical to the serial step because each
 //! particle's arithmetic is the same.
 
+mod chunk;
 mod error;
 mod follow;
 mod in_step;
