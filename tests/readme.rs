@@ -88,3 +88,166 @@ fn the_readme_line_counts_are_the_files() {
         "the game is {lines} lines, the heading says under {under}"
     );
 }
+
+#[test]
+fn the_changelog_has_one_section_of_each_kind_per_version() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/CHANGELOG.md")).expect("CHANGELOG.md");
+    // Each version (`## [..]`) lists its changes under Keep a Changelog's
+    // headings, each at most once, breaking changes under one of them.
+    for version in text.split("\n## ").skip(1) {
+        let name = version.lines().next().unwrap_or_default();
+        let mut seen: Vec<&str> = Vec::new();
+        for heading in version.lines().filter_map(|l| l.strip_prefix("### ")) {
+            assert!(!seen.contains(&heading), "{name}: two sections {heading:?}");
+            assert!(
+                [
+                    "Added",
+                    "Breaking",
+                    "Changed",
+                    "Deprecated",
+                    "Removed",
+                    "Fixed",
+                    "Security"
+                ]
+                .contains(&heading),
+                "{name}: a section {heading:?}, not one of Keep a Changelog's (breaking changes go under \"Breaking\")"
+            );
+            seen.push(heading);
+        }
+    }
+}
+
+/// The repository's files under `dir` whose name ends with one of `ext`.
+fn files_under(dir: &std::path::Path, ext: &[&str], out: &mut Vec<std::path::PathBuf>) {
+    let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    for entry in entries {
+        let path = entry.expect("a directory entry").path();
+        if path.is_dir() {
+            files_under(&path, ext, out);
+        } else if ext.iter().any(|e| path.extension().is_some_and(|x| x == *e)) {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn no_source_file_is_over_600_lines() {
+    // One concept per file: a file past 600 lines is split along its
+    // seams. Pure test files (`tests.rs`, `tests/`) are exempt.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in [
+        "src",
+        "integrators/src",
+        "engine/src",
+        "engine/shaders",
+        "demos/src",
+        "fuzz",
+    ] {
+        files_under(&root.join(dir), &["rs", "wgsl"], &mut files);
+    }
+    assert!(files.len() > 150, "the sources: {}", files.len());
+    let long: Vec<String> = files
+        .iter()
+        .filter(|f| f.file_name().is_some_and(|n| n != "tests.rs"))
+        .filter(|f| {
+            !f.components()
+                .any(|c| c.as_os_str() == "tests" || c.as_os_str() == "target")
+        })
+        .filter_map(|f| {
+            let lines = std::fs::read_to_string(f).expect("a source file").lines().count();
+            (lines > 600).then(|| format!("{} ({lines} lines)", f.strip_prefix(root).unwrap_or(f).display()))
+        })
+        .collect();
+    assert!(long.is_empty(), "files over 600 lines: {long:?}");
+}
+
+#[test]
+fn the_map_and_the_performance_page_stay_short() {
+    assert!(
+        lines_of("ARCHITECTURE.md") <= 400,
+        "ARCHITECTURE.md is a map: {} lines",
+        lines_of("ARCHITECTURE.md")
+    );
+    assert!(
+        lines_of("docs/performance.md") <= 400,
+        "docs/performance.md: {} lines",
+        lines_of("docs/performance.md")
+    );
+}
+
+/// GitHub's anchor for a heading: lower case, spaces to `-`, punctuation
+/// other than `-` and `_` dropped.
+fn anchor(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn the_docs_links_resolve() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut docs = vec![
+        root.join("README.md"),
+        root.join("ARCHITECTURE.md"),
+        root.join("CHANGELOG.md"),
+    ];
+    files_under(&root.join("docs"), &["md"], &mut docs);
+    let mut broken = Vec::new();
+    let mut checked = 0;
+    for doc in &docs {
+        let text = std::fs::read_to_string(doc).expect("a doc");
+        let mut in_code = false;
+        for (n, line) in text.lines().enumerate() {
+            if line.trim_start().starts_with("```") {
+                in_code = !in_code;
+            }
+            if in_code {
+                continue;
+            }
+            for (at, _) in line.match_indices("](") {
+                let rest = &line[at + 2..];
+                let Some(end) = rest.find(')') else { continue };
+                let target = &rest[..end];
+                if target.contains("://") || target.starts_with("mailto:") || target.contains(' ') {
+                    continue;
+                }
+                let (file, fragment) = target.split_once('#').unwrap_or((target, ""));
+                let path = if file.is_empty() {
+                    doc.clone()
+                } else {
+                    doc.parent().expect("a folder").join(file)
+                };
+                checked += 1;
+                let place = format!(
+                    "{}:{}: {target}",
+                    doc.strip_prefix(root).unwrap_or(doc).display(),
+                    n + 1
+                );
+                if !path.exists() {
+                    broken.push(format!("{place} (no such file)"));
+                    continue;
+                }
+                if !fragment.is_empty() && path.extension().is_some_and(|e| e == "md") {
+                    let target_text = std::fs::read_to_string(&path).expect("a linked doc");
+                    let found = target_text
+                        .lines()
+                        .filter_map(|l| l.strip_prefix('#').map(|h| h.trim_start_matches('#')))
+                        .any(|h| anchor(h) == fragment);
+                    if !found {
+                        broken.push(format!("{place} (no heading #{fragment})"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 50, "links checked: {checked}");
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+}

@@ -174,7 +174,15 @@ impl core::fmt::Display for HeadlessError {
     }
 }
 
-impl std::error::Error for HeadlessError {}
+/// `source()` is the inner error itself (the simulation's, or the file's).
+impl std::error::Error for HeadlessError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Simulation(e) => Some(e),
+            Self::Trace(e) => Some(e),
+        }
+    }
+}
 
 impl From<SimulationError> for HeadlessError {
     fn from(e: SimulationError) -> Self {

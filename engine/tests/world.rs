@@ -679,9 +679,15 @@ fn n_body_past_the_pair_limit_is_refused_by_the_energy_and_a_headless_run_before
         1,
         |_| {},
     );
-    match run {
-        Err(HeadlessError::Simulation(error)) => assert!(refused(&error), "{error:?}"),
+    match &run {
+        Err(HeadlessError::Simulation(error)) => assert!(refused(error), "{error:?}"),
         other => panic!("a headless run starts by refusing it: {other:?}"),
     }
+    // The wrapper's source is the simulation's error itself.
+    let wrapped = run.expect_err("refused");
+    let source = std::error::Error::source(&wrapped)
+        .and_then(|e| e.downcast_ref::<SimulationError>())
+        .expect("the source is the SimulationError");
+    assert!(refused(source), "{source:?}");
     assert_eq!(w.tick(), 0, "no step was taken");
 }

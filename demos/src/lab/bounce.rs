@@ -12,7 +12,9 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 use tickwork_engine::clock::FixedStep;
-use tickwork_engine::{ContactRule, Gravity, Material, Particle, Plane, World, WorldConfig};
+use tickwork_engine::{
+    ContactRule, EntityError, Gravity, Material, Particle, Plane, SimulationError, SpawnError, World, WorldConfig,
+};
 use tickwork_integrators::METHODS;
 
 use super::{LabError, Out, plot};
@@ -71,8 +73,44 @@ pub struct Apex {
     pub largest_energy_error: f64,
 }
 
+/// Why a run failed: the engine's own error, kept whole (its `source()`
+/// chain and fields), or a state that became non-finite.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    /// The ball could not be spawned.
+    Spawn(SpawnError),
+    /// A step failed.
+    Step(SimulationError),
+    /// The ball's state could not be read back.
+    Read(EntityError),
+    /// The ball's position or velocity became non-finite.
+    NonFinite,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Spawn(e) => write!(f, "cannot spawn the ball: {e}"),
+            Self::Step(e) => e.fmt(f),
+            Self::Read(e) => write!(f, "cannot read the ball: {e}"),
+            Self::NonFinite => f.write_str("the state became non-finite"),
+        }
+    }
+}
+
+impl std::error::Error for Failure {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Spawn(e) => Some(e),
+            Self::Step(e) => Some(e),
+            Self::Read(e) => Some(e),
+            Self::NonFinite => None,
+        }
+    }
+}
+
 /// How a run ended.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Outcome {
     /// [`BOUNCES`] apexes.
     Completed,
@@ -82,8 +120,8 @@ pub enum Outcome {
     Failed {
         /// The step that failed.
         step: usize,
-        /// What the engine said.
-        message: String,
+        /// Why.
+        error: Failure,
     },
 }
 
@@ -160,7 +198,7 @@ pub fn run(method: &'static str, symplectic: bool, rule: ContactRule) -> Result<
         Err(e) => {
             result.outcome = Outcome::Failed {
                 step: 0,
-                message: format!("cannot spawn the ball: {e}"),
+                error: Failure::Spawn(e),
             };
             return Ok(result);
         }
@@ -176,10 +214,10 @@ pub fn run(method: &'static str, symplectic: bool, rule: ContactRule) -> Result<
                 time: tick as f64 * dt,
                 dt,
             })
-            .map_err(|e| e.to_string())
+            .map_err(Failure::Step)
             .and_then(|_| {
-                let x = w.position(ball).map_err(|e| e.to_string())?;
-                let v = w.velocity(ball).map_err(|e| e.to_string())?;
+                let x = w.position(ball).map_err(Failure::Read)?;
+                let v = w.velocity(ball).map_err(Failure::Read)?;
                 Ok((x, v))
             });
         result.steps = n + 1;
@@ -188,12 +226,12 @@ pub fn run(method: &'static str, symplectic: bool, rule: ContactRule) -> Result<
             Ok(_) => {
                 result.outcome = Outcome::Failed {
                     step: n + 1,
-                    message: "the state became non-finite".to_owned(),
+                    error: Failure::NonFinite,
                 };
                 break;
             }
-            Err(message) => {
-                result.outcome = Outcome::Failed { step: n + 1, message };
+            Err(error) => {
+                result.outcome = Outcome::Failed { step: n + 1, error };
                 break;
             }
         };
@@ -238,7 +276,7 @@ pub fn study() -> Result<Vec<BounceRun>, LabError> {
 fn apex_text(run: &BounceRun, n: usize) -> String {
     match (run.apex(n), &run.outcome) {
         (Some(a), _) => format!("{a:.5}"),
-        (None, Outcome::Failed { step, message }) => format!("- (step {step} failed: {message})"),
+        (None, Outcome::Failed { step, error }) => format!("- (step {step} failed: {error})"),
         (None, _) => format!("- ({} bounces in {} steps)", run.apexes.len(), run.steps),
     }
 }

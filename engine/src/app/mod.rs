@@ -24,9 +24,8 @@ pub use api::control::Control;
 pub use api::draw::{Draw, DrawPoint, Viewport};
 pub use api::error::{PlaybackError, RunError};
 pub use api::game::{Game, GameError};
-pub use api::stage::{
-    EnergyTrace, OnFailure, ReadBackError, Settings, Stage, StageError, StageWorld, WorldBuilder, WorldId,
-};
+pub use api::stage::{ReadBackError, Settings, Stage, StageError, WorldBuilder, WorldId};
+pub use api::stage_world::{EnergyTrace, OnFailure, StageWorld};
 #[cfg(feature = "audio")]
 pub use audio::mixer::{LOGGED_SOUNDS, Played};
 #[cfg(feature = "audio")]

@@ -10,7 +10,7 @@
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use crate::app::api::control::{Control, next_time_scale};
-use crate::app::api::stage::EnergyTrace;
+use crate::app::api::stage_world::EnergyTrace;
 use crate::clock::FixedClock;
 use crate::world::Colour;
 use tickwork_integrators::METHODS;

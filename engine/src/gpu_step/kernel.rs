@@ -9,9 +9,18 @@ use crate::colliders::{BoxCollider, Plane};
 use crate::forces::{Attractor, Force, NBody, QuadraticDrag};
 use crate::world::World;
 
-/// The step's shader: the common part, then the contacts inside the step,
-/// then the method's `advance`.
-const COMMON: &str = include_str!("../../shaders/gpu_step/step.wgsl");
+/// The step's shader: the common part (the bindings and entry points, the
+/// end-of-step colliders, history, n-body), then the contacts inside the
+/// step, then the method's `advance`.
+const COMMON: &str = concat!(
+    include_str!("../../shaders/gpu_step/step.wgsl"),
+    "\n",
+    include_str!("../../shaders/gpu_step/colliders.wgsl"),
+    "\n",
+    include_str!("../../shaders/gpu_step/history.wgsl"),
+    "\n",
+    include_str!("../../shaders/gpu_step/nbody.wgsl"),
+);
 
 /// Contacts inside the step (`ContactRule::InStep` planes and boxes).
 const IN_STEP: &str = include_str!("../../shaders/gpu_step/in_step.wgsl");

@@ -27,9 +27,9 @@
 macro_rules! shader {
     ($file:literal) => {
         concat!(
-            include_str!("../../shaders/common.wgsl"),
+            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common.wgsl")),
             "\n",
-            include_str!(concat!("../../shaders/", $file))
+            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/", $file))
         )
     };
 }

@@ -39,7 +39,19 @@ impl fmt::Display for PlaybackError {
     }
 }
 
-impl std::error::Error for PlaybackError {}
+/// The message is the inner error's; `source()` is the inner error itself,
+/// so a caller can downcast it or walk its chain.
+impl std::error::Error for PlaybackError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Scene(e) => Some(e),
+            Self::Clock(e) => Some(e),
+            Self::Simulation(e) => Some(e),
+            Self::Integrator(e) => Some(e),
+            Self::Gpu(e) => Some(e),
+        }
+    }
+}
 
 impl From<ClockError> for PlaybackError {
     fn from(e: ClockError) -> Self {
@@ -100,7 +112,18 @@ impl fmt::Display for RunError {
     }
 }
 
-impl std::error::Error for RunError {}
+/// The message of a wrapping variant is the inner error's; `source()` is
+/// the inner error itself, so a caller can downcast it or walk its chain.
+impl std::error::Error for RunError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Playback(e) => Some(e),
+            Self::Render(e) => Some(e),
+            Self::Game(e) => Some(e),
+            Self::Window(_) | Self::Exists(_) | Self::Network(_) | Self::Limit(_) | Self::Io { .. } => None,
+        }
+    }
+}
 
 /// A scene's playback failing inside a game: [`GameError::Engine`].
 impl From<PlaybackError> for GameError {
@@ -160,5 +183,25 @@ impl RunError {
             path: path.to_path_buf(),
             message: error.to_string(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clock::Rate;
+    use std::error::Error as _;
+
+    #[test]
+    fn a_wrapper_keeps_its_inner_error_as_its_source() {
+        let clock = Rate::hz(0).expect_err("0 Hz is refused");
+        let run = RunError::from(PlaybackError::from(clock.clone()));
+        // The message is passed through, and the chain reaches the clock's error.
+        assert_eq!(run.to_string(), clock.to_string());
+        let playback = run.source().expect("the playback error");
+        assert!(playback.downcast_ref::<PlaybackError>().is_some(), "{playback:?}");
+        let inner = playback.source().expect("the clock's error");
+        assert_eq!(inner.downcast_ref::<ClockError>(), Some(&clock));
+        assert!(RunError::Limit("a limit".into()).source().is_none());
     }
 }

@@ -10,3 +10,4 @@ pub(crate) mod draw;
 pub(crate) mod error;
 pub(crate) mod game;
 pub(crate) mod stage;
+pub(crate) mod stage_world;

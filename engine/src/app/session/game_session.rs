@@ -11,28 +11,24 @@
 use std::path::PathBuf;
 
 use crate::app::api::backend::StepFailure;
-use crate::app::api::control::{Control, chosen_integrator, clock_control};
-use crate::app::api::draw::{Draw, Viewport};
+use crate::app::api::control::{Control, chosen_integrator};
+use crate::app::api::draw::Draw;
 use crate::app::api::error::RunError;
 use crate::app::api::game::{Game, GameError};
-use crate::app::api::stage::{Stage, StageWorld};
+use crate::app::api::stage::Stage;
 #[cfg(feature = "audio")]
 use crate::app::audio::mixer::{Audio, Played};
-#[cfg(feature = "panel")]
-use crate::app::panel::{ClockRow, WorldRow};
 use crate::app::session::frame_rate::FrameRate;
 use crate::app::session::options::SessionOptions;
 use crate::app::session::source::FrameSource;
 use crate::clock::{ClockConfig, FixedClock, Frame, Rate};
 use crate::input::{InputEvent, InputQueue, Key, RecordedControl, Recording, TickInput};
-use crate::interpolation::Interpolation;
-use crate::render::{Camera, FrameView, RenderError, WorldView};
 use crate::world::Backend;
 use tickwork_integrators::build;
 
 /// Where the session's per-tick input comes from.
 #[derive(Debug)]
-enum InputMode {
+pub(super) enum InputMode {
     /// The player; recorded if `record` is set.
     Live { record: Option<(Recording, PathBuf)> },
     /// A recording, replayed from `cursors` (inputs, by player) and
@@ -46,25 +42,25 @@ enum InputMode {
 
 /// A game, its stage and its clock: the per-frame path both runners share.
 pub struct GameSession<G: Game> {
-    game: G,
-    stage: Stage,
-    options: SessionOptions,
-    clock: FixedClock,
-    last: Frame,
+    pub(super) game: G,
+    pub(super) stage: Stage,
+    pub(super) options: SessionOptions,
+    pub(super) clock: FixedClock,
+    pub(super) last: Frame,
     /// The player's events, waiting for the steps of their time.
-    queue: InputQueue,
+    pub(super) queue: InputQueue,
     /// The last step's input of every player, carried into the next.
-    inputs: Vec<TickInput>,
-    mode: InputMode,
-    draw: Draw,
-    frame_rate: FrameRate,
+    pub(super) inputs: Vec<TickInput>,
+    pub(super) mode: InputMode,
+    pub(super) draw: Draw,
+    pub(super) frame_rate: FrameRate,
     /// Whether the replay has run out (reported once).
-    replay_done: bool,
+    pub(super) replay_done: bool,
     /// Drawn when the stage has no world (a game of lines only).
-    empty: crate::world::World,
+    pub(super) empty: crate::world::World,
     /// The sounds started, and the device they play on, if any.
     #[cfg(feature = "audio")]
-    audio: Audio,
+    pub(super) audio: Audio,
 }
 
 impl<G: Game> std::fmt::Debug for GameSession<G> {
@@ -183,7 +179,7 @@ impl<G: Game> GameSession<G> {
     /// fixes its integrator and `names` are not the ones they run (a game
     /// that races the named integrators, such as orbits, runs exactly
     /// those; any other would ignore the option silently).
-    fn check_fixed_integrators(&self, stage: &Stage, names: &str) -> Result<(), RunError> {
+    pub(super) fn check_fixed_integrators(&self, stage: &Stage, names: &str) -> Result<(), RunError> {
         // A stage without worlds (yet) fixes nothing.
         if stage.worlds.is_empty() || stage.worlds.iter().any(|w| !w.fixed_integrator) {
             return Ok(());
@@ -204,7 +200,7 @@ impl<G: Game> GameSession<G> {
     }
 
     /// Builds the stage afresh and restarts the clock (and the recording).
-    fn restart(&mut self) -> Result<(), RunError> {
+    pub(super) fn restart(&mut self) -> Result<(), RunError> {
         let mut stage = Stage {
             settings: self.options.settings.clone(),
             ..Stage::default()
@@ -328,14 +324,14 @@ impl<G: Game> GameSession<G> {
     }
 
     /// The present in simulated seconds: the clock's time plus its backlog.
-    fn present(&self) -> f64 {
+    pub(super) fn present(&self) -> f64 {
         self.clock.time() + self.clock.backlog()
     }
 
     /// Takes the inputs of the step `tick` ending at simulated time `end`
     /// into `self.inputs`: replayed, or the player's events of its time
     /// window (and recorded) for player 0 and the default for the others.
-    fn take_tick_inputs(&mut self, tick: u64, end: f64) {
+    pub(super) fn take_tick_inputs(&mut self, tick: u64, end: f64) {
         match &mut self.mode {
             InputMode::Replay { recording, cursors, .. } => {
                 for (player, (input, cursor)) in self.inputs.iter_mut().zip(cursors.iter_mut()).enumerate() {
@@ -474,7 +470,7 @@ impl<G: Game> GameSession<G> {
     }
 
     /// Replays the recorded controls of `tick` (before its input).
-    fn replay_controls(&mut self, tick: u64) -> Result<(), RunError> {
+    pub(super) fn replay_controls(&mut self, tick: u64) -> Result<(), RunError> {
         let InputMode::Replay {
             recording,
             next_control,
@@ -527,7 +523,7 @@ impl<G: Game> GameSession<G> {
     /// (the stage allows it, the game does not fix the world's); records
     /// each switch before the next tick. A replay keeps its recorded
     /// integrators.
-    fn switch_integrators(&mut self, control: Control) -> Result<(), RunError> {
+    pub(super) fn switch_integrators(&mut self, control: Control) -> Result<(), RunError> {
         // Checked first, so a bad number is an error wherever it is sent.
         chosen_integrator(control, usize::MAX, "", false)?;
         if !self.stage.switch_integrators {
@@ -580,210 +576,4 @@ fn checksum_of(game: &impl Game, stage: &Stage) -> u64 {
         .fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
             (h ^ x).wrapping_mul(0x0000_0100_0000_01b3)
         })
-}
-
-impl<G: Game> FrameSource for GameSession<G> {
-    fn title(&self) -> String {
-        self.game.title().to_owned()
-    }
-
-    fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
-        let frame = self.advance_clock(seconds)?;
-        for step in frame.fixed_steps() {
-            self.replay_controls(step.tick)?;
-            self.take_tick_inputs(step.tick, step.time + step.dt);
-            let inputs = core::mem::take(&mut self.inputs);
-            let ran = self.run_tick(step, &inputs);
-            self.inputs = inputs;
-            ran?;
-        }
-        self.finish_frame(frame);
-        Ok(())
-    }
-
-    fn control(&mut self, control: Control) -> Result<(), RunError> {
-        if let Control::Rate(hz) = control {
-            // A recording stores one rate (the panel greys it out then).
-            if self.is_recording() || self.replay().is_some() {
-                crate::say!("tickwork: the rate stays as it is while recording or replaying ({hz} Hz ignored)");
-                return Ok(());
-            }
-            self.stage.rate = Rate::hz_f64(hz)?;
-        }
-        if clock_control(&mut self.clock, control)? {
-            return Ok(());
-        }
-        match control {
-            Control::Reset => self.restart(),
-            other => self.switch_integrators(other),
-        }
-    }
-
-    fn takes_input(&self) -> bool {
-        true
-    }
-
-    fn claimed_keys(&self) -> crate::input::KeySet {
-        self.stage.claimed_keys
-    }
-
-    fn input(&mut self, event: InputEvent, arrival: f64) {
-        if matches!(self.mode, InputMode::Live { .. }) {
-            self.queue.push(event, arrival);
-        }
-    }
-
-    fn ticks(&self) -> u64 {
-        self.clock.tick()
-    }
-
-    fn interpolation(&self) -> Option<Interpolation> {
-        // The step in seconds of game time, as the worlds take it.
-        self.stage.hermite.then(|| Interpolation::Hermite {
-            dt: self.clock.dt() as f32,
-        })
-    }
-
-    fn camera_mut(&mut self) -> &mut Camera {
-        &mut self.stage.camera
-    }
-
-    fn needs_gpu(&self) -> bool {
-        self.stage
-            .worlds
-            .iter()
-            .any(|w| w.world.config().backend == Backend::Gpu)
-    }
-
-    fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
-        // The first GPU given stays: the worlds' buffers live on it.
-        if self.stage.gpu.is_none() {
-            self.stage.gpu = Some(gpu.clone());
-        }
-    }
-
-    fn with_view(
-        &mut self,
-        hud: bool,
-        (width, height): (u32, u32),
-        render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
-    ) -> Result<(), RunError> {
-        let alpha = self.last.alpha as f32;
-        let viewport = Viewport {
-            width,
-            height,
-            pixels_per_metre: self.stage.camera.matrices(width, height).pixels_per_unit,
-        };
-        self.stage.viewport = viewport;
-        self.draw.clear(viewport);
-        self.game
-            .draw(&self.stage, alpha, &mut self.draw)
-            .map_err(RunError::Game)?;
-        if let Some(problem) = self.draw.problem() {
-            return Err(RunError::Game(GameError::Message(problem.to_owned())));
-        }
-        if !hud {
-            self.draw.hud.clear();
-            self.draw.hud_colours.clear();
-        }
-        let (first, rest) = match self.stage.worlds.split_first() {
-            Some((first, rest)) => (Some(first), rest),
-            None => (None, &[][..]),
-        };
-        // A world on the GPU is drawn from its buffers, not its columns.
-        let empty = &self.empty;
-        fn columns<'a>(w: &'a StageWorld, empty: &'a crate::world::World) -> &'a crate::world::World {
-            if w.gpu_particles().is_some() { empty } else { &w.world }
-        }
-        let gpu_particles: Vec<crate::render::GpuParticles<'_>> = self
-            .stage
-            .worlds
-            .iter()
-            .filter_map(|w| {
-                w.gpu_particles()
-                    .map(|g| crate::render::GpuParticles { layer: w.layer, ..g })
-            })
-            .collect();
-        for shown in &self.stage.worlds {
-            if let Some(texture) = &shown.sprite {
-                let layer = shown.layer.unwrap_or(self.draw.particles_on());
-                particle_sprites(&shown.world, texture, alpha, layer, &mut self.draw);
-            }
-        }
-        let others: Vec<WorldView<'_>> = rest
-            .iter()
-            .map(|w| WorldView {
-                world: columns(w, empty),
-                trails: Some(&w.trails),
-                as_sprites: w.sprite.is_some(),
-                layer: w.layer,
-            })
-            .collect();
-        let view = FrameView {
-            trails: first.map(|w| &w.trails),
-            as_sprites: first.is_some_and(|w| w.sprite.is_some()),
-            layer: first.and_then(|w| w.layer),
-            others: &others,
-            lines: &self.draw.lines,
-            triangles: &self.draw.triangles,
-            batches: &self.draw.batches,
-            sprites: &self.draw.sprites,
-            particle_layer: self.draw.particles_on(),
-            texts: &self.draw.texts,
-            hud: &self.draw.hud,
-            hud_colours: &self.draw.hud_colours,
-            gpu_particles: &gpu_particles,
-            ..FrameView::new(first.map_or(empty, |w| columns(w, empty)), alpha, self.stage.camera)
-        };
-        render(&view)?;
-        Ok(())
-    }
-
-    #[cfg(feature = "panel")]
-    fn panel(&self, ctx: &egui::Context, chosen: &mut Vec<Control>) {
-        let rate_fixed = self.is_recording() || self.replay().is_some();
-        let clock = ClockRow::of(&self.clock, self.fps(), self.last.steps, rate_fixed);
-        let rows: Vec<WorldRow<'_>> = self
-            .stage
-            .worlds
-            .iter()
-            .map(|w| WorldRow {
-                label: &w.label,
-                colour: w.colour,
-                integrator: w.world.integrator().info().name,
-                fixed: w.fixed_integrator || !self.stage.switch_integrators,
-                particles: w.world.len(),
-                energy: &w.energy,
-                on_gpu: w.world.config().backend == Backend::Gpu,
-            })
-            .collect();
-        crate::app::panel::lay_out(ctx, &clock, &rows, chosen);
-    }
-}
-
-/// A world's particles as sprites of `texture` on `layer`: each at its
-/// drawn position, as wide as its disc, tinted by its colour, turned by
-/// its heading (if the world has headings).
-fn particle_sprites(
-    world: &crate::world::World,
-    texture: &crate::render::Texture,
-    alpha: f32,
-    layer: i32,
-    draw: &mut Draw,
-) {
-    let p = world.particles();
-    let headings = world.column::<crate::world::Heading>().ok();
-    let previous_layer = draw.current_layer();
-    draw.layer(layer);
-    for row in 0..p.len() {
-        let (from, to) = (p.previous_position.row(row), p.position.row(row));
-        let at = from + (to - from) * alpha;
-        let size = glam::Vec2::splat(2.0 * p.radius[row]);
-        let sprite = draw.sprite(texture, glam::Vec2::new(at.x, at.y), size);
-        sprite.tint(p.colour[row]);
-        if let Some(h) = headings.and_then(|h| h.get(row)) {
-            sprite.rotation(h.interpolated(alpha));
-        }
-    }
-    draw.layer(previous_layer);
 }

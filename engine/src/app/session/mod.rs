@@ -5,6 +5,7 @@
 
 pub(crate) mod frame_rate;
 pub(crate) mod game_session;
+mod game_source;
 pub(crate) mod options;
 pub(crate) mod playback;
 pub(crate) mod source;

@@ -17,7 +17,7 @@ use crate::world::{Backend, Snapshot, World};
 use crate::app::api::backend::{StepFailure, Stepper};
 use crate::app::api::control::{Control, chosen_integrator, clock_control};
 use crate::app::api::error::{PlaybackError, RunError};
-use crate::app::api::stage::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
+use crate::app::api::stage_world::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
 #[cfg(feature = "panel")]
 use crate::app::panel::{ClockRow, WorldRow};
 use crate::app::session::frame_rate::FrameRate;
