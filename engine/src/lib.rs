@@ -69,12 +69,14 @@ pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};
 pub use colliders::{
-    AxisPlane, BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, Material, Plane,
-    SphereCollisions, Touched,
+    AxisPlane, BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, GpuCollider,
+    Material, Plane, SphereCollisions, Touched,
 };
 pub use emitter::Emitter;
 pub use energy::Energy;
-pub use forces::{Attractor, Force, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, Wind};
+pub use forces::{
+    Attractor, Force, GpuForce, Gravity, LinearDrag, NBody, QuadraticDrag, Spring, SpringEnd, Springs, WgslF32, Wind,
+};
 /// The math crate of every public type (`Vec3`, `Quat`), re-exported so
 /// games use the same version.
 pub use glam;

@@ -13,12 +13,12 @@
 //! error that names the packages; they never skip.
 #![cfg(feature = "render")]
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use tickwork_engine::colliders::{BoxCollider, Material, Plane};
 use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag, Wind};
 use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
 use tickwork_engine::render::Gpu;
-use tickwork_engine::{FixedStep, Particle, World, WorldConfig};
+use tickwork_engine::{FixedStep, GpuForce, Particle, WgslF32, World, WorldConfig};
 
 const DT: f64 = 1.0 / 60.0;
 const PARTICLES: usize = 4133;
@@ -421,6 +421,63 @@ fn nbody_under_the_methods_with_history_on_the_gpu_is_the_cpus_bit_for_bit() {
     ] {
         nbody_matches_the_cpu(method);
     }
+}
+
+/// A force of the game's own, a swirl about the y axis (`a += k (-v_z, 0,
+/// v_x)`), with its GPU form written beside its CPU form: nothing of the
+/// engine names it.
+#[derive(Clone, Debug)]
+struct Swirl {
+    k: f32,
+}
+
+impl tickwork_engine::Force for Swirl {
+    fn name(&self) -> &'static str {
+        "swirl"
+    }
+
+    fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {
+        for (a, v) in out.iter_mut().zip(v) {
+            *a += Vec3A::new(-v.z, 0.0, v.x) * self.k;
+        }
+    }
+
+    fn gpu_form(&self) -> GpuForce {
+        GpuForce::Term
+    }
+
+    fn write_wgsl(&self, out: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        writeln!(out, "    a = a + vec3<f32>(-v.z, 0.0, v.x) * {};", WgslF32(self.k))
+    }
+}
+
+#[test]
+fn a_games_own_force_steps_on_the_gpu_from_its_own_wgsl_as_on_the_cpu() {
+    let gpu = gpu();
+    let mut cpu = world("rk4");
+    cpu.add_force(Swirl { k: 0.7 });
+    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes a force with a GPU form");
+    cpu_steps(&mut cpu, 0..60);
+    on_gpu.step(&gpu, DT as f32, 60).expect("steps");
+    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    let p = cpu.particles();
+    let cx: Vec<Vec3> = p.position.iter().map(Vec3::from).collect();
+    let cv: Vec<Vec3> = p.velocity.iter().map(Vec3::from).collect();
+    assert!(cv.iter().any(|v| v.z.abs() > 1.0), "the swirl turned the particles");
+    assert_eq!((differences(&x, &cx).0, differences(&v, &cv).0), (0, 0));
+    // Without a GPU form the GPU step names the force.
+    #[derive(Clone, Debug)]
+    struct Cpu;
+    impl tickwork_engine::Force for Cpu {
+        fn name(&self) -> &'static str {
+            "cpu_only"
+        }
+        fn accumulate(&self, _: f32, _: usize, _: &[Vec3A], _: &[Vec3A], _: &[f32], _: &mut [Vec3A]) {}
+    }
+    let mut refused = world("rk4");
+    refused.add_force(Cpu);
+    let error = GpuWorld::new(&gpu, &refused).expect_err("no GPU form");
+    assert!(matches!(error, GpuStepError::Force { force: "cpu_only" }), "{error:?}");
 }
 
 #[test]

@@ -266,6 +266,16 @@ impl Collider for BoxCollider {
         "box"
     }
 
+    fn gpu_form(&self) -> super::GpuCollider {
+        super::GpuCollider::Box {
+            min: self.min,
+            max: self.max,
+            inside: self.inside,
+            velocity: self.velocity,
+            material: self.material,
+        }
+    }
+
     fn in_step(&self) -> bool {
         self.contact == ContactRule::InStep
     }

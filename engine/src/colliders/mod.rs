@@ -13,6 +13,7 @@
 mod aabb;
 mod contact;
 mod contacts;
+mod gpu;
 mod plane;
 pub(crate) mod set;
 mod spheres;
@@ -32,6 +33,7 @@ pub(crate) use contact::bounce;
 pub use contact::{ContactRule, Material};
 pub use contacts::{ColliderId, Contact, PairTouch, Touched};
 pub(crate) use contacts::{RowTouch, diff_touches};
+pub use gpu::GpuCollider;
 pub use plane::{AxisPlane, Plane};
 pub use set::ColliderError;
 pub use spheres::SphereCollisions;
@@ -291,6 +293,14 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     /// not report (see [`AxisPlane`]); `first_contact` follows the rest.
     fn axis_plane(&self) -> Option<AxisPlane> {
         None
+    }
+
+    /// What this collider is in the GPU step (default: none, so that a
+    /// world with it stays on the CPU, the error naming the collider).
+    fn gpu_form(&self) -> GpuCollider {
+        GpuCollider::None {
+            reason: "the GPU step resolves planes and boxes only",
+        }
     }
 
     /// Moves a kinematic collider by its own velocity over a step of `dt`

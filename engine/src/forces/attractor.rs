@@ -2,7 +2,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::{Force, mass_of};
+use super::{Force, GpuForce, WgslF32, mass_of};
 
 /// A fixed attracting point (a sun, a black hole) with Plummer softening
 /// `eps`, which keeps the acceleration finite at the centre.
@@ -19,6 +19,25 @@ pub struct Attractor {
 impl Force for Attractor {
     fn name(&self) -> &'static str {
         "attractor"
+    }
+
+    fn gpu_form(&self) -> GpuForce {
+        GpuForce::Term
+    }
+
+    /// `d = p - x; r2 = |d|^2 + eps^2; a += d (GM / (r2 sqrt(r2)))`.
+    fn write_wgsl(&self, out: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        let p = self.position;
+        writeln!(
+            out,
+            "    {{\n        let d = vec3<f32>({}, {}, {}) - x;\n        let r2 = length_squared(d) + {};\n        \
+             a = a + d * ({} / (r2 * sqrt(r2)));\n    }}",
+            WgslF32(p.x),
+            WgslF32(p.y),
+            WgslF32(p.z),
+            WgslF32(self.softening * self.softening),
+            WgslF32(self.gm)
+        )
     }
 
     fn accumulate(&self, _t: f32, _first: usize, x: &[Vec3A], _v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {

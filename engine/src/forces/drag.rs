@@ -2,7 +2,7 @@
 
 use glam::Vec3A;
 
-use super::Force;
+use super::{Force, GpuForce, WgslF32};
 
 /// Linear drag `a = -b v` (an acceleration, so it slows every particle alike).
 ///
@@ -44,6 +44,19 @@ pub struct QuadraticDrag {
 impl Force for QuadraticDrag {
     fn name(&self) -> &'static str {
         "quadratic_drag"
+    }
+
+    fn gpu_form(&self) -> GpuForce {
+        GpuForce::Term
+    }
+
+    /// `a -= v (k |v|)`, `|v|` as `sqrt` of glam's dot product.
+    fn write_wgsl(&self, out: &mut dyn core::fmt::Write) -> core::fmt::Result {
+        writeln!(
+            out,
+            "    a = a - v * ({} * sqrt(length_squared(v)));",
+            WgslF32(self.coefficient)
+        )
     }
 
     fn accumulate(&self, _t: f32, _first: usize, _x: &[Vec3A], v: &[Vec3A], _w: &[f32], out: &mut [Vec3A]) {

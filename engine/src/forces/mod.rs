@@ -11,6 +11,7 @@
 
 mod attractor;
 mod drag;
+mod gpu;
 mod gravity;
 mod nbody;
 mod springs;
@@ -24,6 +25,7 @@ use tickwork_integrators::{System, Vec3x4};
 
 pub use attractor::Attractor;
 pub use drag::{LinearDrag, QuadraticDrag};
+pub use gpu::{GpuForce, WgslF32};
 pub use gravity::Gravity;
 pub use nbody::NBody;
 pub use springs::{Spring, SpringEnd, Springs};
@@ -66,6 +68,34 @@ pub trait Force: Send + Sync + fmt::Debug + ForceState {
     /// of one pass each (default: `None`).
     fn affine_in_velocity(&self) -> Option<(Vec3A, f32)> {
         None
+    }
+
+    /// What the force is in the GPU step (default: [`GpuForce::Affine`]
+    /// for a force [affine in velocity](Self::affine_in_velocity),
+    /// [`GpuForce::None`] otherwise, so that a world with it stays on the
+    /// CPU). A force that answers [`GpuForce::Term`] writes its term with
+    /// [`write_wgsl`](Self::write_wgsl).
+    fn gpu_form(&self) -> GpuForce {
+        if self.affine_in_velocity().is_some() {
+            GpuForce::Affine
+        } else {
+            GpuForce::None
+        }
+    }
+
+    /// Writes this force's term of the GPU step's `acceleration` (for
+    /// [`GpuForce::Term`]): WGSL statements that add to `a`
+    /// (`var a: vec3<f32>`) from the particle's `x` and `v` (`vec3<f32>`),
+    /// the same operations in the same order as
+    /// [`accumulate`](Self::accumulate), with the force's values as
+    /// [`WgslF32`] literals; `length_squared(d)` sums as glam's dot
+    /// product does (default: nothing).
+    ///
+    /// # Errors
+    /// Only those of `out`.
+    fn write_wgsl(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let _ = out;
+        Ok(())
     }
 
     /// Resolves entity handles to rows; called once per step before the
@@ -131,6 +161,16 @@ impl Clone for Box<dyn Force> {
     }
 }
 
+/// The forces affine in velocity, summed in force order from zero:
+/// `(sum c, sum b)`, the acceleration `c - b v` every particle starts from
+/// (the force field's, the in-step rule's and the GPU step's one sum).
+pub(crate) fn affine_sum(forces: &[Box<dyn Force>]) -> (Vec3A, f32) {
+    forces
+        .iter()
+        .filter_map(|f| f.affine_in_velocity())
+        .fold((Vec3A::ZERO, 0.0), |(c, b), (fc, fb)| (c + fc, b + fb))
+}
+
 /// The world's forces seen as the integrator's [`System`]: the sum of every
 /// force, zeroed for immovable particles (inverse mass 0).
 #[derive(Clone, Copy)]
@@ -177,11 +217,9 @@ impl<'a> ForceField<'a> {
         for force in forces {
             field.pointwise &= force.is_pointwise();
             field.drag += force.linear_drag();
-            match force.affine_in_velocity() {
-                Some((c, b)) => field.affine = (field.affine.0 + c, field.affine.1 + b),
-                None => field.all_affine = false,
-            }
+            field.all_affine &= force.affine_in_velocity().is_some();
         }
+        field.affine = affine_sum(forces);
         field
     }
 }

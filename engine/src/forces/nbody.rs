@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::{Force, mass_of};
+use super::{Force, GpuForce, mass_of};
 
 /// Mutual gravity of every pair of movable particles, O(N^2), with Plummer
 /// softening. Each particle's sum runs over `j` in row order on one thread,
@@ -62,6 +62,13 @@ impl NBody {
 impl Force for NBody {
     fn name(&self) -> &'static str {
         "nbody"
+    }
+
+    fn gpu_form(&self) -> GpuForce {
+        GpuForce::NBody {
+            g: self.g,
+            softening: self.softening,
+        }
     }
 
     fn is_pointwise(&self) -> bool {

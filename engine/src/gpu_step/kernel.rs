@@ -4,9 +4,15 @@
 
 use glam::Vec3A;
 
+use tickwork_integrators::MethodInfo;
+use tickwork_integrators::methods::{
+    adams_bashforth, adams_bashforth2, adams_bashforth3, adams_bashforth4, beeman, explicit_euler, forest_ruth, heun,
+    leapfrog, midpoint, position_verlet, rk4, semi_implicit_euler, velocity_verlet,
+};
+
 use super::error::GpuStepError;
-use crate::colliders::{BoxCollider, Plane};
-use crate::forces::{Attractor, Force, NBody, QuadraticDrag};
+use crate::colliders::GpuCollider;
+use crate::forces::{Force, GpuForce, WgslF32, affine_sum};
 use crate::world::World;
 
 /// The step's shader: the common part (the bindings and entry points, the
@@ -25,98 +31,132 @@ const COMMON: &str = concat!(
 /// Contacts inside the step (`ContactRule::InStep` planes and boxes).
 const IN_STEP: &str = include_str!("../../shaders/gpu_step/in_step.wgsl");
 
-/// The methods with a GPU form: name, WGSL, and the most evaluations of
-/// the acceleration it makes in one step (where a particle starts by RK4:
-/// one more than RK4's four for Beeman), the n-body rounds of its step.
-const METHODS: &[(&str, &str, u32)] = &[
-    (
-        "semi_implicit_euler",
+/// How a method's step coefficients are formed (`drift`, `kick` in
+/// `Params`): from the integrators crate's own weights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Coefficients {
+    /// None (zero).
+    None,
+    /// Forest-Ruth's drifts and kicks times `h`
+    /// ([`forest_ruth::weights`]).
+    ForestRuth,
+    /// Adams-Bashforth's betas of `K` steps in `drift`
+    /// ([`adams_bashforth::coefficients`]).
+    AdamsBashforth(usize),
+}
+
+/// A method's GPU form: the registry's entry (its name), its WGSL, the
+/// most evaluations of the acceleration it makes in one step (where a
+/// particle starts by RK4: one more than RK4's four for Beeman), the
+/// n-body rounds of its step; its history records (`vec4`s) a particle
+/// (`HISTORY` in the shader, restarted as the CPU's `History` restarts;
+/// 0: none); and its coefficients.
+struct GpuMethod {
+    info: MethodInfo,
+    wgsl: &'static str,
+    evaluations: u32,
+    history: u32,
+    coefficients: Coefficients,
+}
+
+/// A method's GPU form (see [`GpuMethod`]).
+const fn method(info: MethodInfo, wgsl: &'static str, evaluations: u32, history: u32) -> GpuMethod {
+    GpuMethod {
+        info,
+        wgsl,
+        evaluations,
+        history,
+        coefficients: Coefficients::None,
+    }
+}
+
+/// Adams-Bashforth of any steps (`HISTORY` and the betas say how many).
+const ADAMS_BASHFORTH: &str = include_str!("../../shaders/gpu_step/adams_bashforth.wgsl");
+
+/// The methods with a GPU form.
+const METHODS: &[GpuMethod] = &[
+    method(
+        semi_implicit_euler::INFO,
         include_str!("../../shaders/gpu_step/semi_implicit_euler.wgsl"),
         1,
+        0,
     ),
-    (
-        "explicit_euler",
+    method(
+        explicit_euler::INFO,
         include_str!("../../shaders/gpu_step/explicit_euler.wgsl"),
         1,
+        0,
     ),
-    ("midpoint", include_str!("../../shaders/gpu_step/midpoint.wgsl"), 2),
-    ("heun", include_str!("../../shaders/gpu_step/heun.wgsl"), 2),
-    ("rk4", include_str!("../../shaders/gpu_step/rk4.wgsl"), 4),
-    (
-        "forest_ruth",
-        include_str!("../../shaders/gpu_step/forest_ruth.wgsl"),
-        3,
+    method(
+        midpoint::INFO,
+        include_str!("../../shaders/gpu_step/midpoint.wgsl"),
+        2,
+        0,
     ),
-    (
-        "velocity_verlet",
+    method(heun::INFO, include_str!("../../shaders/gpu_step/heun.wgsl"), 2, 0),
+    method(rk4::INFO, include_str!("../../shaders/gpu_step/rk4.wgsl"), 4, 0),
+    GpuMethod {
+        coefficients: Coefficients::ForestRuth,
+        ..method(
+            forest_ruth::INFO,
+            include_str!("../../shaders/gpu_step/forest_ruth.wgsl"),
+            3,
+            0,
+        )
+    },
+    method(
+        velocity_verlet::INFO,
         include_str!("../../shaders/gpu_step/velocity_verlet.wgsl"),
         2,
+        1,
     ),
-    ("leapfrog", include_str!("../../shaders/gpu_step/leapfrog.wgsl"), 2),
-    (
-        "position_verlet",
+    method(
+        leapfrog::INFO,
+        include_str!("../../shaders/gpu_step/leapfrog.wgsl"),
+        2,
+        1,
+    ),
+    method(
+        position_verlet::INFO,
         include_str!("../../shaders/gpu_step/position_verlet.wgsl"),
         4,
+        1,
     ),
-    ("beeman", include_str!("../../shaders/gpu_step/beeman.wgsl"), 5),
-    (
-        "adams_bashforth2",
-        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
-        4,
-    ),
-    (
-        "adams_bashforth3",
-        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
-        4,
-    ),
-    (
-        "adams_bashforth4",
-        include_str!("../../shaders/gpu_step/adams_bashforth.wgsl"),
-        4,
-    ),
+    method(beeman::INFO, include_str!("../../shaders/gpu_step/beeman.wgsl"), 5, 2),
+    GpuMethod {
+        coefficients: Coefficients::AdamsBashforth(2),
+        ..method(adams_bashforth2::INFO, ADAMS_BASHFORTH, 4, 2)
+    },
+    GpuMethod {
+        coefficients: Coefficients::AdamsBashforth(3),
+        ..method(adams_bashforth3::INFO, ADAMS_BASHFORTH, 4, 4)
+    },
+    GpuMethod {
+        coefficients: Coefficients::AdamsBashforth(4),
+        ..method(adams_bashforth4::INFO, ADAMS_BASHFORTH, 4, 6)
+    },
 ];
+
+/// The GPU form of the method the registry calls `name`.
+fn gpu_method(name: &str) -> Option<&'static GpuMethod> {
+    METHODS.iter().find(|m| m.info.name == name)
+}
 
 /// Whether the GPU step has a form of the method `name` (the registry's
 /// canonical name): what the viewer's Tab offers a GPU world.
 pub(crate) fn takes_method(name: &str) -> bool {
-    METHODS.iter().any(|(method, ..)| *method == name)
-}
-
-/// The methods of [`METHODS`] that keep a history between steps, and its
-/// records (`vec4`s) a particle: `HISTORY` in the shader, written there
-/// from this table (restarted as the CPU's `History` restarts).
-const HISTORY_RECORDS: &[(&str, u32)] = &[
-    ("velocity_verlet", 1),
-    ("leapfrog", 1),
-    ("position_verlet", 1),
-    ("beeman", 2),
-    ("adams_bashforth2", 2),
-    ("adams_bashforth3", 4),
-    ("adams_bashforth4", 6),
-];
-
-/// An f32 as WGSL reads back its exact bits (written without allocating).
-struct Bits(f32);
-
-impl core::fmt::Display for Bits {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "bitcast<f32>({:#010x}u)", self.0.to_bits())
-    }
-}
-
-fn bits(value: f32) -> Bits {
-    Bits(value)
+    gpu_method(name).is_some()
 }
 
 /// Writes the WGSL `acceleration(x, v, w)` of `forces` into `out`: the
-/// affine sum from the uniform, then each other force in force order, with
-/// its values written in (their exact bits), as the CPU's force field adds
-/// them.
+/// affine sum from the uniform, then each other force's own term
+/// ([`Force::write_wgsl`]) in force order, as the CPU's force field adds
+/// them; n-body's sum from its rounds.
 fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), GpuStepError> {
     use core::fmt::Write;
     // Writing into a String cannot fail.
     let _ = out.write_str("fn acceleration(x: vec3<f32>, v: vec3<f32>, w: f32) -> vec3<f32> {\n");
-    if forces.iter().any(|f| f.as_any().downcast_ref::<NBody>().is_some()) {
+    if forces.iter().any(|f| matches!(f.gpu_form(), GpuForce::NBody { .. })) {
         // Every particle's evaluation counts, an immovable one's too: its
         // trial position is written down for the others' sums.
         out.push_str("    let pull = nbody_term(x);\n");
@@ -125,29 +165,12 @@ fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), 
         "    if (!(w > 0.0)) {\n        return vec3<f32>(0.0);\n    }\n    var a = params.c - v * params.b;\n",
     );
     for force in forces.iter().filter(|f| f.affine_in_velocity().is_none()) {
-        let any = force.as_any();
-        if let Some(drag) = any.downcast_ref::<QuadraticDrag>() {
-            let _ = writeln!(
-                out,
-                "    a = a - v * ({} * sqrt(length_squared(v)));",
-                bits(drag.coefficient)
-            );
-        } else if let Some(attractor) = any.downcast_ref::<Attractor>() {
-            let p = attractor.position;
-            let _ = writeln!(
-                out,
-                "    {{\n        let d = vec3<f32>({}, {}, {}) - x;\n        let r2 = length_squared(d) + {};\n        \
-                 a = a + d * ({} / (r2 * sqrt(r2)));\n    }}",
-                bits(p.x),
-                bits(p.y),
-                bits(p.z),
-                bits(attractor.softening * attractor.softening),
-                bits(attractor.gm)
-            );
-        } else if any.downcast_ref::<NBody>().is_some() {
-            out.push_str("    a = a + pull;\n");
-        } else {
-            return Err(GpuStepError::Force { force: force.name() });
+        match force.gpu_form() {
+            GpuForce::Term => {
+                let _ = force.write_wgsl(out);
+            }
+            GpuForce::NBody { .. } => out.push_str("    a = a + pull;\n"),
+            GpuForce::None | GpuForce::Affine => return Err(GpuStepError::Force { force: force.name() }),
         }
     }
     out.push_str("    return a;\n}\n");
@@ -156,29 +179,23 @@ fn acceleration_into(forces: &[Box<dyn Force>], out: &mut String) -> Result<(), 
 
 /// A method's step coefficients for a step of `h` seconds, `(drift,
 /// kick)` as `Params` carries them: Forest-Ruth's weights times `h`, in
-/// f64 then rounded, as `integrators/src/methods/forest_ruth.rs` does;
-/// Adams-Bashforth's `beta` in `drift`; unused (zero) for the others.
+/// f64 then rounded, as its CPU step forms them; Adams-Bashforth's `beta`
+/// in `drift`, likewise; unused (zero) for the others.
 pub(super) fn coefficients(method: &str, h: f32) -> ([f32; 4], [f32; 4]) {
-    // Adams-Bashforth's b_j h, formed in f64 and rounded, as
-    // `integrators/src/methods/adams_bashforth.rs` forms its beta.
-    let adams: &[f64] = match method {
-        "adams_bashforth2" => &[3.0 / 2.0, -1.0 / 2.0],
-        "adams_bashforth3" => &[23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0],
-        "adams_bashforth4" => &[55.0 / 24.0, -59.0 / 24.0, 37.0 / 24.0, -9.0 / 24.0],
-        _ => &[],
-    };
-    if !adams.is_empty() {
-        let beta = std::array::from_fn(|j| adams.get(j).map_or(0.0, |b| (b * f64::from(h)) as f32));
-        return (beta, [0.0; 4]);
-    }
-    if method != "forest_ruth" {
-        return ([0.0; 4], [0.0; 4]);
-    }
-    let theta = 1.0 / (2.0 - tickwork_integrators::math::powf(2f64, 1.0 / 3.0));
     let h = f64::from(h);
-    let drifts = [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0];
-    let kicks = [theta, 1.0 - 2.0 * theta, theta, 0.0];
-    (drifts.map(|d| (d * h) as f32), kicks.map(|k| (k * h) as f32))
+    match gpu_method(method).map(|m| m.coefficients) {
+        Some(Coefficients::ForestRuth) => {
+            let (drifts, kicks) = forest_ruth::weights();
+            let kicks = [kicks[0], kicks[1], kicks[2], 0.0];
+            (drifts.map(|d| (d * h) as f32), kicks.map(|k| (k * h) as f32))
+        }
+        Some(Coefficients::AdamsBashforth(steps)) => {
+            let b = adams_bashforth::coefficients(steps).unwrap_or(&[]);
+            let beta = std::array::from_fn(|j| b.get(j).map_or(0.0, |b| (b * h) as f32));
+            (beta, [0.0; 4])
+        }
+        Some(Coefficients::None) | None => ([0.0; 4], [0.0; 4]),
+    }
 }
 
 /// What a collider record is (`ColliderRecord::kind`).
@@ -321,7 +338,7 @@ pub(super) fn changes_rows(world: &World) -> bool {
 /// the error naming what the GPU step does not do of it.
 pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError> {
     let info = world.integrator().info();
-    let Some(&(method, wgsl, evaluations)) = METHODS.iter().find(|(name, ..)| *name == info.name) else {
+    let Some(gpu) = gpu_method(info.name) else {
         let reason = if info.implicit || info.variable_cost {
             "implicit and adaptive methods stay on the CPU"
         } else {
@@ -333,12 +350,7 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
             reason,
         });
     };
-    let mut affine = (Vec3A::ZERO, 0.0f32);
-    for force in world.forces() {
-        if let Some((c, b)) = force.affine_in_velocity() {
-            affine = (affine.0 + c, affine.1 + b);
-        }
-    }
+    let affine = affine_sum(world.forces());
     plan.source.clear();
     plan.source.push_str(COMMON);
     plan.source.push('\n');
@@ -346,20 +358,20 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     plan.source.push('\n');
     acceleration_into(world.forces(), &mut plan.source)?;
     plan.source.push('\n');
-    plan.source.push_str(wgsl);
-    let history = HISTORY_RECORDS
-        .iter()
-        .find(|(name, _)| *name == method)
-        .map_or(0, |&(_, records)| records);
+    plan.source.push_str(gpu.wgsl);
+    let history = gpu.history;
     // Writing into a String cannot fail.
     let _ = core::fmt::Write::write_fmt(&mut plan.source, format_args!("\nconst HISTORY: u32 = {history}u;\n"));
-    let mut nbodies = world.forces().iter().filter_map(|f| f.as_any().downcast_ref::<NBody>());
-    let nbody = nbodies.next().map(|n| (n.g, n.softening * n.softening));
+    let mut nbodies = world.forces().iter().filter_map(|f| match f.gpu_form() {
+        GpuForce::NBody { g, softening } => Some((g, softening * softening)),
+        _ => None,
+    });
+    let nbody = nbodies.next();
     if nbodies.next().is_some() {
         return Err(GpuStepError::Unsupported("more than one n-body force"));
     }
     // A step of a world with n-body is `stages` rounds of sums (1 without).
-    let stages = if nbody.is_some() { evaluations } else { 0 };
+    let stages = if nbody.is_some() { gpu.evaluations } else { 0 };
     let _ = core::fmt::Write::write_fmt(
         &mut plan.source,
         format_args!(
@@ -381,59 +393,62 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
         plan.reporting += u32::from(reports);
         plan.reporting_in_step += u32::from(reports && collider.in_step());
         in_step |= collider.in_step();
-        in_step_boxes |= collider.in_step() && collider.as_any().downcast_ref::<BoxCollider>().is_some();
+        let form = collider.gpu_form();
+        in_step_boxes |= collider.in_step() && matches!(form, GpuCollider::Box { .. });
         let reports = if reports { REPORTS } else { 0 } | if collider.in_step() { FINDS_IN_STEP } else { 0 };
-        if let Some(b) = collider.as_any().downcast_ref::<BoxCollider>() {
-            let moving = b.velocity != glam::Vec3::ZERO;
-            plan.moving |= moving;
-            colliders.push(ColliderRecord {
-                kind: if b.inside { CONTAINER } else { SOLID },
-                axis: 0,
-                sign: 0.0,
-                offset: 0.0,
-                restitution: b.material.restitution,
-                friction: b.material.friction,
-                min: b.min.to_array(),
-                max: b.max.to_array(),
-                u: b.velocity.to_array(),
-                flags: if moving { MOVES } else { 0 } | reports,
-            });
-            continue;
+        match form {
+            GpuCollider::Box {
+                min,
+                max,
+                inside,
+                velocity,
+                material,
+            } => {
+                let moving = velocity != glam::Vec3::ZERO;
+                plan.moving |= moving;
+                colliders.push(ColliderRecord {
+                    kind: if inside { CONTAINER } else { SOLID },
+                    axis: 0,
+                    sign: 0.0,
+                    offset: 0.0,
+                    restitution: material.restitution,
+                    friction: material.friction,
+                    min: min.to_array(),
+                    max: max.to_array(),
+                    u: velocity.to_array(),
+                    flags: if moving { MOVES } else { 0 } | reports,
+                });
+            }
+            GpuCollider::Plane {
+                normal: n,
+                offset,
+                speed,
+                material,
+            } => {
+                let axis = [n.x, n.y, n.z]
+                    .iter()
+                    .position(|c| c.abs() == 1.0)
+                    .filter(|&a| (0..3).all(|k| k == a || n[k] == 0.0))
+                    .ok_or(refuse("its normal is not an axis"))?;
+                let moving = speed != 0.0;
+                plan.moving |= moving;
+                colliders.push(ColliderRecord {
+                    kind: if moving { MOVING_PLANE } else { PLANE },
+                    axis: axis as u32,
+                    sign: n[axis],
+                    offset,
+                    restitution: material.restitution,
+                    friction: material.friction,
+                    // A moving plane's contact is the general one, along its normal.
+                    min: if moving { n.to_array() } else { [0.0; 3] },
+                    max: [0.0; 3],
+                    // u = n speed, as the CPU forms it (f32, lane by lane).
+                    u: (glam::Vec3A::from(n) * speed).to_array(),
+                    flags: if moving { MOVES } else { 0 } | reports,
+                });
+            }
+            GpuCollider::None { reason } => return Err(refuse(reason)),
         }
-        if name == "spheres" {
-            return Err(refuse(
-                "sphere-sphere collisions stay on the CPU (the GPU step resolves planes and boxes)",
-            ));
-        }
-        let plane = collider
-            .as_any()
-            .downcast_ref::<Plane>()
-            .ok_or(GpuStepError::Collider {
-                collider: name,
-                reason: "the GPU step resolves planes and boxes only",
-            })?;
-        let n = plane.normal;
-        let axis = [n.x, n.y, n.z]
-            .iter()
-            .position(|c| c.abs() == 1.0)
-            .filter(|&a| (0..3).all(|k| k == a || n[k] == 0.0))
-            .ok_or(refuse("its normal is not an axis"))?;
-        let moving = plane.speed != 0.0;
-        plan.moving |= moving;
-        colliders.push(ColliderRecord {
-            kind: if moving { MOVING_PLANE } else { PLANE },
-            axis: axis as u32,
-            sign: n[axis],
-            offset: plane.offset,
-            restitution: plane.material.restitution,
-            friction: plane.material.friction,
-            // A moving plane's contact is the general one, along its normal.
-            min: if moving { n.to_array() } else { [0.0; 3] },
-            max: [0.0; 3],
-            // u = n speed, as the CPU forms it (f32, lane by lane).
-            u: (glam::Vec3A::from(n) * plane.speed).to_array(),
-            flags: if moving { MOVES } else { 0 } | reports,
-        });
     }
     if world.sensors().next().is_some() {
         return Err(GpuStepError::Unsupported("sensors"));
@@ -468,11 +483,11 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
              fn rest_speed() -> f32 {{ return {}; }}\nconst MAX_EVENTS: u32 = {}u;\n",
             plan.moving,
             plan.reporting > 0,
-            bits(rest),
+            WgslF32(rest),
             crate::colliders::MAX_CONTACT_EVENTS,
         ),
     );
-    plan.method = method;
+    plan.method = gpu.info.name;
     plan.history = history;
     plan.affine = affine;
     plan.nbody = nbody;

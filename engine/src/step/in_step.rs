@@ -58,7 +58,7 @@ use super::chunk::Chunk;
 use super::follow::PlaneLanes;
 use super::reporting::{Reporting, resolve_rows};
 use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
-use crate::forces::Force;
+use crate::forces::{Force, affine_sum};
 use crate::layout::{CHUNK, Rows};
 use crate::world::World;
 
@@ -458,15 +458,6 @@ fn first_hit(
         }
     }
     best
-}
-
-/// The forces affine in velocity, summed: `(sum c, sum b)`, the
-/// acceleration `c - b v` (as the force field sums them).
-pub(super) fn affine_sum(forces: &[Box<dyn Force>]) -> (Vec3A, f32) {
-    forces
-        .iter()
-        .filter_map(|f| f.affine_in_velocity())
-        .fold((Vec3A::ZERO, 0.0), |(c, b), (fc, fb)| (c + fc, b + fb))
 }
 
 /// The restitution that makes a bounce at fraction `s` of a path of `dt`

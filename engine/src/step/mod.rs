@@ -91,7 +91,10 @@ fn flush_subnormals(velocity: &mut [Vec3x4]) {
 }
 
 impl World {
-    /// Runs one fixed step. `step` comes from the clock
+    /// Runs one fixed step on the CPU, whatever
+    /// [`WorldConfig::backend`](crate::WorldConfig) says: the backend is
+    /// a runner's choice (a game's stage, a scene's playback), which steps
+    /// a GPU world through its GPU copy. `step` comes from the clock
     /// ([`Frame::fixed_steps`](crate::clock::Frame::fixed_steps)) or is made
     /// by hand for tools.
     ///

@@ -19,6 +19,20 @@ use crate::methods::rk4::Rk4Stages;
 use crate::system::System;
 use crate::vector::{Real, Vector};
 
+/// The weights `b_j` of Adams-Bashforth of `steps` steps (2, 3 or 4; `None`
+/// otherwise), newest first: `x(t + h) = x + h sum_j b_j v(t - j h)`. A step
+/// multiplies each by `h` in `f64` and rounds once (`beta_j`); the GPU
+/// step forms its betas from these, so that both round the same products.
+#[must_use]
+pub fn coefficients(steps: usize) -> Option<&'static [f64]> {
+    match steps {
+        2 => Some(&[3.0 / 2.0, -1.0 / 2.0]),
+        3 => Some(&[23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0]),
+        4 => Some(&[55.0 / 24.0, -59.0 / 24.0, 37.0 / 24.0, -9.0 / 24.0]),
+        _ => None,
+    }
+}
+
 /// Adams-Bashforth of `K` steps (order `K`); use the aliases
 /// [`AdamsBashforth2`](crate::AdamsBashforth2), [`AdamsBashforth3`](crate::AdamsBashforth3),
 /// [`AdamsBashforth4`](crate::AdamsBashforth4).
@@ -59,11 +73,7 @@ impl<V: Vector, const K: usize> AdamsBashforth<V, K> {
     }
 
     fn coefficients() -> &'static [f64] {
-        match K {
-            2 => &[3.0 / 2.0, -1.0 / 2.0],
-            3 => &[23.0 / 12.0, -16.0 / 12.0, 5.0 / 12.0],
-            _ => &[55.0 / 24.0, -59.0 / 24.0, 37.0 / 24.0, -9.0 / 24.0],
-        }
+        coefficients(K).unwrap_or(&[])
     }
 }
 

@@ -44,6 +44,20 @@ pub const INFO: MethodInfo = MethodInfo {
     splits_pointwise: true,
 };
 
+/// The step's weights, as fractions of the step `h`: the four drifts
+/// `(theta/2, (1 - theta)/2, (1 - theta)/2, theta/2)` and the three kicks
+/// `(theta, 1 - 2 theta, theta)`, in `f64`. A step multiplies each by `h`
+/// in `f64` and rounds once; the GPU step forms its coefficients from
+/// these, so that both round the same products.
+#[must_use]
+pub fn weights() -> ([f64; 4], [f64; 3]) {
+    let theta = 1.0 / (2.0 - crate::math::powf(2f64, 1.0 / 3.0));
+    (
+        [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0],
+        [theta, 1.0 - 2.0 * theta, theta],
+    )
+}
+
 /// Forest-Ruth. See the [module documentation](self).
 #[derive(Debug, Clone, Default)]
 pub struct ForestRuth<V: Vector> {
@@ -73,10 +87,8 @@ impl<V: Vector> Integrator<V> for ForestRuth<V> {
         system: &mut dyn System<V>,
     ) -> Result<StepStats, StepError> {
         check_step(INFO.name, dt, x, v)?;
-        let theta = 1.0 / (2.0 - crate::math::powf(2f64, 1.0 / 3.0));
         let h = dt.to_f64();
-        let drifts = [theta / 2.0, (1.0 - theta) / 2.0, (1.0 - theta) / 2.0, theta / 2.0];
-        let kicks = [theta, 1.0 - 2.0 * theta, theta];
+        let (drifts, kicks) = weights();
         let accel = &mut self.accel;
         for_each_chunk(x, v, system, |x, v, system| {
             fit(accel, x.len());

@@ -36,6 +36,14 @@ impl From<GpuStepError> for StepFailure {
     }
 }
 
+/// Whether a runner steps `world` on the GPU: the one place the runners
+/// read [`WorldConfig::backend`](crate::WorldConfig) (the panel, the
+/// HUD, a rollback's refusal and a read-back all ask here, so that the
+/// choice has one owner).
+pub(crate) fn on_gpu(world: &World) -> bool {
+    world.config().backend == Backend::Gpu
+}
+
 /// A world's GPU copy, once it steps on the GPU.
 #[derive(Debug, Default)]
 pub(crate) struct Stepper {
@@ -48,7 +56,7 @@ impl Stepper {
     /// moved back to the CPU after steps on the GPU takes its state back
     /// first (and its method starts its history afresh).
     pub fn step(&mut self, gpu: &mut Option<Gpu>, world: &mut World, step: FixedStep) -> Result<(), StepFailure> {
-        if world.config().backend != Backend::Gpu {
+        if !on_gpu(world) {
             if self.on_gpu.is_some() {
                 self.sync(gpu.as_ref(), world)?;
                 self.on_gpu = None;

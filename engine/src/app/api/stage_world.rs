@@ -3,11 +3,11 @@
 //! steps run.
 
 use crate::SimulationError;
-use crate::app::api::backend::{StepFailure, Stepper};
+use crate::app::api::backend::{self, StepFailure, Stepper};
 use crate::clock::FixedStep;
 use crate::gpu_step::GpuStepError;
 use crate::render::{Gpu, Texture, Trails};
-use crate::world::{Backend, Colour, World};
+use crate::world::{Colour, World};
 
 /// A world on the stage, with what the runner keeps for it.
 #[derive(Debug)]
@@ -120,7 +120,7 @@ impl StageWorld {
         if self.failure.is_some() {
             return Ok(());
         }
-        let on_gpu = self.world.config().backend == Backend::Gpu;
+        let on_gpu = backend::on_gpu(&self.world);
         if on_gpu && self.sprite.is_some() {
             return Err(StepFailure::Gpu(GpuStepError::Unsupported(
                 "sprites for a world's particles (they are drawn from the CPU's columns)",

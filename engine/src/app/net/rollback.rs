@@ -148,10 +148,7 @@ impl<G: Game + Clone> GameSession<G> {
                 worlds.len()
             ))));
         }
-        if let Some(shown) = worlds
-            .iter()
-            .find(|w| w.world.config().backend == crate::world::Backend::Gpu)
-        {
+        if let Some(shown) = worlds.iter().find(|w| crate::app::api::backend::on_gpu(&w.world)) {
             return Err(RunError::Game(GameError::Message(format!(
                 "world \"{}\" steps on the GPU, which a rollback session does not take yet (its state would \
                  have to come back every tick): run it without --gpu",

@@ -10,7 +10,7 @@
 
 use std::path::PathBuf;
 
-use crate::app::api::backend::StepFailure;
+use crate::app::api::backend::{StepFailure, on_gpu};
 use crate::app::api::control::{Control, chosen_integrator};
 use crate::app::api::draw::Draw;
 use crate::app::api::error::RunError;
@@ -542,7 +542,7 @@ impl<G: Game> GameSession<G> {
             if shown.fixed_integrator {
                 continue;
             }
-            let gpu = shown.world.config().backend == Backend::Gpu;
+            let gpu = on_gpu(&shown.world);
             if let Some(name) = chosen_integrator(control, index, shown.world.integrator().info().name, gpu)? {
                 shown.world.set_integrator(name)?;
                 shown.failure = None;

@@ -2,6 +2,7 @@
 //! fixed steps, the controls, and the frame's view (the game's drawing, its
 //! worlds, sprites for particles).
 
+use crate::app::api::backend::on_gpu;
 use crate::app::api::control::{Control, clock_control};
 use crate::app::api::draw::{Draw, Viewport};
 use crate::app::api::error::RunError;
@@ -15,7 +16,6 @@ use crate::clock::Rate;
 use crate::input::InputEvent;
 use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError, WorldView};
-use crate::world::Backend;
 
 impl<G: Game> FrameSource for GameSession<G> {
     fn title(&self) -> String {
@@ -84,10 +84,7 @@ impl<G: Game> FrameSource for GameSession<G> {
     }
 
     fn needs_gpu(&self) -> bool {
-        self.stage
-            .worlds
-            .iter()
-            .any(|w| w.world.config().backend == Backend::Gpu)
+        self.stage.worlds.iter().any(|w| on_gpu(&w.world))
     }
 
     fn attach_gpu(&mut self, gpu: &crate::render::Gpu) {
@@ -189,7 +186,7 @@ impl<G: Game> FrameSource for GameSession<G> {
                 fixed: w.fixed_integrator || !self.stage.switch_integrators,
                 particles: w.world.len(),
                 energy: &w.energy,
-                on_gpu: w.world.config().backend == Backend::Gpu,
+                on_gpu: on_gpu(&w.world),
             })
             .collect();
         crate::app::panel::lay_out(ctx, &clock, &rows, chosen);

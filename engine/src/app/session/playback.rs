@@ -14,7 +14,7 @@ use crate::render::{Camera, FrameView, Trails};
 use crate::scene::Scene;
 use crate::world::{Backend, Snapshot, World};
 
-use crate::app::api::backend::{StepFailure, Stepper};
+use crate::app::api::backend::{StepFailure, Stepper, on_gpu};
 use crate::app::api::control::{Control, chosen_integrator, clock_control};
 use crate::app::api::error::{PlaybackError, RunError};
 use crate::app::api::stage_world::{ENERGY_EVERY_STEP_UP_TO, EnergyTrace};
@@ -231,12 +231,9 @@ impl Playback {
             self.trails.clear_points();
             self.energy = None;
             self.energy_trace = EnergyTrace::default();
-        } else if let Some(name) = chosen_integrator(
-            control,
-            0,
-            self.world.integrator().info().name,
-            self.world.config().backend == Backend::Gpu,
-        )? {
+        } else if let Some(name) =
+            chosen_integrator(control, 0, self.world.integrator().info().name, on_gpu(&self.world))?
+        {
             self.world.set_integrator(name)?;
         }
         Ok(())
@@ -369,7 +366,7 @@ impl FrameSource for Playback {
             fixed: false,
             particles: self.world.len(),
             energy: &self.energy_trace,
-            on_gpu: self.world.config().backend == Backend::Gpu,
+            on_gpu: on_gpu(&self.world),
         }];
         crate::app::panel::lay_out(ctx, &clock, &rows, chosen);
     }
@@ -379,7 +376,7 @@ impl FrameSource for Playback {
     }
 
     fn needs_gpu(&self) -> bool {
-        self.world.config().backend == crate::world::Backend::Gpu
+        on_gpu(&self.world)
     }
 
     fn attach_gpu(&mut self, gpu: &Gpu) {

@@ -135,6 +135,15 @@ impl Collider for Plane {
         false
     }
 
+    fn gpu_form(&self) -> super::GpuCollider {
+        super::GpuCollider::Plane {
+            normal: self.normal,
+            offset: self.offset,
+            speed: self.speed,
+            material: self.material,
+        }
+    }
+
     fn axis_plane(&self) -> Option<AxisPlane> {
         if self.contact != ContactRule::InStep || self.speed != 0.0 {
             return None;

@@ -186,6 +186,12 @@ impl Collider for SphereCollisions {
         "spheres"
     }
 
+    fn gpu_form(&self) -> crate::colliders::GpuCollider {
+        crate::colliders::GpuCollider::None {
+            reason: "sphere-sphere collisions stay on the CPU (the GPU step resolves planes and boxes)",
+        }
+    }
+
     fn is_pointwise(&self) -> bool {
         false
     }
