@@ -462,18 +462,18 @@ pub(super) fn refresh(world: &World, plan: &mut Plan) -> Result<(), GpuStepError
     let particles = world.len();
     for force in world.forces() {
         let pairs = force.pairs(particles);
-        if pairs > world.config.max_pairs {
+        if pairs > world.config().max_pairs {
             return Err(GpuStepError::Pairs {
                 force: force.name(),
                 pairs,
-                limit: world.config.max_pairs,
+                limit: world.config().max_pairs,
             });
         }
     }
     // What the colliders' loop compiles in (see `resolve_colliders`), and
     // the in-step rule's rest speed (as the CPU's `Sweep` takes it: NaN or
     // negative rests none, infinite is f32::MAX) and limit.
-    let rest = world.config.rest_speed;
+    let rest = world.config().rest_speed;
     let rest = if rest >= 0.0 { rest.min(f32::MAX) } else { 0.0 };
     let _ = core::fmt::Write::write_fmt(
         &mut plan.source,

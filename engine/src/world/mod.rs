@@ -15,6 +15,7 @@ mod command;
 mod components;
 mod config;
 mod dynamics;
+mod elsewhere;
 mod entities;
 pub(crate) mod facts;
 mod heading;

@@ -49,13 +49,13 @@ impl GpuWorld {
         // The changes to the rows since the last step (a game's spawns
         // and despawns), followed before this step.
         let mut log = if self.following {
-            let log = world.row_log.take().unwrap_or_default();
+            let log = world.take_row_log();
             let logged = self.revision + log.len() as u64;
-            world.row_log = Some(log);
-            if world.revision() != logged || world.edited {
+            if world.revision() != logged || world.edited_outside_steps() {
+                world.give_row_log(log);
                 return Err(GpuStepError::Edited);
             }
-            world.row_log.take().unwrap_or_default()
+            log
         } else {
             if world.revision() != self.revision || world.len() != self.len() {
                 return Err(GpuStepError::Edited);
@@ -65,7 +65,7 @@ impl GpuWorld {
         };
         let outcome = self.advance_logged(gpu, world, step, &mut log);
         log.clear();
-        world.row_log = Some(log);
+        world.give_row_log(log);
         self.revision = world.revision();
         outcome
     }
@@ -112,16 +112,16 @@ impl GpuWorld {
         gpu.queue.submit([encoder.finish()]);
         self.took(dt, 1);
         // Its contacts, named while the rows are still the step's.
-        world.contacts.clear();
+        world.clear_contacts();
         let mut past_room = None;
         if self.plan.reporting > 0 && self.n > 0 {
             past_room = self.read_touches(gpu, world)?;
         }
         // The rest of the world's step, logging the rows it changes, which
         // the GPU's rows then follow.
-        world.row_log = Some(core::mem::take(log));
+        world.give_row_log(core::mem::take(log));
         let report = world.step_bookkeeping(step);
-        *log = world.row_log.take().unwrap_or_default();
+        *log = world.take_row_log();
         let report = report.map_err(GpuStepError::Simulation)?;
         if !log.is_empty() {
             let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -157,26 +157,25 @@ impl GpuWorld {
         let found = f32_at(&count, 0).to_bits();
         let room = self.touch_room();
         let count = found.min(room);
-        world.touches.clear();
-        if count > 0 {
+        let records = if count > 0 {
             let [records] = map_words(gpu, [(&self.touches, 0, u64::from(count) * TOUCH_BYTES)])?;
-            world
-                .touches
-                .extend(records.chunks_exact(TOUCH_BYTES as usize).map(|t| {
-                    let f = |k: usize| f32_at(t, k);
-                    RowTouch {
-                        collider: f(0).to_bits(),
-                        row: f(1).to_bits(),
-                        other: u32::MAX,
-                        point: Vec3A::new(f(4), f(5), f(6)),
-                        normal: Vec3A::new(f(8), f(9), f(10)),
-                        impulse: f(11),
-                        event: f(2).to_bits(),
-                        fraction: f(3),
-                    }
-                }));
-        }
-        world.name_contacts(false);
+            records
+        } else {
+            Vec::new()
+        };
+        world.set_touches(records.chunks_exact(TOUCH_BYTES as usize).map(|t| {
+            let f = |k: usize| f32_at(t, k);
+            RowTouch {
+                collider: f(0).to_bits(),
+                row: f(1).to_bits(),
+                other: u32::MAX,
+                point: Vec3A::new(f(4), f(5), f(6)),
+                normal: Vec3A::new(f(8), f(9), f(10)),
+                impulse: f(11),
+                event: f(2).to_bits(),
+                fraction: f(3),
+            }
+        }));
         Ok((found > room).then_some((found, room)))
     }
 

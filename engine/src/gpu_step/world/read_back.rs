@@ -1,7 +1,7 @@
 //! Reading a GPU world back: its positions and velocities, into vectors or
 //! into the [`World`] it steps for.
 
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 
 use super::GpuWorld;
 use crate::clock::FixedStep;
@@ -72,23 +72,11 @@ impl GpuWorld {
                 velocity: v[row],
             });
         }
-        let p = &mut world.particles;
-        for (row, ((x, v), previous)) in x.iter().zip(&v).zip(&previous).enumerate() {
-            p.position.set(row, Vec3A::from(*x));
-            p.velocity.set(row, Vec3A::from(*v));
-            p.previous_position.set(row, Vec3A::from(*previous));
-        }
+        world.store_rows(&x, &v, &previous);
         if self.behind > 0 {
-            world.contacts.clear();
-            world.removed.clear();
-            for _ in 0..self.behind {
-                p.lifetimes.lived += last.dt;
-            }
-            world.tick = last.tick + 1;
-            world.time = last.time + last.dt;
+            world.book_steps(self.behind, last);
             self.behind = 0;
         }
-        world.revision += 1;
         self.revision = world.revision();
         Ok(())
     }
