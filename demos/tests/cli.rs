@@ -590,6 +590,62 @@ fn sim_on_the_gpu_ends_in_the_cpus_checksum_and_refuses_what_it_does_not_do_by_n
     );
 }
 
+#[test]
+fn sim_on_the_gpu_traces_the_cpus_states_particle_by_particle() {
+    // Read back at each traced step: the trace is the CPU's, line for line
+    // (lavapipe computes as the CPU does), for a world whose rows stay and
+    // for one whose emitter and lifetimes change them every step.
+    for (file, extra) in [
+        (
+            "kepler.ron",
+            vec!["--steps", "240", "--integrator", "rk4", "--every", "40"],
+        ),
+        ("fountain.ron", vec!["--steps", "200", "--every", "50"]),
+    ] {
+        let path = scene(file);
+        let (cpu_trace, gpu_trace) = (
+            temp_path(&format!("cpu-{file}.csv")),
+            temp_path(&format!("gpu-{file}.csv")),
+        );
+        let (cpu_arg, gpu_arg) = (cpu_trace.display().to_string(), gpu_trace.display().to_string());
+        let mut cpu = vec!["sim", path.as_str(), "--force", "--trace", cpu_arg.as_str()];
+        cpu.extend(extra.iter().copied());
+        let mut gpu = vec!["sim", path.as_str(), "--force", "--gpu", "--trace", gpu_arg.as_str()];
+        gpu.extend(extra.iter().copied());
+        let (cpu, gpu) = (tickwork(&cpu), tickwork(&gpu));
+        for output in [&cpu, &gpu] {
+            assert!(
+                output.status.success(),
+                "{file}: {}",
+                String::from_utf8_lossy(&output.stderr)
+            );
+        }
+        let stdout = String::from_utf8_lossy(&gpu.stdout);
+        let reads = stdout
+            .lines()
+            .find(|l| l.starts_with("backend"))
+            .unwrap_or_else(|| panic!("a backend line: {stdout}"));
+        let traced = 1 + extra.iter().position(|a| *a == "--every").expect("--every");
+        let times = extra[1].parse::<u64>().expect("steps") / extra[traced].parse::<u64>().expect("every");
+        assert!(
+            reads.contains(&format!("read back at the end and for the trace {times} times, ")),
+            "{reads}"
+        );
+        let (a, b) = (
+            std::fs::read_to_string(&cpu_trace).expect("the CPU's trace"),
+            std::fs::read_to_string(&gpu_trace).expect("the GPU's trace"),
+        );
+        assert_eq!(a.lines().count(), b.lines().count(), "{file}: the traces' lines");
+        assert!(
+            a.lines().count() > 1 + times as usize,
+            "{file}: a trace of the particles"
+        );
+        for (n, (c, g)) in a.lines().zip(b.lines()).enumerate() {
+            assert_eq!(g, c, "{file}: line {} of the GPU's trace against the CPU's", n + 1);
+        }
+    }
+}
+
 /// A scratch crate in the system's temporary folder (outside this
 /// workspace): `files` as (path, text).
 fn scratch_crate(name: &str, files: &[(&str, &str)]) -> std::path::PathBuf {

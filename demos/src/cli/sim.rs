@@ -1,5 +1,6 @@
 //! `tickwork sim`: run a scene headless, with no window: on the CPU, or
-//! with `--gpu` on the GPU step (the state read back once, at the end).
+//! with `--gpu` on the GPU step (the state read back at the end, and at
+//! each traced step with `--trace`).
 
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
@@ -49,10 +50,12 @@ pub struct SimArgs {
     /// position Verlet, Beeman, Adams-Bashforth 2-4; gravity, wind, drag,
     /// attractors, n-body; planes along an axis and boxes, at rest or
     /// kinematic, their contacts inside the step or at its end; anything
-    /// else is refused by name). The state is read back once, at the end: the
-    /// checksum is then the CPU's where the adapter computes as the CPU
-    /// does (lavapipe does), the adapter's own elsewhere.
-    #[arg(long, conflicts_with = "trace")]
+    /// else is refused by name). The state is read back at the end, and with
+    /// `--trace` at each traced step (a copy and a wait each: `--every`
+    /// keeps them few; the summary says how many and their time): the
+    /// checksum and the trace are then the CPU's where the adapter computes
+    /// as the CPU does (lavapipe does), the adapter's own elsewhere.
+    #[arg(long)]
     pub gpu: bool,
 }
 
@@ -130,9 +133,25 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let mut backend = "cpu".to_owned();
     // `--gpu`, or a scene whose backend is the GPU.
     let summary = if args.gpu || world.config().backend == tickwork_engine::world::Backend::Gpu {
-        let (summary, adapter) = run_on_gpu(&mut world, rate, steps, &args.scene, |done| bar.set_position(done))?;
-        backend = format!("gpu: {adapter} (read back once, at the end)");
-        summary
+        let traced = trace.as_mut().map(|t| (t, args.every));
+        let run = run_on_gpu(&mut world, rate, steps, &args.scene, traced, |done| {
+            bar.set_position(done)
+        })
+        .map_err(|e| match e {
+            GpuRunError::Cli(e) => e,
+            GpuRunError::Trace(source) => CliError::TraceWrite {
+                path: args.trace.clone().unwrap_or_default(),
+                source,
+            },
+        })?;
+        backend = match run.read_backs {
+            (0, _) => format!("gpu: {} (read back once, at the end)", run.adapter),
+            (n, seconds) => format!(
+                "gpu: {} (read back at the end and for the trace {n} times, {seconds:.3} s of the wall time)",
+                run.adapter
+            ),
+        };
+        run.summary
     } else {
         run_headless(&mut world, rate, steps, trace.as_mut(), args.every, |done| {
             bar.set_position(done)
@@ -182,17 +201,40 @@ pub fn run(args: &SimArgs, out: &mut dyn Write) -> Result<(), CliError> {
     write(out).map_err(CliError::Output)
 }
 
+/// What a run on the GPU step did: the summary, the adapter's name, and
+/// the read-backs the trace took (how many, and their seconds of the wall
+/// time, the trace's writing included).
+struct GpuRun {
+    summary: HeadlessSummary,
+    adapter: String,
+    read_backs: (u64, f64),
+}
+
+/// Why a run on the GPU step stopped: the command's error, or the trace's.
+enum GpuRunError {
+    Cli(CliError),
+    Trace(std::io::Error),
+}
+
+impl From<CliError> for GpuRunError {
+    fn from(e: CliError) -> Self {
+        Self::Cli(e)
+    }
+}
+
 /// Runs `steps` frames of one fixed step each, as [`run_headless`] does, on
 /// the GPU step, and stores the final state into `world` (the scene's
-/// file, `scene`, names it in an error): the summary and the adapter's
-/// name.
+/// file, `scene`, names it in an error). With `trace` (a writer and
+/// `every`), the state is read back into `world` and written at the start
+/// and every `every` steps, as `run_headless` writes the CPU's.
 fn run_on_gpu(
     world: &mut World,
     rate: Rate,
     steps: u64,
     scene: &Path,
+    mut trace: Option<(&mut TraceWriter<BufWriter<File>>, u64)>,
     mut progress: impl FnMut(u64),
-) -> Result<(HeadlessSummary, String), CliError> {
+) -> Result<GpuRun, GpuRunError> {
     let gpu = Gpu::headless().map_err(CliError::Gpu)?;
     let info = gpu.adapter.get_info();
     let adapter = format!("{} ({:?})", info.name, info.backend);
@@ -205,9 +247,13 @@ fn run_on_gpu(
         source,
     };
     let start_energy = world.energy().map_err(simulation)?.total();
+    if let Some((t, _)) = trace.as_mut() {
+        t.write(world).map_err(GpuRunError::Trace)?;
+    }
     let started = std::time::Instant::now();
     let (mut pending, mut last) = (0u32, None);
     let (mut peak, mut particle_steps) = (particles, 0u64);
+    let (mut read_backs, mut reading) = (0u64, std::time::Duration::ZERO);
     let report_every = (steps / 100).max(1);
     for done in 0..steps {
         for step in clock.step(1).fixed_steps() {
@@ -233,6 +279,22 @@ fn run_on_gpu(
                 on_gpu.finish(&gpu).map_err(CliError::GpuStep)?;
             }
         }
+        if let Some((t, every)) = trace.as_mut()
+            && (done + 1) % *every == 0
+        {
+            // The steps so far, read back into the world and written.
+            let reading_from = std::time::Instant::now();
+            if let Some(last) = last {
+                if pending > 0 {
+                    on_gpu.step(&gpu, last.dt as f32, pending).map_err(CliError::GpuStep)?;
+                    pending = 0;
+                }
+                on_gpu.store_into(&gpu, world, last).map_err(CliError::GpuStep)?;
+            }
+            t.write(world).map_err(GpuRunError::Trace)?;
+            read_backs += 1;
+            reading += reading_from.elapsed();
+        }
         if (done + 1) % report_every == 0 {
             progress(done + 1);
         }
@@ -251,7 +313,11 @@ fn run_on_gpu(
         wall_seconds: started.elapsed().as_secs_f64(),
         particle_steps,
     };
-    Ok((summary, adapter))
+    Ok(GpuRun {
+        summary,
+        adapter,
+        read_backs: (read_backs, reading.as_secs_f64()),
+    })
 }
 
 /// Opens the trace file at `path`, refusing a directory, a missing
