@@ -48,6 +48,50 @@ pub struct MethodInfo {
     pub splits_pointwise: bool,
 }
 
+impl MethodInfo {
+    /// What an explicit, self-starting method is unless its entry says
+    /// otherwise (first order, one evaluation, not symplectic, keeps no
+    /// history, splits pointwise): the base a method's [`INFO`] spreads from
+    /// (`MethodInfo { name: "rk4", order: 4, ..MethodInfo::EXPLICIT }`), so
+    /// each entry states only what sets it apart.
+    ///
+    /// [`INFO`]: crate::methods::rk4::INFO
+    pub const EXPLICIT: Self = Self {
+        name: "",
+        aliases: &[],
+        title: "",
+        notes: "",
+        order: 1,
+        order_velocity: 1,
+        order_velocity_forces: 1,
+        evaluations: 1,
+        symplectic: false,
+        reversible: false,
+        self_starting: true,
+        implicit: false,
+        variable_cost: false,
+        splits_pointwise: true,
+    };
+
+    /// The base of a method that keeps a history between steps (Verlet's
+    /// positions, Beeman's and Adams-Bashforth's past accelerations): not
+    /// self-starting, so not split pointwise either.
+    pub const WITH_HISTORY: Self = Self {
+        self_starting: false,
+        splits_pointwise: false,
+        ..Self::EXPLICIT
+    };
+
+    /// The base of a method that solves an equation each step (Newton-Krylov,
+    /// or adaptive step control): its evaluations vary, and it steps the
+    /// whole slice.
+    pub const SOLVED: Self = Self {
+        variable_cost: true,
+        splits_pointwise: false,
+        ..Self::EXPLICIT
+    };
+}
+
 /// Counters a step reports, for diagnostics and cost comparisons.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StepStats {

@@ -1,38 +1,16 @@
-//! Steady-state steps allocate nothing: a counting global allocator, counted
-//! per thread so that tests running in parallel do not disturb each other.
+//! Steady-state steps allocate nothing: a counting global allocator
+//! (`tests/support/counting_alloc.rs`), counted per thread so that tests
+//! running in parallel do not disturb each other.
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::cell::Cell;
-
-use glam::Vec3A;
-use tickwork_integrators::{Integrator, METHODS, build};
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|count| count.set(count.get() + 1));
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|count| count.set(count.get() + 1));
-        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
-    }
-}
+#[path = "../../tests/support/counting_alloc.rs"]
+mod counting;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: counting::Counting = counting::Counting;
 
-fn allocations() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
+use counting::this_thread as allocations;
+use glam::Vec3A;
+use tickwork_integrators::{Integrator, METHODS, build};
 
 /// Gravity plus linear drag, the games' workload; optionally declared
 /// pointwise, so that explicit methods step it in chunks.

@@ -24,12 +24,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 3,
     order_velocity_forces: 3,
     evaluations: 1,
-    symplectic: false,
-    reversible: false,
-    self_starting: false,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: false,
+    ..MethodInfo::WITH_HISTORY
 };
 
 /// Adams-Bashforth 3. See the [module documentation](self).

@@ -27,12 +27,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 4,
     order_velocity_forces: 4,
     evaluations: 1,
-    symplectic: false,
-    reversible: false,
-    self_starting: false,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: false,
+    ..MethodInfo::WITH_HISTORY
 };
 
 /// Adams-Bashforth 4. See the [module documentation](self).

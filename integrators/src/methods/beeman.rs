@@ -40,12 +40,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 2,
     order_velocity_forces: 2,
     evaluations: 1,
-    symplectic: false,
-    reversible: false,
-    self_starting: false,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: false,
+    ..MethodInfo::WITH_HISTORY
 };
 
 /// Beeman. See the [module documentation](self).

@@ -38,12 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 5,
     order_velocity_forces: 5,
     evaluations: 7,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: true,
-    splits_pointwise: false,
+    ..MethodInfo::SOLVED
 };
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];

@@ -27,12 +27,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 1,
     order_velocity_forces: 1,
     evaluations: 1,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Explicit Euler. See the [module documentation](self).

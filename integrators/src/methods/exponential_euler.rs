@@ -40,12 +40,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 1,
     order_velocity_forces: 1,
     evaluations: 1,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// `(e^-z, phi1(z), phi2(z))` in `f64`, accurate for every `z`.

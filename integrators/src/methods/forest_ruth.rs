@@ -38,10 +38,7 @@ pub const INFO: MethodInfo = MethodInfo {
     evaluations: 3,
     symplectic: true,
     reversible: true,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// The step's weights, as fractions of the step `h`: the four drifts

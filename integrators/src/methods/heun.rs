@@ -32,12 +32,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 2,
     order_velocity_forces: 2,
     evaluations: 2,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Improved Euler (Heun). See the [module documentation](self).

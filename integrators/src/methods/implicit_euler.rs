@@ -40,12 +40,8 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 1,
     order_velocity_forces: 1,
     evaluations: 3,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
     implicit: true,
-    variable_cost: true,
-    splits_pointwise: false,
+    ..MethodInfo::SOLVED
 };
 
 /// Implicit Euler. See the [module documentation](self).

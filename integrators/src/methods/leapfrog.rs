@@ -46,10 +46,8 @@ pub const INFO: MethodInfo = MethodInfo {
     evaluations: 1,
     symplectic: true,
     reversible: true,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
     splits_pointwise: false,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Leapfrog. See the [module documentation](self).

@@ -28,12 +28,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 2,
     order_velocity_forces: 2,
     evaluations: 2,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Explicit midpoint. See the [module documentation](self).

@@ -46,12 +46,9 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 2,
     order_velocity_forces: 2,
     evaluations: 4,
-    symplectic: false,
     reversible: true,
-    self_starting: true,
     implicit: true,
-    variable_cost: true,
-    splits_pointwise: false,
+    ..MethodInfo::SOLVED
 };
 
 /// Registry entry for linear acceleration (`beta = 1/6, gamma = 1/2`).

@@ -45,10 +45,7 @@ pub const INFO: MethodInfo = MethodInfo {
     evaluations: 1,
     symplectic: true,
     reversible: true,
-    self_starting: false,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: false,
+    ..MethodInfo::WITH_HISTORY
 };
 
 /// Position Verlet. See the [module documentation](self).

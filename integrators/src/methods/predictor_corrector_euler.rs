@@ -30,12 +30,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 1,
     order_velocity_forces: 1,
     evaluations: 2,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Predictor-corrector backward Euler. See the [module documentation](self).

@@ -37,12 +37,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 4,
     order_velocity_forces: 4,
     evaluations: 4,
-    symplectic: false,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// The four stages of RK4 with their scratch buffers, computed for all

@@ -29,11 +29,7 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity_forces: 1,
     evaluations: 1,
     symplectic: true,
-    reversible: false,
-    self_starting: true,
-    implicit: false,
-    variable_cost: false,
-    splits_pointwise: true,
+    ..MethodInfo::EXPLICIT
 };
 
 /// Semi-implicit Euler. See the [module documentation](self).

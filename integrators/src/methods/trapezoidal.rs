@@ -33,12 +33,9 @@ pub const INFO: MethodInfo = MethodInfo {
     order_velocity: 2,
     order_velocity_forces: 2,
     evaluations: 4,
-    symplectic: false,
     reversible: true,
-    self_starting: true,
     implicit: true,
-    variable_cost: true,
-    splits_pointwise: false,
+    ..MethodInfo::SOLVED
 };
 
 /// Trapezoidal rule. See the [module documentation](self).

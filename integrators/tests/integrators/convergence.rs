@@ -10,7 +10,7 @@
 // platform's own functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
-mod common;
+use crate::common;
 
 use common::{Oscillator, run, slope};
 use tickwork_integrators::{DormandPrince, Integrator, METHODS, MethodInfo, build};

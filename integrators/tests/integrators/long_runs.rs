@@ -4,7 +4,7 @@
 // platform's own functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
-mod common;
+use crate::common;
 
 use common::{Kepler, Oscillator};
 use glam::DVec2;

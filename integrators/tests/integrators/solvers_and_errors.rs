@@ -4,7 +4,7 @@
 // platform's own functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
-mod common;
+use crate::common;
 
 use common::Oscillator;
 use tickwork_integrators::{DormandPrince, ImplicitEuler, Integrator, NewtonKrylovConfig, StepError, System, build};

@@ -5,7 +5,7 @@
 //! window, Xvfb and ImageMagick's `import`: `scripts/test` installs them.
 //! Nothing here skips when they are missing; the tests fail and say what.
 
-mod support;
+use crate::support;
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! link, and must end in the same state; the match's recording replays to
 //! it; the game's rules hold when played alone.
 
-mod support;
+use crate::support;
 
 use std::io::Read;
 use std::path::PathBuf;

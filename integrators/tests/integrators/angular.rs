@@ -1,7 +1,7 @@
 //! Angular integration against theory: unit norm, conservation laws of the
 //! free top, the intermediate-axis flip, and convergence order.
 
-mod common;
+use crate::common;
 
 use common::slope;
 use glam::{DQuat, DVec3};

@@ -3,7 +3,7 @@
 //! tick of its time whatever the frame timing; and the fused, parallel step
 //! equals the plain one.
 
-mod support;
+use crate::support;
 use glam::Vec3;
 use tickwork_engine::clock::{FixedCadence, JitteryCadence, TimeSource};
 use tickwork_engine::{

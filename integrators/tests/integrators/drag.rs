@@ -2,7 +2,7 @@
 //! (`implicit_drag_euler`) and the full backward Euler by Newton-Krylov on
 //! stiff drag, down to tiny velocities.
 
-mod common;
+use crate::common;
 
 use common::Oscillator;
 use tickwork_integrators::{ImplicitDragEuler, ImplicitEuler, Integrator, SemiImplicitEuler, System, build};

@@ -18,7 +18,7 @@
 //! prints (`the final state at tick N has checksum X`), within a generous
 //! deadline that only bounds a page that never prints it.
 
-mod browser;
+use crate::browser;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -283,7 +283,7 @@ fn page_frame_matches_golden(
 
 #[test]
 fn breakouts_last_frame_with_its_fetched_sprite_matches_its_golden_image_under_webgpu() {
-    // demos/tests/breakout.rs draws it: the autopilot, 150 frames, 480x270.
+    // demos/tests/demos/breakout.rs draws it: the autopilot, 150 frames, 480x270.
     // The bricks' edges lie on pixel rows, which Dawn and lavapipe round
     // apart (0.7% of the frame): 1% over the frame, and at most 4 pixels
     // around the ball, the sprite the page fetched (its edge rounds apart

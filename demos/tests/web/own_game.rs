@@ -10,7 +10,7 @@
 //! (`the final state at tick N has checksum X`), within a deadline that
 //! only bounds a page that never prints it; the server on its first line.
 
-mod browser;
+use crate::browser;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;

@@ -9,19 +9,15 @@
 #![cfg(feature = "render")]
 
 use std::path::PathBuf;
-use std::sync::OnceLock;
 
 use glam::{Quat, Vec2, Vec3};
 use tickwork_engine::render::{
-    Blend, Camera, FrameView, GoldenImages, Gpu, Interpolation, Line, OFFSCREEN_FORMAT, OffscreenTarget, Renderer,
+    Blend, Camera, FrameView, GoldenImages, Interpolation, Line, OFFSCREEN_FORMAT, OffscreenTarget, Renderer,
     RendererConfig, RgbaImage, Trails,
 };
 use tickwork_engine::{FixedClock, Gravity, Particle, RigidBody, Scene, World};
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}")))
-}
+use crate::support::gpu;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -32,11 +28,7 @@ fn golden() -> GoldenImages {
 }
 
 fn render(world: &World, alpha: f32, camera: Camera, width: u32, height: u32, config: RendererConfig) -> RgbaImage {
-    let mut renderer = Renderer::new(gpu(), OFFSCREEN_FORMAT, config).expect("renderer");
-    let target = OffscreenTarget::new(gpu(), width, height, renderer.config().samples).expect("target");
-    target
-        .render(gpu(), &mut renderer, &FrameView::new(world, alpha, camera))
-        .expect("frame")
+    crate::support::draw(&FrameView::new(world, alpha, camera), config, (width, height))
 }
 
 fn check(name: &str, image: &RgbaImage) {

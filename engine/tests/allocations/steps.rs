@@ -1,36 +1,7 @@
-//! Steady-state steps allocate nothing: a counting global allocator, counted
-//! per thread so that tests running in parallel do not disturb each other.
+//! Steady-state steps allocate nothing, counted on the stepping thread
+//! (`counting::this_thread`).
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|count| count.set(count.get() + 1));
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|count| count.set(count.get() + 1));
-        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
-
+use crate::counting::this_thread as allocations;
 use glam::Vec3;
 use tickwork_engine::{
     Attractor, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, Spring, SpringEnd, Springs,

@@ -11,7 +11,7 @@ use tickwork_engine::{
     WorldConfig,
 };
 
-mod support;
+use crate::support;
 use support::ForcePlainPath;
 
 /// 1 003 particles (a part-filled last block), some immovable, some with

@@ -6,7 +6,7 @@
 // platform's own functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
-mod support;
+use crate::support;
 
 use glam::Vec3;
 use tickwork_engine::clock::FixedStep;

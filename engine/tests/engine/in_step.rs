@@ -7,7 +7,7 @@
 // functions are fine here (clippy.toml bans them in the engine).
 #![allow(clippy::disallowed_methods)]
 
-mod support;
+use crate::support;
 
 use glam::Vec3;
 use proptest::prelude::*;

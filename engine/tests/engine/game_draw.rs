@@ -112,7 +112,7 @@ fn hud_rows(image: &RgbaImage) -> (u32, u32) {
 
 #[test]
 fn polygons_thick_lines_the_viewport_and_the_hud_size_reach_the_frame() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let (session, image) = frame(&gpu, 16.0);
     assert_eq!(
         session.game().told.get(),
@@ -207,7 +207,7 @@ impl Game for Layers {
 
 #[test]
 fn shapes_are_drawn_in_call_order_within_a_layer_and_by_layer_above_it() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let mut session = GameSession::new(Layers, SessionOptions::default()).expect("a session");
     let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
     let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
@@ -354,7 +354,7 @@ impl Game for TextOrder {
 
 #[test]
 fn texts_are_drawn_in_call_order_with_the_shapes_and_by_layer() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let mut session = GameSession::new(TextOrder, SessionOptions::default()).expect("a session");
     let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
     let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
@@ -472,7 +472,7 @@ impl Game for Boxed {
 
 #[test]
 fn a_letterboxed_field_draws_nothing_in_its_bars_and_the_stage_knows_the_frame() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let mut session = GameSession::new(Boxed, SessionOptions::default()).expect("a session");
     let mut run = OffscreenRun::new(&gpu, WIDTH, HEIGHT, renderer_config(session.stage(), HEIGHT)).expect("a target");
     let image = run.frame(&mut session, 1.0 / 60.0, true).expect("a frame");
@@ -584,7 +584,7 @@ fn label_box(
 #[test]
 fn text_sits_on_any_of_nine_anchors_measures_as_drawn_and_scales_by_its_unit() {
     use tickwork_engine::render::{Anchor, TextUnit};
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     // The origin is pixel (200, 150) of a 400 x 300 frame.
     let frame = (400, 300);
     let (cx, cy) = (200i64, 150i64);
@@ -705,7 +705,7 @@ impl Game for Outlines {
 
 #[test]
 fn concave_and_holed_polygons_and_strokes_in_pixels_reach_the_frame_and_a_nan_is_an_error() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let draw = |zoom: f32| first_frame(&gpu, Outlines { zoom, nan: false }).expect("a frame");
     let image = draw(10.0);
     assert_eq!(at(&image, -4.0, -1.5), RED, "the L's corner square");
@@ -752,7 +752,7 @@ impl Game for Ghost {
 
 #[test]
 fn a_hidden_particle_is_not_drawn() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     for visible in [true, false] {
         let image = first_frame(&gpu, Ghost { visible }).expect("a frame");
         let centre = at(&image, 0.0, 0.0);
@@ -802,7 +802,7 @@ impl Game for Sprites {
 #[test]
 fn sprites_are_drawn_placed_turned_tinted_and_cut_from_an_atlas() {
     use tickwork_engine::render::{RgbaImage, Texture};
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     // Through a PNG file, as a game loads one.
     let mut png = RgbaImage::new(2, 2);
     for (x, y, colour) in [(0, 0, RED), (1, 0, GREEN), (0, 1, BLUE), (1, 1, [255, 255, 255, 255])] {
@@ -876,7 +876,7 @@ impl Game for Coins {
 #[test]
 fn a_worlds_particles_can_be_drawn_as_sprites() {
     use tickwork_engine::render::Texture;
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let pixels = [RED, GREEN, BLUE, [255, 255, 255, 255]].concat();
     let texture = Texture::from_rgba(2, 2, pixels).expect("2 x 2");
     let image = first_frame(&gpu, Coins { texture }).expect("a frame");
@@ -969,7 +969,7 @@ impl Game for Kit {
 #[test]
 fn the_game_kit_frame_matches_its_golden_image() {
     use tickwork_engine::render::{GoldenImages, Texture};
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let pixels = [RED, GREEN, BLUE, [255, 255, 255, 255]].concat();
     let atlas = Texture::from_rgba(2, 2, pixels).expect("2 x 2");
     let mut session = GameSession::new(Kit { atlas }, SessionOptions::default()).expect("a session");
@@ -1007,7 +1007,7 @@ impl Game for Clipped {
 
 #[test]
 fn a_clip_rectangle_keeps_shapes_inside_it_until_lifted() {
-    let gpu = Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}"));
+    let gpu = crate::support::gpu().clone();
     let image = first_frame(&gpu, Clipped).expect("a frame");
     // 4 m at 10 px a metre: columns 80..120 on the middle row.
     let red: Vec<u32> = (0..WIDTH).filter(|&x| image.get_pixel(x, 50).0 == RED).collect();

@@ -17,7 +17,6 @@ use glam::{Vec3, Vec3A};
 use tickwork_engine::colliders::{BoxCollider, Material, Plane};
 use tickwork_engine::forces::{Attractor, Gravity, LinearDrag, NBody, QuadraticDrag, Wind};
 use tickwork_engine::gpu_step::{GpuStepError, GpuWorld};
-use tickwork_engine::render::Gpu;
 use tickwork_engine::{FixedStep, GpuForce, Particle, WgslF32, World, WorldConfig};
 
 const DT: f64 = 1.0 / 60.0;
@@ -26,9 +25,7 @@ const PARTICLES: usize = 4133;
 /// flush schedule must follow the world's tick, not its own count.
 const BEFORE: u64 = 5;
 
-fn gpu() -> Gpu {
-    Gpu::headless().unwrap_or_else(|error| panic!("the GPU step tests need an adapter: {error}"))
-}
+use crate::support::{draw, gpu};
 
 /// 4 096 particles from a seeded generator over a 10 m box, moving up to
 /// 8 m/s, one in 16 immovable (no force or collider moves it; it keeps its
@@ -199,12 +196,12 @@ fn matches_the_cpu(method: &str) {
     // twin here, as a new integrator does.
     cpu.set_integrator(method).expect("a method");
     let mut stored = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("the GPU takes the world");
     assert_eq!((on_gpu.len(), on_gpu.method()), (PARTICLES, method));
     cpu_steps(&mut cpu, BEFORE..BEFORE + 120);
     // In uneven batches: the same 120 steps.
     for steps in [1, 63, 56] {
-        on_gpu.step(&gpu, DT as f32, steps).expect("steps");
+        on_gpu.step(gpu, DT as f32, steps).expect("steps");
     }
     // Stored into the world it came from, the GPU's run has the CPU run's
     // checksum: positions, velocities, previous positions, tick, time,
@@ -214,7 +211,7 @@ fn matches_the_cpu(method: &str) {
         time: (BEFORE + 119) as f64 * DT,
         dt: DT,
     };
-    on_gpu.store_into(&gpu, &mut stored, last).expect("stored");
+    on_gpu.store_into(gpu, &mut stored, last).expect("stored");
     assert_eq!(stored.tick(), cpu.tick());
     // The checksum covers the method's history too, which stays on the
     // GPU (not stored): the methods without compare checksums.
@@ -228,13 +225,13 @@ fn matches_the_cpu(method: &str) {
     }
     // Stored again, nothing changes; a world at another tick is refused.
     let hash = stored.state_hash();
-    on_gpu.store_into(&gpu, &mut stored, last).expect("stored again");
+    on_gpu.store_into(gpu, &mut stored, last).expect("stored again");
     assert_eq!(stored.state_hash(), hash);
     assert!(
-        on_gpu.store_into(&gpu, &mut world(method), last).is_err(),
+        on_gpu.store_into(gpu, &mut world(method), last).is_err(),
         "a world at another tick is refused"
     );
-    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    let (x, v) = on_gpu.read_back(gpu).expect("read back");
     let p = cpu.particles();
     let (cx, cv): (Vec<Vec3>, Vec<Vec3>) = (
         p.position.iter().map(Vec3::from).collect(),
@@ -368,7 +365,7 @@ fn nbody_matches_the_cpu(method: &str) {
         })
         .expect("a particle");
     }
-    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("the GPU takes the world");
     cpu_steps(&mut cpu, 0..1);
     let first: Vec<f32> = cpu.particles().position.iter().map(|x| x.y).collect();
     assert!(
@@ -377,9 +374,9 @@ fn nbody_matches_the_cpu(method: &str) {
     );
     cpu_steps(&mut cpu, 1..60);
     for steps in [1, 40, 19] {
-        on_gpu.step(&gpu, DT as f32, steps).expect("steps");
+        on_gpu.step(gpu, DT as f32, steps).expect("steps");
     }
-    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    let (x, v) = on_gpu.read_back(gpu).expect("read back");
     let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
     let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
     let start: Vec<Vec3> = (0..1000).filter_map(|k| p.position.get(k).map(Vec3::from)).collect();
@@ -456,10 +453,10 @@ fn a_games_own_force_steps_on_the_gpu_from_its_own_wgsl_as_on_the_cpu() {
     let gpu = gpu();
     let mut cpu = world("rk4");
     cpu.add_force(Swirl { k: 0.7 });
-    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes a force with a GPU form");
+    let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("the GPU takes a force with a GPU form");
     cpu_steps(&mut cpu, 0..60);
-    on_gpu.step(&gpu, DT as f32, 60).expect("steps");
-    let (x, v) = on_gpu.read_back(&gpu).expect("read back");
+    on_gpu.step(gpu, DT as f32, 60).expect("steps");
+    let (x, v) = on_gpu.read_back(gpu).expect("read back");
     let p = cpu.particles();
     let cx: Vec<Vec3> = p.position.iter().map(Vec3::from).collect();
     let cv: Vec<Vec3> = p.velocity.iter().map(Vec3::from).collect();
@@ -476,7 +473,7 @@ fn a_games_own_force_steps_on_the_gpu_from_its_own_wgsl_as_on_the_cpu() {
     }
     let mut refused = world("rk4");
     refused.add_force(Cpu);
-    let error = GpuWorld::new(&gpu, &refused).expect_err("no GPU form");
+    let error = GpuWorld::new(gpu, &refused).expect_err("no GPU form");
     assert!(matches!(error, GpuStepError::Force { force: "cpu_only" }), "{error:?}");
 }
 
@@ -485,17 +482,17 @@ fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
     let gpu = gpu();
     let cpu = world("semi_implicit_euler");
     let (mut once, mut singly) = (
-        GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
-        GpuWorld::new(&gpu, &cpu).expect("a GPU world"),
+        GpuWorld::new(gpu, &cpu).expect("a GPU world"),
+        GpuWorld::new(gpu, &cpu).expect("a GPU world"),
     );
-    once.step(&gpu, DT as f32, 90).expect("steps");
+    once.step(gpu, DT as f32, 90).expect("steps");
     for _ in 0..90 {
-        singly.step(&gpu, DT as f32, 1).expect("steps");
+        singly.step(gpu, DT as f32, 1).expect("steps");
     }
     assert_eq!(once.ticks(), 90);
     let (a, b) = (
-        once.read_back(&gpu).expect("read"),
-        singly.read_back(&gpu).expect("read"),
+        once.read_back(gpu).expect("read"),
+        singly.read_back(gpu).expect("read"),
     );
     assert_eq!(differences(&a.0, &b.0).0 + differences(&a.1, &b.1).0, 0);
 }
@@ -503,7 +500,7 @@ fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
 #[test]
 fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     let gpu = gpu();
-    let refused = |world: &World| GpuWorld::new(&gpu, world).expect_err("refused").to_string();
+    let refused = |world: &World| GpuWorld::new(gpu, world).expect_err("refused").to_string();
     assert_eq!(
         refused(&world("predictor_corrector_euler")),
         "the GPU step has no method \"predictor_corrector_euler\": not on the GPU yet (these are: explicit \
@@ -544,17 +541,17 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
     let mut reporting = world("semi_implicit_euler");
     let floor = reporting.colliders().next().map(|(id, _)| id).expect("a floor");
     reporting.report_contacts(floor).expect("reports");
-    let mut on_gpu = GpuWorld::new(&gpu, &reporting).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &reporting).expect("a GPU world");
     assert!(!on_gpu.steps_in_batches());
     assert_eq!(
-        on_gpu.step(&gpu, DT as f32, 1).map_err(|e| e.to_string()),
+        on_gpu.step(gpu, DT as f32, 1).map_err(|e| e.to_string()),
         Err(
             "the GPU step does not do steps in a batch of a world whose colliders report contacts: step it \
              with GpuWorld::advance, which reads them back step by step"
                 .to_owned()
         )
     );
-    let error = GpuWorld::new(&gpu, &world("exponential_euler")).expect_err("refused");
+    let error = GpuWorld::new(gpu, &world("exponential_euler")).expect_err("refused");
     assert!(matches!(error, GpuStepError::Method { .. }), "{error}");
     // The rest of what the CPU's step does that the GPU's does not.
     let with = |change: &dyn Fn(&mut World)| {
@@ -599,10 +596,10 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
          more"
     );
     // A step that is not finite and positive.
-    let mut fine = GpuWorld::new(&gpu, &world("semi_implicit_euler")).expect("a GPU world");
+    let mut fine = GpuWorld::new(gpu, &world("semi_implicit_euler")).expect("a GPU world");
     for dt in [0.0, -1.0, f32::NAN, f32::INFINITY] {
         assert_eq!(
-            fine.step(&gpu, dt, 1).map_err(|e| e.to_string()),
+            fine.step(gpu, dt, 1).map_err(|e| e.to_string()),
             Err(format!("a GPU step of {dt} s: the step must be finite and positive"))
         );
     }
@@ -618,12 +615,12 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         time: tick as f64 * DT,
         dt: DT,
     };
-    let mut copy = GpuWorld::new(&gpu, &source).expect("a GPU world");
-    copy.store_into(&gpu, &mut source, step(2)).expect("nothing to store");
+    let mut copy = GpuWorld::new(gpu, &source).expect("a GPU world");
+    copy.store_into(gpu, &mut source, step(2)).expect("nothing to store");
     assert_eq!(source.state_hash(), before, "a GPU world of no steps stores nothing");
-    copy.step(&gpu, 0.01, 1).expect("steps");
+    copy.step(gpu, 0.01, 1).expect("steps");
     assert_eq!(
-        copy.store_into(&gpu, &mut source, step(3)).map_err(|e| e.to_string()),
+        copy.store_into(gpu, &mut source, step(3)).map_err(|e| e.to_string()),
         Err(
             "the GPU step does not do storing steps of different lengths, or of another length than the last \
              step's"
@@ -638,9 +635,9 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
         ..Particle::default()
     })
     .expect("a particle");
-    let mut escaping = GpuWorld::new(&gpu, &wild).expect("a GPU world");
-    escaping.step(&gpu, DT as f32, 2).expect("steps");
-    let error = escaping.store_into(&gpu, &mut wild, step(1)).expect_err("infinite");
+    let mut escaping = GpuWorld::new(gpu, &wild).expect("a GPU world");
+    escaping.step(gpu, DT as f32, 2).expect("steps");
+    let error = escaping.store_into(gpu, &mut wild, step(1)).expect_err("infinite");
     assert!(
         error
             .to_string()
@@ -651,12 +648,12 @@ fn what_the_gpu_step_does_not_do_is_refused_by_name() {
 
 #[test]
 fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
-    use tickwork_engine::render::{Camera, FrameView, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
+    use tickwork_engine::render::{Camera, FrameView, RendererConfig};
     let gpu = gpu();
     let mut cpu = world("semi_implicit_euler");
-    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("the GPU takes the world");
     cpu_steps(&mut cpu, 0..45);
-    on_gpu.step(&gpu, DT as f32, 45).expect("steps");
+    on_gpu.step(gpu, DT as f32, 45).expect("steps");
     // Quads for both (no splat), between the last two steps.
     let config = RendererConfig {
         splat_threshold: Some(usize::MAX),
@@ -666,11 +663,7 @@ fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
         center: glam::Vec2::new(0.0, 5.0),
         height: 12.0,
     };
-    let draw = |view: &FrameView<'_>| {
-        let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config.clone()).expect("a renderer");
-        let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
-        target.render(&gpu, &mut renderer, view).expect("a frame")
-    };
+    let draw = |view: &FrameView<'_>| draw(view, config.clone(), (320, 180));
     let from_cpu = draw(&FrameView::new(&cpu, 0.5, camera));
     let empty = World::default();
     let particles = [on_gpu.particles()];
@@ -690,12 +683,12 @@ fn a_gpu_world_is_drawn_from_its_own_buffers_as_its_cpu_twin_is_drawn() {
 #[test]
 fn a_gpu_world_is_drawn_along_hermite_curves_by_quads_and_by_the_splat_as_its_cpu_twin() {
     use tickwork_engine::interpolation::Interpolation;
-    use tickwork_engine::render::{Camera, FrameView, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig};
+    use tickwork_engine::render::{Camera, FrameView, RendererConfig};
     let gpu = gpu();
     let mut cpu = world("velocity_verlet");
-    let mut on_gpu = GpuWorld::new(&gpu, &cpu).expect("the GPU takes the world");
+    let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("the GPU takes the world");
     cpu_steps(&mut cpu, 0..30);
-    on_gpu.step(&gpu, DT as f32, 30).expect("steps");
+    on_gpu.step(gpu, DT as f32, 30).expect("steps");
     let camera = Camera::TwoD {
         center: glam::Vec2::new(0.0, 5.0),
         height: 12.0,
@@ -708,11 +701,7 @@ fn a_gpu_world_is_drawn_along_hermite_curves_by_quads_and_by_the_splat_as_its_cp
             interpolation: Interpolation::Hermite { dt: DT as f32 },
             ..RendererConfig::default()
         };
-        let draw = |view: &FrameView<'_>| {
-            let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config.clone()).expect("a renderer");
-            let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
-            target.render(&gpu, &mut renderer, view).expect("a frame")
-        };
+        let draw = |view: &FrameView<'_>| draw(view, config.clone(), (320, 180));
         let from_cpu = draw(&FrameView::new(&cpu, 0.3, camera));
         let from_gpu = draw(&FrameView {
             gpu_particles: &particles,
@@ -724,11 +713,7 @@ fn a_gpu_world_is_drawn_along_hermite_curves_by_quads_and_by_the_splat_as_its_cp
                 interpolation: Interpolation::Interpolate,
                 ..config.clone()
             };
-            let mut renderer = Renderer::new(&gpu, OFFSCREEN_FORMAT, config).expect("a renderer");
-            let target = OffscreenTarget::new(&gpu, 320, 180, renderer.config().samples).expect("a target");
-            target
-                .render(&gpu, &mut renderer, &FrameView::new(&cpu, 0.3, camera))
-                .expect("a frame")
+            crate::support::draw(&FrameView::new(&cpu, 0.3, camera), config, (320, 180))
         };
         let curved = from_cpu.pixels().zip(linear.pixels()).filter(|(a, b)| a != b).count();
         assert!(curved > 50, "{path}: Hermite and linear differ in {curved} pixels");
@@ -830,9 +815,9 @@ fn a_fountain_matches_the_cpu(method: &str) {
     let gpu = gpu();
     let mut cpu = fountain(method);
     let mut on_gpu_world = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &on_gpu_world).expect("a GPU world");
     assert_eq!(
-        on_gpu.step(&gpu, DT as f32, 1).expect_err("refused").to_string(),
+        on_gpu.step(gpu, DT as f32, 1).expect_err("refused").to_string(),
         "the GPU step does not do steps in a batch of a world whose rows change (emitters, lifetimes, queued \
          spawns or despawns): step it with GpuWorld::advance, which follows them"
     );
@@ -846,7 +831,7 @@ fn a_fountain_matches_the_cpu(method: &str) {
         play(&mut cpu, tick);
         play(&mut on_gpu_world, tick);
         let report = cpu.step(step).expect("a step");
-        let on_gpu_report = on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        let on_gpu_report = on_gpu.advance(gpu, &mut on_gpu_world, step).expect("a GPU step");
         assert_eq!(
             (report.expired, report.spawned),
             (on_gpu_report.expired, on_gpu_report.spawned)
@@ -863,8 +848,8 @@ fn a_fountain_matches_the_cpu(method: &str) {
         time: 89.0 * DT,
         dt: DT,
     };
-    on_gpu.store_into(&gpu, &mut on_gpu_world, last).expect("stored");
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    on_gpu.store_into(gpu, &mut on_gpu_world, last).expect("stored");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
     let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
     assert_eq!(differences(&x, &cpu_x), (0, 0.0), "{method}: positions");
@@ -881,9 +866,9 @@ fn a_fountain_matches_the_cpu(method: &str) {
         dt: DT,
     };
     cpu.step(step).expect("a step");
-    on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
-    on_gpu.store_into(&gpu, &mut on_gpu_world, step).expect("stored");
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    on_gpu.advance(gpu, &mut on_gpu_world, step).expect("a GPU step");
+    on_gpu.store_into(gpu, &mut on_gpu_world, step).expect("stored");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
     let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
     assert_eq!(
@@ -961,7 +946,7 @@ fn an_nbody_fountain_matches_the_cpu(method: &str) {
         .expect("a particle");
     }
     let mut twin = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &twin).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &twin).expect("a GPU world");
     let (mut expired, mut spawned) = (0, 0);
     for tick in 0..60 {
         let step = FixedStep {
@@ -978,12 +963,12 @@ fn an_nbody_fountain_matches_the_cpu(method: &str) {
             }
         }
         let report = cpu.step(step).expect("a step");
-        on_gpu.advance(&gpu, &mut twin, step).expect("a GPU step");
+        on_gpu.advance(gpu, &mut twin, step).expect("a GPU step");
         (expired, spawned) = (expired + report.expired, spawned + report.spawned);
         assert_eq!(on_gpu.len(), cpu.len(), "tick {tick}");
     }
     assert!(expired > 50 && spawned > 200, "{expired} expired, {spawned} spawned");
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     let cpu_x: Vec<Vec3> = cpu.particles().position.iter().map(Vec3::from).collect();
     let cpu_v: Vec<Vec3> = cpu.particles().velocity.iter().map(Vec3::from).collect();
     assert_eq!(differences(&x, &cpu_x), (0, 0.0), "{method} with n-body: positions");
@@ -1001,26 +986,26 @@ fn an_nbody_fountain_follows_the_cpus_rows_bit_for_bit() {
 fn a_gpu_worlds_particles_changed_between_steps_are_refused() {
     let gpu = gpu();
     let mut world = fountain("semi_implicit_euler");
-    let mut on_gpu = GpuWorld::new(&gpu, &world).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &world).expect("a GPU world");
     let step = |tick: u64| FixedStep {
         tick,
         time: tick as f64 * DT,
         dt: DT,
     };
-    on_gpu.advance(&gpu, &mut world, step(0)).expect("a step");
+    on_gpu.advance(gpu, &mut world, step(0)).expect("a step");
     let entity = world.entities().rows()[0];
     world.set_velocity(entity, Vec3::X).expect("set");
-    assert_eq!(on_gpu.advance(&gpu, &mut world, step(1)), Err(GpuStepError::Edited));
+    assert_eq!(on_gpu.advance(gpu, &mut world, step(1)), Err(GpuStepError::Edited));
     assert!(
         GpuStepError::Edited
             .to_string()
             .starts_with("the particles of a GPU world were changed outside its steps (particles_mut, set_velocity")
     );
     // Made again from the world as it is, it goes on.
-    let mut on_gpu = GpuWorld::new(&gpu, &world).expect("a GPU world");
-    on_gpu.advance(&gpu, &mut world, step(1)).expect("a step");
+    let mut on_gpu = GpuWorld::new(gpu, &world).expect("a GPU world");
+    on_gpu.advance(gpu, &mut world, step(1)).expect("a step");
     assert!(
-        on_gpu.advance(&gpu, &mut world, step(5)).is_err(),
+        on_gpu.advance(gpu, &mut world, step(5)).is_err(),
         "a step from another tick"
     );
 }
@@ -1064,11 +1049,11 @@ fn kinematic_colliders_match_the_cpu(method: &str) {
     let gpu = gpu();
     let mut cpu = kinematic_world(method);
     let mut on_gpu_world = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &on_gpu_world).expect("a GPU world");
     assert!(!on_gpu.steps_in_batches());
     assert!(
         on_gpu
-            .step(&gpu, DT as f32, 1)
+            .step(gpu, DT as f32, 1)
             .expect_err("refused")
             .to_string()
             .contains("a moving collider: step it with GpuWorld::advance")
@@ -1082,20 +1067,20 @@ fn kinematic_colliders_match_the_cpu(method: &str) {
         };
         cpu.step(step).expect("a step");
         still.step(step).expect("a step");
-        on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        on_gpu.advance(gpu, &mut on_gpu_world, step).expect("a GPU step");
     }
     let last = FixedStep {
         tick: 119,
         time: 119.0 * DT,
         dt: DT,
     };
-    on_gpu.store_into(&gpu, &mut on_gpu_world, last).expect("stored");
+    on_gpu.store_into(gpu, &mut on_gpu_world, last).expect("stored");
     let p = cpu.particles();
     let (cx, cv): (Vec<Vec3>, Vec<Vec3>) = (
         p.position.iter().map(Vec3::from).collect(),
         p.velocity.iter().map(Vec3::from).collect(),
     );
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     assert_eq!(differences(&x, &cx).0 + differences(&v, &cv).0, 0, "{method}");
     if !with_history(method) {
         assert_eq!(on_gpu_world.state_hash(), cpu.state_hash(), "{method}: checksum");
@@ -1139,7 +1124,7 @@ fn contacts_of_reporting_colliders_are_the_cpus_step_by_step() {
     });
     cpu.report_contacts(paddle).expect("reports");
     let mut on_gpu_world = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &on_gpu_world).expect("a GPU world");
     let (mut on_floor, mut on_paddle) = (0, 0);
     for tick in 0..90 {
         let step = FixedStep {
@@ -1148,7 +1133,7 @@ fn contacts_of_reporting_colliders_are_the_cpus_step_by_step() {
             dt: DT,
         };
         cpu.step(step).expect("a step");
-        on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        on_gpu.advance(gpu, &mut on_gpu_world, step).expect("a GPU step");
         assert_eq!(on_gpu_world.contacts(), cpu.contacts(), "tick {tick}");
         for contact in cpu.contacts() {
             match contact.touched {
@@ -1177,7 +1162,7 @@ fn a_playback_moved_between_the_gpu_and_the_cpu_keeps_its_state() {
     let gpu = gpu();
     let mut cpu = Playback::from_scene(&scene, None).expect("playback");
     let mut moved = Playback::from_scene_on(&scene, None, Some(Backend::Gpu)).expect("playback");
-    moved.attach_gpu(&gpu);
+    moved.attach_gpu(gpu);
     for _ in 0..30 {
         cpu.advance(1.0 / 60.0).expect("a frame");
         moved.advance(1.0 / 60.0).expect("a frame");
@@ -1230,7 +1215,7 @@ fn in_step_matches_the_cpu(method: &str) {
     let floor = cpu.colliders().next().map(|(id, _)| id).expect("a floor");
     cpu.report_contacts(floor).expect("reports");
     let mut on_gpu_world = cpu.clone();
-    let mut on_gpu = GpuWorld::new(&gpu, &on_gpu_world).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &on_gpu_world).expect("a GPU world");
     let mut end_of_step = in_step_world(method);
     let (mut contacts, mut inside) = (0, 0);
     for tick in 0..120 {
@@ -1241,7 +1226,7 @@ fn in_step_matches_the_cpu(method: &str) {
         };
         cpu.step(step).expect("a step");
         end_of_step.step(step).expect("a step");
-        on_gpu.advance(&gpu, &mut on_gpu_world, step).expect("a GPU step");
+        on_gpu.advance(gpu, &mut on_gpu_world, step).expect("a GPU step");
         let (a, b) = (cpu.contacts(), on_gpu_world.contacts());
         contacts += a.len();
         // The same contacts, at the same instants to f32 rounding.
@@ -1267,7 +1252,7 @@ fn in_step_matches_the_cpu(method: &str) {
         p.position.iter().map(Vec3::from).collect(),
         p.velocity.iter().map(Vec3::from).collect(),
     );
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     let (far_x, largest_x) = beyond(&x, &cx, 1e-3);
     let (far_v, largest_v) = beyond(&v, &cv, 1e-2);
     eprintln!(
@@ -1317,7 +1302,7 @@ fn fire_on_the_gpu(hz: f64, wall: impl FnOnce(&mut World)) -> Vec<(f32, Vec3, Ve
         })
         .expect("a particle");
     }
-    let mut on_gpu = GpuWorld::new(&gpu, &w).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &w).expect("a GPU world");
     let dt = 1.0 / hz;
     // The slowest, 10 m/s, from 5 m away and back past its start.
     let steps = (1.2 / dt).ceil() as u64;
@@ -1327,9 +1312,9 @@ fn fire_on_the_gpu(hz: f64, wall: impl FnOnce(&mut World)) -> Vec<(f32, Vec3, Ve
             time: tick as f64 * dt,
             dt,
         };
-        on_gpu.advance(&gpu, &mut w, step).expect("a GPU step");
+        on_gpu.advance(gpu, &mut w, step).expect("a GPU step");
     }
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     speeds.iter().zip(x).zip(v).map(|((s, x), v)| (*s, x, v)).collect()
 }
 
@@ -1411,11 +1396,11 @@ fn an_elastic_ball_keeps_its_height_for_a_hundred_bounces_on_the_gpu() {
         ..Particle::default()
     })
     .expect("a ball");
-    let mut on_gpu = GpuWorld::new(&gpu, &w).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &w).expect("a GPU world");
     let g = 9.81f32;
     let steps = (100.0 * 2.0 * (2.0 * 10.0 / f64::from(g)).sqrt() / DT).ceil() as u32;
-    on_gpu.step(&gpu, DT as f32, steps).expect("GPU steps");
-    let (x, v) = on_gpu.read_back(&gpu).expect("read");
+    on_gpu.step(gpu, DT as f32, steps).expect("GPU steps");
+    let (x, v) = on_gpu.read_back(gpu).expect("read");
     let height = x[0].y + v[0].y * v[0].y / (2.0 * g);
     eprintln!("GPU, velocity Verlet, in-step floor: the energy's height after {steps} steps: {height} m");
     assert!(
@@ -1427,9 +1412,9 @@ fn an_elastic_ball_keeps_its_height_for_a_hundred_bounces_on_the_gpu() {
     // Its end-of-step twin gains height at every bounce.
     let floor = w.colliders().next().map(|(id, _)| id).expect("the floor");
     w.collider_mut::<Plane>(floor).expect("a plane").contact = ContactRule::EndOfStep;
-    let mut twin = GpuWorld::new(&gpu, &w).expect("a GPU world");
-    twin.step(&gpu, DT as f32, steps).expect("GPU steps");
-    let (x, v) = twin.read_back(&gpu).expect("read");
+    let mut twin = GpuWorld::new(gpu, &w).expect("a GPU world");
+    twin.step(gpu, DT as f32, steps).expect("GPU steps");
+    let (x, v) = twin.read_back(gpu).expect("read");
     let gained = x[0].y + v[0].y * v[0].y / (2.0 * g) - 10.0;
     assert!(gained > 0.5, "end of step: {gained} m gained");
 }
@@ -1459,13 +1444,13 @@ fn a_step_past_the_room_for_contacts_is_whole_names_the_room_and_the_next_has_mo
         })
         .expect("a particle");
     }
-    let mut on_gpu = GpuWorld::new(&gpu, &w).expect("a GPU world");
+    let mut on_gpu = GpuWorld::new(gpu, &w).expect("a GPU world");
     let step = |tick: u64| FixedStep {
         tick,
         time: tick as f64 * DT,
         dt: DT,
     };
-    let error = on_gpu.advance(&gpu, &mut w, step(0)).expect_err("past the room");
+    let error = on_gpu.advance(gpu, &mut w, step(0)).expect_err("past the room");
     let GpuStepError::Contacts { found, room } = error else {
         panic!("{error}");
     };
@@ -1479,10 +1464,10 @@ fn a_step_past_the_room_for_contacts_is_whole_names_the_room_and_the_next_has_mo
     // The step was whole: the next one follows it, with room for them all;
     // every particle ends inside, to the rounding of the projection.
     assert_eq!(w.tick(), 1);
-    on_gpu.advance(&gpu, &mut w, step(1)).expect("the next step");
+    on_gpu.advance(gpu, &mut w, step(1)).expect("the next step");
     let inside = w.contacts().iter().filter(|c| c.fraction < 1.0).count();
     assert!(inside > room as usize, "{inside} contacts inside the step");
-    let (x, _) = on_gpu.read_back(&gpu).expect("read");
+    let (x, _) = on_gpu.read_back(gpu).expect("read");
     let far = x.iter().map(|p| p.x.abs()).fold(0.0f32, f32::max);
     assert!(far <= 0.001 + 1e-6, "all in the container: {far} {:?}", &x[..3]);
 }

@@ -9,20 +9,15 @@
 //! packages; they never skip.
 #![cfg(feature = "render")]
 
-use std::sync::OnceLock;
-
 use glam::{Vec2, Vec3};
 use tickwork_engine::app::{FrameSource, Game, GameError, GameSession, OffscreenRun, SessionOptions, Settings, Stage};
 use tickwork_engine::interpolation::{Interpolation, hermite_from_end, lerp};
 use tickwork_engine::render::{
-    Camera, FrameView, Gpu, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig, RgbaImage,
+    Camera, FrameView, OFFSCREEN_FORMAT, OffscreenTarget, Renderer, RendererConfig, RgbaImage,
 };
 use tickwork_engine::{ClockConfig, FixedClock, Gravity, Material, Particle, Plane, Rate, World, WorldConfig};
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::headless().unwrap_or_else(|error| panic!("render tests need an adapter: {error}")))
-}
+use crate::support::gpu;
 
 /// The fixed step: 2 Hz, so the chord runs `g dt^2 / 8` = 0.31 m below
 /// the arc half-way through a step.

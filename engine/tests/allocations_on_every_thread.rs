@@ -1,34 +1,18 @@
 //! Steady-state steps allocate nothing on any thread, rayon's workers
 //! included, at 1k particles (one lane) and at 100k and 1M (two lanes), and
 //! with 20k colliding spheres (their slabs solved on two threads).
-//! Its own test binary with one test: the counter is the process's, so no
-//! other test may allocate while it counts.
+//! Its own test binary with one test, for two process-wide settings: the
+//! counter is the process's (`counting::process`), so no other test may
+//! allocate while it counts, and the test's thread joins rayon's global
+//! pool, which only the first user of rayon in a process can do.
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator; the counter is an atomic.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { SystemAllocator.realloc(ptr, layout, new_size) }
-    }
-}
+#[path = "../../tests/support/counting_alloc.rs"]
+mod counting;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: counting::Counting = counting::Counting;
 
+use counting::process;
 use glam::Vec3;
 use tickwork_engine::{FixedStep, Gravity, LinearDrag, Material, Particle, Plane, World, WorldConfig};
 
@@ -72,12 +56,12 @@ fn steady_allocations(w: &mut World) -> (usize, u32) {
     for tick in 0..8 {
         step(w, tick);
     }
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = process();
     let mut used = 0;
     for tick in 8..40 {
         used = step(w, tick).fused_lanes;
     }
-    (ALLOCATIONS.load(Ordering::Relaxed) - before, used)
+    (process() - before, used)
 }
 
 #[test]

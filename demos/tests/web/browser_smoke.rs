@@ -1,11 +1,11 @@
-//! The browser harness itself (`tests/browser/mod.rs`), before any page of
+//! The browser harness itself (`tests/web/browser/mod.rs`), before any page of
 //! the web build: the file server answers as a browser needs, and headless
 //! Chromium on this machine gives a page both a WebGPU adapter (and device)
 //! and a WebGL2 context whose drawing a screenshot shows. If this fails, the
 //! web build's tests cannot pass either, and its message says which part of
 //! the machine is missing (the `chromium` package, SwiftShader's adapters).
 
-mod browser;
+use crate::browser;
 
 use std::fs;
 use std::io::{Read, Write};
