@@ -101,6 +101,15 @@ pub fn ready_now<F: Future>(future: F) -> Option<F::Output> {
     imp::ready_now(future)
 }
 
+/// The value `receiver` is sent, if it can be had now: natively it blocks
+/// until the sender sends (`None` if it was dropped unsent), as a GPU
+/// read-back's answer comes from whichever thread's wait runs its
+/// callback; in the browser it takes what was sent already (`None` when
+/// nothing was: a page cannot block for it).
+pub fn received_now<T>(receiver: &std::sync::mpsc::Receiver<T>) -> Option<T> {
+    imp::received_now(receiver)
+}
+
 /// `attributes` for the runner's window: natively of `size` (physical
 /// pixels; `None` leaves it to the system); in a page, a canvas appended
 /// to the page's `tickwork` element (or its body), of `size`, or filling

@@ -35,6 +35,10 @@ pub(super) fn ready_now<F: Future>(future: F) -> Option<F::Output> {
     Some(pollster::block_on(future))
 }
 
+pub(super) fn received_now<T>(receiver: &std::sync::mpsc::Receiver<T>) -> Option<T> {
+    receiver.recv().ok()
+}
+
 #[cfg(feature = "window")]
 pub(super) fn window_attributes(
     attributes: winit::window::WindowAttributes,

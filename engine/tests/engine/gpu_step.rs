@@ -478,6 +478,29 @@ fn a_games_own_force_steps_on_the_gpu_from_its_own_wgsl_as_on_the_cpu() {
 }
 
 #[test]
+fn gpu_worlds_on_threads_sharing_one_device_read_back_every_time() {
+    // Each wait on a shared device may run another thread's read-back
+    // callback: every read-back still gets its answer.
+    let gpu = gpu();
+    let readers: Vec<_> = (0..4)
+        .map(|_| {
+            std::thread::spawn(move || {
+                let cpu = world("semi_implicit_euler");
+                let mut on_gpu = GpuWorld::new(gpu, &cpu).expect("a GPU world");
+                for _ in 0..150 {
+                    on_gpu.step(gpu, DT as f32, 1).expect("a step");
+                    let (x, _) = on_gpu.read_back(gpu).expect("every read-back answered");
+                    assert_eq!(x.len(), PARTICLES);
+                }
+            })
+        })
+        .collect();
+    for reader in readers {
+        reader.join().expect("a reader");
+    }
+}
+
+#[test]
 fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
     let gpu = gpu();
     let cpu = world("semi_implicit_euler");
@@ -490,10 +513,7 @@ fn the_gpus_state_does_not_depend_on_how_its_steps_are_batched() {
         singly.step(gpu, DT as f32, 1).expect("steps");
     }
     assert_eq!(once.ticks(), 90);
-    let (a, b) = (
-        once.read_back(gpu).expect("read"),
-        singly.read_back(gpu).expect("read"),
-    );
+    let (a, b) = (once.read_back(gpu).expect("read"), singly.read_back(gpu).expect("read"));
     assert_eq!(differences(&a.0, &b.0).0 + differences(&a.1, &b.1).0, 0);
 }
 

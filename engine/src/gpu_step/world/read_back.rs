@@ -127,13 +127,14 @@ pub(super) fn map_words<const N: usize>(
     gpu.device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
-    // Natively the wait has run the callback; a page cannot wait (its GPU
-    // answers once its script yields), and is told so.
-    receiver
-        .try_recv()
-        .map_err(|_| {
+    // Natively the answer comes once the wait (this thread's, or another
+    // sharing the device) has run the callback; a page cannot wait (its
+    // GPU answers once its script yields), and is told so.
+    crate::platform::received_now(&receiver)
+        .ok_or_else(|| {
             GpuStepError::ReadBack(
-                "the GPU has not answered: a page cannot wait for a read-back (read a GPU world back natively)".into(),
+                "the GPU has not answered the read-back (a page cannot wait for one: read a GPU world back natively)"
+                    .into(),
             )
         })?
         .map_err(|e| GpuStepError::ReadBack(e.to_string()))?;
