@@ -48,6 +48,8 @@ macro_rules! clone_fields {
 pub mod app;
 pub mod clock;
 pub mod colliders;
+#[cfg(feature = "render")]
+mod device;
 pub mod emitter;
 pub mod energy;
 pub mod forces;

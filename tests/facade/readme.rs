@@ -251,3 +251,43 @@ fn the_docs_links_resolve() {
     assert!(checked > 50, "links checked: {checked}");
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
 }
+
+/// `n` as the docs write it in words.
+fn in_words(n: usize) -> &'static str {
+    const WORDS: [&str; 21] = [
+        "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten", "eleven", "twelve",
+        "thirteen", "fourteen", "fifteen", "sixteen", "seventeen", "eighteen", "nineteen", "twenty",
+    ];
+    WORDS.get(n).copied().unwrap_or("many")
+}
+
+fn read(path: &str) -> String {
+    let file = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+#[test]
+fn the_docs_numbers_of_the_gpu_step_are_the_codes() {
+    // The methods the GPU step takes, as the guide and the design doc count them.
+    let methods = tickwork::engine::gpu_step::methods().count();
+    let word = in_words(methods);
+    assert!(
+        read("docs/guide.md").contains(&format!("the {word} explicit methods of the lecture")),
+        "the guide counts the GPU step's {methods} methods"
+    );
+    assert!(
+        read("docs/design/gpu-step.md").contains(&format!("- The {word} methods above.")),
+        "the design doc counts the GPU step's {methods} methods"
+    );
+    // Each is a registered method, under its canonical name.
+    for method in tickwork::engine::gpu_step::methods() {
+        let found = tickwork::integrators::find(method).map(|info| info.name);
+        assert_eq!(found.ok(), Some(method), "{method}: a registered method");
+    }
+    // The storage buffers a stage binds: the step's shader declares them.
+    let buffers = read("engine/shaders/gpu_step/step.wgsl").matches("var<storage").count();
+    assert!(
+        read("docs/design/gpu-step.md").contains(&format!("the step binds {buffers} storage buffers a stage")),
+        "the design doc says the step binds {buffers} storage buffers"
+    );
+}

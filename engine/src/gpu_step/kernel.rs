@@ -11,6 +11,7 @@ use tickwork_integrators::methods::{
 };
 
 use super::error::GpuStepError;
+use crate::device::wgsl;
 use crate::colliders::GpuCollider;
 use crate::forces::{Force, GpuForce, WgslF32, affine_sum};
 use crate::world::World;
@@ -18,18 +19,15 @@ use crate::world::World;
 /// The step's shader: the common part (the bindings and entry points, the
 /// end-of-step colliders, history, n-body), then the contacts inside the
 /// step, then the method's `advance`.
-const COMMON: &str = concat!(
-    include_str!("../../shaders/gpu_step/step.wgsl"),
-    "\n",
-    include_str!("../../shaders/gpu_step/colliders.wgsl"),
-    "\n",
-    include_str!("../../shaders/gpu_step/history.wgsl"),
-    "\n",
-    include_str!("../../shaders/gpu_step/nbody.wgsl"),
+const COMMON: &str = wgsl!(
+    "gpu_step/step.wgsl",
+    "gpu_step/colliders.wgsl",
+    "gpu_step/history.wgsl",
+    "gpu_step/nbody.wgsl",
 );
 
 /// Contacts inside the step (`ContactRule::InStep` planes and boxes).
-const IN_STEP: &str = include_str!("../../shaders/gpu_step/in_step.wgsl");
+const IN_STEP: &str = wgsl!("gpu_step/in_step.wgsl");
 
 /// How a method's step coefficients are formed (`drift`, `kick` in
 /// `Params`): from the integrators crate's own weights.
@@ -71,58 +69,58 @@ const fn method(info: MethodInfo, wgsl: &'static str, evaluations: u32, history:
 }
 
 /// Adams-Bashforth of any steps (`HISTORY` and the betas say how many).
-const ADAMS_BASHFORTH: &str = include_str!("../../shaders/gpu_step/adams_bashforth.wgsl");
+const ADAMS_BASHFORTH: &str = wgsl!("gpu_step/adams_bashforth.wgsl");
 
 /// The methods with a GPU form.
 const METHODS: &[GpuMethod] = &[
     method(
         semi_implicit_euler::INFO,
-        include_str!("../../shaders/gpu_step/semi_implicit_euler.wgsl"),
+        wgsl!("gpu_step/semi_implicit_euler.wgsl"),
         1,
         0,
     ),
     method(
         explicit_euler::INFO,
-        include_str!("../../shaders/gpu_step/explicit_euler.wgsl"),
+        wgsl!("gpu_step/explicit_euler.wgsl"),
         1,
         0,
     ),
     method(
         midpoint::INFO,
-        include_str!("../../shaders/gpu_step/midpoint.wgsl"),
+        wgsl!("gpu_step/midpoint.wgsl"),
         2,
         0,
     ),
-    method(heun::INFO, include_str!("../../shaders/gpu_step/heun.wgsl"), 2, 0),
-    method(rk4::INFO, include_str!("../../shaders/gpu_step/rk4.wgsl"), 4, 0),
+    method(heun::INFO, wgsl!("gpu_step/heun.wgsl"), 2, 0),
+    method(rk4::INFO, wgsl!("gpu_step/rk4.wgsl"), 4, 0),
     GpuMethod {
         coefficients: Coefficients::ForestRuth,
         ..method(
             forest_ruth::INFO,
-            include_str!("../../shaders/gpu_step/forest_ruth.wgsl"),
+            wgsl!("gpu_step/forest_ruth.wgsl"),
             3,
             0,
         )
     },
     method(
         velocity_verlet::INFO,
-        include_str!("../../shaders/gpu_step/velocity_verlet.wgsl"),
+        wgsl!("gpu_step/velocity_verlet.wgsl"),
         2,
         1,
     ),
     method(
         leapfrog::INFO,
-        include_str!("../../shaders/gpu_step/leapfrog.wgsl"),
+        wgsl!("gpu_step/leapfrog.wgsl"),
         2,
         1,
     ),
     method(
         position_verlet::INFO,
-        include_str!("../../shaders/gpu_step/position_verlet.wgsl"),
+        wgsl!("gpu_step/position_verlet.wgsl"),
         4,
         1,
     ),
-    method(beeman::INFO, include_str!("../../shaders/gpu_step/beeman.wgsl"), 5, 2),
+    method(beeman::INFO, wgsl!("gpu_step/beeman.wgsl"), 5, 2),
     GpuMethod {
         coefficients: Coefficients::AdamsBashforth(2),
         ..method(adams_bashforth2::INFO, ADAMS_BASHFORTH, 4, 2)
@@ -140,6 +138,12 @@ const METHODS: &[GpuMethod] = &[
 /// The GPU form of the method the registry calls `name`.
 fn gpu_method(name: &str) -> Option<&'static GpuMethod> {
     METHODS.iter().find(|m| m.info.name == name)
+}
+
+/// The registry's names of the methods the GPU step has a form of, in the
+/// registry's order of its table here: what `--gpu` accepts.
+pub fn methods() -> impl Iterator<Item = &'static str> {
+    METHODS.iter().map(|m| m.info.name)
 }
 
 /// Whether the GPU step has a form of the method `name` (the registry's

@@ -48,5 +48,6 @@ mod world;
 
 pub use dispatch::WORKGROUP;
 pub use error::GpuStepError;
+pub use kernel::methods;
 pub(crate) use kernel::takes_method;
 pub use world::GpuWorld;

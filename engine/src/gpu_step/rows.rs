@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use super::dispatch::dispatch;
 use super::error::GpuStepError;
-use crate::render::{Gpu, bind_buffers, buffer_entry, compute_pipeline, compute_storage};
+use crate::device::{Gpu, bind_buffers, compute_pipeline, compute_storage, entry as buffer_entry, wgsl};
 use crate::world::{RowChange, World};
 
 /// Where a row's particle comes from: a row before the changes, or new.
@@ -155,7 +155,7 @@ impl RowKernel {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tickwork gpu rows"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/gpu_step/rows.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("gpu_step/rows.wgsl").into()),
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("tickwork gpu rows"),

@@ -6,8 +6,7 @@
 //! written on the GPU.
 
 use super::frame_view::GpuParticles;
-use super::gpu::Gpu;
-use super::pipeline::{bind_buffers, compute_pipeline, entry};
+use crate::device::{Gpu, bind_buffers, compute_pipeline, entry, wgsl};
 
 /// Invocations a workgroup (`@workgroup_size` in `gather.wgsl`).
 const WORKGROUP: u32 = 64;
@@ -38,7 +37,7 @@ impl Gather {
     pub(crate) fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tickwork gather"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/gather.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("gather.wgsl").into()),
         });
         let buffer = |binding, ty| entry(binding, wgpu::ShaderStages::COMPUTE, ty);
         use wgpu::BufferBindingType::{Storage, Uniform};

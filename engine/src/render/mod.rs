@@ -21,26 +21,11 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-/// A shader's WGSL source: `engine/shaders/common.wgsl` (uniforms, the
-/// particle record, colour conversions), then the named file. WGSL has no
-/// includes; this keeps the shared definitions in one place.
-macro_rules! shader {
-    ($file:literal) => {
-        concat!(
-            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common.wgsl")),
-            "\n",
-            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/", $file))
-        )
-    };
-}
-
 mod camera;
 mod config;
-mod error;
 mod frame_view;
 mod gather;
 mod golden;
-mod gpu;
 mod hermite;
 // Text through glyphon with the `text` feature; without it, nothing draws
 // text (`Draw::text` is not there).
@@ -70,15 +55,13 @@ mod world_lines;
 pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices, Fit, FrameRect};
 pub use config::{Blend, RendererConfig};
-pub use error::RenderError;
+pub use crate::device::RenderError;
 pub use frame_view::{FrameView, GpuParticles, WorldView};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
-pub use gpu::{Gpu, quiet_device_select_layer};
+pub use crate::device::{Gpu, quiet_device_select_layer};
 pub use image::{Rgba, RgbaImage};
 pub(crate) use overlay::extend_batches;
 pub use overlay::{Anchor, Batch, Line, MAX_TEXT_RUNS, Shapes, Text, TextUnit, Triangle};
-/// The buffer-binding helpers the GPU step's kernels share with the renderer's.
-pub(crate) use pipeline::{bind_buffers, compute_pipeline, compute_storage, entry as buffer_entry};
 pub use renderer::Renderer;
 pub use sprite::Sprite;
 pub use stroke::{Cap, Join, Stroke, Width};

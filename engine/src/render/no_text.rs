@@ -1,7 +1,7 @@
 //! The HUD without the `text` feature: no font, no glyphs, nothing drawn
 //! (a game cannot ask for text then: `Draw::text` is not there).
 
-use super::gpu::Gpu;
+use crate::device::Gpu;
 use super::overlay::PlacedText;
 
 /// The renderer's text state without text: nothing.

@@ -5,7 +5,8 @@
 //! a second bind group that adds the velocities (built on first use).
 
 use super::config::Blend;
-use super::pipeline::{bind_buffers, depth_state, entry};
+use super::pipeline::depth_state;
+use crate::device::{bind_buffers, entry, wgsl};
 
 /// Largest drawn radius in pixels the splat path handles (as in the shader).
 pub(crate) const SPLAT_MAX_RADIUS: f32 = 4.0;
@@ -77,11 +78,11 @@ impl Splat {
         });
         let compute_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("splat.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader!("splat.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("common.wgsl", "splat.wgsl").into()),
         });
         let composite_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("splat_composite.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader!("splat_composite.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("common.wgsl", "splat_composite.wgsl").into()),
         });
         let compute_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,

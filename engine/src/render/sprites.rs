@@ -11,6 +11,7 @@ use super::line_vertices::vertex_buffer_of;
 use super::pipeline::depth_state;
 use super::sprite::Sprite;
 use super::{Gpu, RenderError};
+use crate::device::wgsl;
 
 /// One sprite vertex as the shader reads it (24 bytes).
 #[repr(C)]
@@ -76,7 +77,7 @@ impl Sprites {
         });
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("sprites.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader!("sprites.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("common.wgsl", "sprites.wgsl").into()),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("tickwork sprites"),

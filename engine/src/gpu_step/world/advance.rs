@@ -11,7 +11,7 @@ use crate::colliders::RowTouch;
 use crate::gpu_step::dispatch::dispatch;
 use crate::gpu_step::error::GpuStepError;
 use crate::gpu_step::kernel::refresh;
-use crate::render::Gpu;
+use crate::device::Gpu;
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
 

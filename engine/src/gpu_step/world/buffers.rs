@@ -9,7 +9,7 @@ use crate::gpu_step::dispatch::dispatch;
 use crate::gpu_step::error::GpuStepError;
 use crate::gpu_step::kernel::{ColliderRecord, Plan};
 use crate::gpu_step::rows::StateBuffers;
-use crate::render::{Gpu, bind_buffers, compute_pipeline};
+use crate::device::{Gpu, bind_buffers, compute_pipeline};
 
 /// A particle's columns on the GPU.
 #[derive(Debug)]

@@ -9,7 +9,7 @@ use super::dispatch::dispatch;
 use super::error::GpuStepError;
 use super::kernel::{Plan, changes_rows, coefficients, plan};
 use super::rows::{RowKernel, RowPlan};
-use crate::render::{Gpu, buffer_entry, compute_storage};
+use crate::device::{Gpu, compute_storage, entry as buffer_entry};
 use crate::world::World;
 
 /// Storage buffers the row kernels and the step bind (`rows.wgsl`,

@@ -6,7 +6,7 @@ use glam::Vec3;
 use super::GpuWorld;
 use crate::clock::FixedStep;
 use crate::gpu_step::error::GpuStepError;
-use crate::render::Gpu;
+use crate::device::Gpu;
 use crate::world::World;
 
 impl GpuWorld {

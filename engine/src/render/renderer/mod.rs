@@ -24,7 +24,8 @@ use super::hermite::HermiteParticles;
 use super::hud::Hud;
 use super::line_vertices::{LineVertex, vertex_buffer};
 use super::overlay::PlacedText;
-use super::pipeline::{bind_buffers, particle_layout_entries, particle_pipeline, pipeline};
+use super::pipeline::{particle_layout_entries, particle_pipeline, pipeline};
+use crate::device::{bind_buffers, wgsl};
 use super::records::{Instance, instance_buffer_layout, record_buffer};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::sprites::Sprites;
@@ -199,7 +200,7 @@ impl Renderer {
         };
         let particle_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("particles.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader!("particles.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("common.wgsl", "particles.wgsl").into()),
         });
         let particle_pipeline = particle_pipeline(
             device,
@@ -212,7 +213,7 @@ impl Renderer {
         );
         let line_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lines.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader!("lines.wgsl").into()),
+            source: wgpu::ShaderSource::Wgsl(wgsl!("common.wgsl", "lines.wgsl").into()),
         });
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
         let line_pipeline_for = |multisample, topology| {
