@@ -66,7 +66,7 @@ pub mod prelude {
     #[cfg(feature = "render")]
     pub use tickwork_engine::render::{Anchor, Camera, Cap, Fit, Join, Line, Stroke, Texture};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Gravity, Heading,
+        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Frame, Gravity, Heading,
         LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause,
         RigidBody, Sensor, SensorId, SphereCollisions, Spring, SpringEnd, Springs, StableHasher, Touched, Wind, World,
         WorldConfig,

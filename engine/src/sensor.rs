@@ -27,8 +27,25 @@ use crate::layout::Entity;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SensorId(pub(crate) u64);
 
+impl SensorId {
+    /// A handle to no sensor, for a game's fields before set-up (every
+    /// lookup with it is an error naming it): also [`SensorId::default`],
+    /// as [`ColliderId::PLACEHOLDER`](crate::ColliderId::PLACEHOLDER) is a
+    /// collider's.
+    pub const PLACEHOLDER: Self = Self(u64::MAX);
+}
+
+impl Default for SensorId {
+    fn default() -> Self {
+        Self::PLACEHOLDER
+    }
+}
+
 impl fmt::Display for SensorId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if *self == Self::PLACEHOLDER {
+            return f.write_str("SensorId::PLACEHOLDER (a handle set before any sensor was added)");
+        }
         write!(f, "sensor #{}", self.0)
     }
 }

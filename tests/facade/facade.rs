@@ -53,3 +53,24 @@ fn euler_methods_miss_the_projectile_by_half_a_step_of_gravity() {
         );
     }
 }
+
+/// A game written against the prelude alone: `Game::update` takes a
+/// `Frame`, and a sensor's handle in a game's fields starts as
+/// `SensorId::default()`, as a collider's does.
+#[test]
+fn the_prelude_has_what_a_games_update_and_fields_take() {
+    use tickwork::prelude::*;
+    #[derive(Default)]
+    struct Fields {
+        wall: ColliderId,
+        trigger: SensorId,
+    }
+    fn steps_of(frame: &Frame) -> u32 {
+        frame.steps
+    }
+    let fields = Fields::default();
+    assert_eq!((fields.wall, fields.trigger), (ColliderId::PLACEHOLDER, SensorId::PLACEHOLDER));
+    let mut clock = tickwork::engine::FixedClock::default();
+    let frame = clock.step(3);
+    assert_eq!(steps_of(&frame), 3);
+}

@@ -270,3 +270,22 @@ fn bad_sensors_and_too_many_pairs_are_errors_naming_them() {
     ));
     assert!(error.to_string().contains("WorldConfig::max_pairs"), "{error}");
 }
+
+#[test]
+fn a_placeholder_sensor_handle_is_an_error_naming_it() {
+    // A game's field before set-up: `SensorId::default()`, as a collider's.
+    #[derive(Default)]
+    struct Fields {
+        trigger: tickwork_engine::SensorId,
+    }
+    let w = World::new(WorldConfig::default()).expect("a world");
+    let fields = Fields::default();
+    assert_eq!(fields.trigger, tickwork_engine::SensorId::PLACEHOLDER);
+    let error = w.sensor(fields.trigger).expect_err("no such sensor");
+    assert!(matches!(error, SensorError::Unknown { .. }), "{error:?}");
+    assert_eq!(
+        error.to_string(),
+        "SensorId::PLACEHOLDER (a handle set before any sensor was added) is not in this world (removed, or \
+         another world's)"
+    );
+}
