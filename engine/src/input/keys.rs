@@ -6,11 +6,15 @@ use serde::{Deserialize, Serialize};
 
 /// The keys a game can read: every letter and digit, the arrows, Space,
 /// Enter, Shift, Escape, Tab, Backspace and F1 to F12; mouse buttons are
-/// keys too (held and pressed alike). While a game takes input these are
-/// its own, and the runner's controls (P pause, Period step, `+`/`-` time
-/// scale, Tab and 1-9 integrator, F1 panel, F5 restart, F12 screenshot,
-/// Escape quit) are reached with Ctrl held (Ctrl is never a game key);
-/// without a game (a scene's viewer) they need no Ctrl.
+/// keys too (held and pressed alike).
+///
+/// The rule for the runner's keys (the one the window and the page
+/// follow): the runner's own keys (P pause, Tab and 1-9 integrator, F1
+/// panel, F5 restart, F12 screenshot, Escape quit) stay the runner's unless
+/// the game claims them in `setup` (`stage.claimed_keys.insert(Key::Escape)`
+/// for a pause menu); every other key is the game's; and with Ctrl held,
+/// any key is the runner's (Ctrl+Escape quits a game that claimed Escape;
+/// Ctrl is never a game key).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[allow(missing_docs)]
 pub enum Key {

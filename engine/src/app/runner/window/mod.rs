@@ -5,7 +5,10 @@
 //!
 //! Keys: P pause (and Space and R reset for sources without game keys),
 //! Period single step, `+`/`-` time scale, Tab or 1-9 integrator, F5 reset,
-//! F1 panel, F12 screenshot, Escape close; game keys go to the game first.
+//! F1 panel, F12 screenshot, Escape close. Which key is the runner's and
+//! which the game's follows one rule, stated on [`Key`](crate::input::Key):
+//! the runner's own keys stay its own unless the game claims them, and
+//! with Ctrl held any key is the runner's.
 //! Mouse: a game gets its buttons and the pointer (as a world point);
 //! otherwise drag to orbit (3D) or pan (2D). The wheel zooms.
 //!
