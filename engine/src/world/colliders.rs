@@ -89,6 +89,12 @@ impl World {
     /// by the entity's row, the same on any number of threads. Read them
     /// in a game's next `fixed_update`, or after [`step`](Self::step); the
     /// next step replaces them.
+    ///
+    /// A contact is a collider acting on an entity in the step: a particle
+    /// resting on a floor under gravity reports one every step (the floor
+    /// stops it each step), and one the collider leaves alone (nothing
+    /// pulls it in, it does not move) reports none, as one that does not
+    /// touch. "Grounded" is a contact with the ground this step.
     #[must_use]
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts

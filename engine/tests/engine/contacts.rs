@@ -367,3 +367,52 @@ fn collider_and_force_configs_have_the_defaults_their_fields_state() {
     let x = w.position(ball).expect("alive").x;
     assert!(x >= -1.0 + 0.1 - 1e-6, "the wall holds the ball at x = {x}");
 }
+
+#[test]
+fn a_particle_resting_under_gravity_reports_its_contact_every_step_and_one_left_alone_none() {
+    // Under gravity the floor stops a resting ball every step (the step
+    // pulls it in, the floor puts it back): a contact each step, under
+    // either rule. With nothing pulling it in, the floor leaves it alone:
+    // no contact, as for a ball that does not touch.
+    for contact in [tickwork_engine::ContactRule::InStep, tickwork_engine::ContactRule::EndOfStep] {
+        for gravity in [true, false] {
+            let mut w = World::new(WorldConfig::default()).expect("a world");
+            if gravity {
+                w.add_force(Gravity::EARTH);
+            }
+            let floor = w.add_collider(Plane {
+                contact,
+                ..Plane::floor(0.0, Material::default())
+            });
+            w.report_contacts(floor).expect("the floor");
+            let ball = w
+                .spawn(Particle {
+                    position: Vec3::new(0.0, 0.1, 0.0),
+                    radius: 0.1,
+                    ..Particle::default()
+                })
+                .expect("valid");
+            // Settled first: the first steps may bounce off rounding.
+            for _ in 0..30 {
+                step(&mut w);
+            }
+            let mut steps_with_a_contact = 0;
+            for _ in 0..60 {
+                step(&mut w);
+                let contacts = w.contacts();
+                assert!(contacts.len() <= 1, "{contact:?}: {contacts:?}");
+                if let Some(c) = contacts.first() {
+                    assert_eq!((c.entity, c.touched), (ball, Touched::Collider(floor)));
+                    steps_with_a_contact += 1;
+                }
+            }
+            let y = w.position(ball).expect("the ball").y;
+            assert!((y - 0.1).abs() < 1e-3, "{contact:?}, gravity {gravity}: resting at {y}");
+            let expected = if gravity { 60 } else { 0 };
+            assert_eq!(
+                steps_with_a_contact, expected,
+                "{contact:?}, gravity {gravity}: steps with a contact of 60"
+            );
+        }
+    }
+}
