@@ -69,7 +69,10 @@ fn the_prelude_has_what_a_games_update_and_fields_take() {
         frame.steps
     }
     let fields = Fields::default();
-    assert_eq!((fields.wall, fields.trigger), (ColliderId::PLACEHOLDER, SensorId::PLACEHOLDER));
+    assert_eq!(
+        (fields.wall, fields.trigger),
+        (ColliderId::PLACEHOLDER, SensorId::PLACEHOLDER)
+    );
     let mut clock = tickwork::engine::FixedClock::default();
     let frame = clock.step(3);
     assert_eq!(steps_of(&frame), 3);

@@ -11,8 +11,8 @@ use tickwork_integrators::methods::{
 };
 
 use super::error::GpuStepError;
-use crate::device::wgsl;
 use crate::colliders::GpuCollider;
+use crate::device::wgsl;
 use crate::forces::{Force, GpuForce, WgslF32, affine_sum};
 use crate::world::World;
 
@@ -79,47 +79,17 @@ const METHODS: &[GpuMethod] = &[
         1,
         0,
     ),
-    method(
-        explicit_euler::INFO,
-        wgsl!("gpu_step/explicit_euler.wgsl"),
-        1,
-        0,
-    ),
-    method(
-        midpoint::INFO,
-        wgsl!("gpu_step/midpoint.wgsl"),
-        2,
-        0,
-    ),
+    method(explicit_euler::INFO, wgsl!("gpu_step/explicit_euler.wgsl"), 1, 0),
+    method(midpoint::INFO, wgsl!("gpu_step/midpoint.wgsl"), 2, 0),
     method(heun::INFO, wgsl!("gpu_step/heun.wgsl"), 2, 0),
     method(rk4::INFO, wgsl!("gpu_step/rk4.wgsl"), 4, 0),
     GpuMethod {
         coefficients: Coefficients::ForestRuth,
-        ..method(
-            forest_ruth::INFO,
-            wgsl!("gpu_step/forest_ruth.wgsl"),
-            3,
-            0,
-        )
+        ..method(forest_ruth::INFO, wgsl!("gpu_step/forest_ruth.wgsl"), 3, 0)
     },
-    method(
-        velocity_verlet::INFO,
-        wgsl!("gpu_step/velocity_verlet.wgsl"),
-        2,
-        1,
-    ),
-    method(
-        leapfrog::INFO,
-        wgsl!("gpu_step/leapfrog.wgsl"),
-        2,
-        1,
-    ),
-    method(
-        position_verlet::INFO,
-        wgsl!("gpu_step/position_verlet.wgsl"),
-        4,
-        1,
-    ),
+    method(velocity_verlet::INFO, wgsl!("gpu_step/velocity_verlet.wgsl"), 2, 1),
+    method(leapfrog::INFO, wgsl!("gpu_step/leapfrog.wgsl"), 2, 1),
+    method(position_verlet::INFO, wgsl!("gpu_step/position_verlet.wgsl"), 4, 1),
     method(beeman::INFO, wgsl!("gpu_step/beeman.wgsl"), 5, 2),
     GpuMethod {
         coefficients: Coefficients::AdamsBashforth(2),

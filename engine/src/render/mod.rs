@@ -52,13 +52,13 @@ mod texture;
 mod trails;
 mod world_lines;
 
+pub use crate::device::RenderError;
+pub use crate::device::{Gpu, quiet_device_select_layer};
 pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices, Fit, FrameRect};
 pub use config::{Blend, RendererConfig};
-pub use crate::device::RenderError;
 pub use frame_view::{FrameView, GpuParticles, WorldView};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
-pub use crate::device::{Gpu, quiet_device_select_layer};
 pub use image::{Rgba, RgbaImage};
 pub(crate) use overlay::extend_batches;
 pub use overlay::{Anchor, Batch, Line, MAX_TEXT_RUNS, Shapes, Text, TextUnit, Triangle};

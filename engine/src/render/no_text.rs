@@ -1,8 +1,8 @@
 //! The HUD without the `text` feature: no font, no glyphs, nothing drawn
 //! (a game cannot ask for text then: `Draw::text` is not there).
 
-use crate::device::Gpu;
 use super::overlay::PlacedText;
+use crate::device::Gpu;
 
 /// The renderer's text state without text: nothing.
 pub(crate) struct Hud;

@@ -58,9 +58,6 @@ pub(crate) fn particle_pipeline(
     )
 }
 
-
-
-
 /// Depth test (less or equal) with or without writes.
 pub(crate) fn depth_state(write: bool) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
@@ -71,7 +68,6 @@ pub(crate) fn depth_state(write: bool) -> wgpu::DepthStencilState {
         bias: Default::default(),
     }
 }
-
 
 /// A render pipeline of `shader`'s `vertex_entry` and `fs_main` over one
 /// bind group `layout`, drawing `topology` into `format` with `blend`, the

@@ -374,7 +374,10 @@ fn a_particle_resting_under_gravity_reports_its_contact_every_step_and_one_left_
     // pulls it in, the floor puts it back): a contact each step, under
     // either rule. With nothing pulling it in, the floor leaves it alone:
     // no contact, as for a ball that does not touch.
-    for contact in [tickwork_engine::ContactRule::InStep, tickwork_engine::ContactRule::EndOfStep] {
+    for contact in [
+        tickwork_engine::ContactRule::InStep,
+        tickwork_engine::ContactRule::EndOfStep,
+    ] {
         for gravity in [true, false] {
             let mut w = World::new(WorldConfig::default()).expect("a world");
             if gravity {

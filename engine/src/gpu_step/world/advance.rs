@@ -8,10 +8,10 @@ use super::buffers::{TOUCH_BYTES, touches_buffer};
 use super::read_back::{f32_at, map_words};
 use crate::clock::FixedStep;
 use crate::colliders::RowTouch;
+use crate::device::Gpu;
 use crate::gpu_step::dispatch::dispatch;
 use crate::gpu_step::error::GpuStepError;
 use crate::gpu_step::kernel::refresh;
-use crate::device::Gpu;
 use crate::step::StepReport;
 use crate::world::{RowChange, World};
 

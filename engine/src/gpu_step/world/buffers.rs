@@ -5,11 +5,11 @@
 use wgpu::util::DeviceExt;
 
 use super::GpuWorld;
+use crate::device::{Gpu, bind_buffers, compute_pipeline};
 use crate::gpu_step::dispatch::dispatch;
 use crate::gpu_step::error::GpuStepError;
 use crate::gpu_step::kernel::{ColliderRecord, Plan};
 use crate::gpu_step::rows::StateBuffers;
-use crate::device::{Gpu, bind_buffers, compute_pipeline};
 
 /// A particle's columns on the GPU.
 #[derive(Debug)]

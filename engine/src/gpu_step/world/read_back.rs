@@ -5,8 +5,8 @@ use glam::Vec3;
 
 use super::GpuWorld;
 use crate::clock::FixedStep;
-use crate::gpu_step::error::GpuStepError;
 use crate::device::Gpu;
+use crate::gpu_step::error::GpuStepError;
 use crate::world::World;
 
 impl GpuWorld {

@@ -25,12 +25,12 @@ use super::hud::Hud;
 use super::line_vertices::{LineVertex, vertex_buffer};
 use super::overlay::PlacedText;
 use super::pipeline::{particle_layout_entries, particle_pipeline, pipeline};
-use crate::device::{bind_buffers, wgsl};
 use super::records::{Instance, instance_buffer_layout, record_buffer};
 use super::splat::{SPLAT_MAX_RADIUS, Splat};
 use super::sprites::Sprites;
 use super::target::FrameBuffers;
 use super::{Gpu, RenderError};
+use crate::device::{bind_buffers, wgsl};
 use crate::interpolation::Interpolation;
 
 /// Uniforms shared by every pipeline (128 bytes, as in the WGSL `Globals`).
