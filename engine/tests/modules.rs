@@ -413,3 +413,31 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> {
     }
     groups
 }
+
+/// The CPU/GPU boundary has one owner each way: the GPU step reads no
+/// force's or collider's type (each says its GPU form, `gpu_form`), and
+/// the runners read a world's backend in one place (`app/api/backend.rs`,
+/// `on_gpu`), besides the world itself and the settings that set it.
+#[test]
+fn the_gpu_step_reads_no_types_and_one_module_reads_the_backend() {
+    let all = modules();
+    let gpu_step = split("gpu_step");
+    let downcasts: Vec<String> = all
+        .iter()
+        .filter(|(module, code)| within(module, &gpu_step) && (code.contains("downcast") || code.contains("as_any(")))
+        .map(|(module, _)| module.join("/"))
+        .collect();
+    assert!(downcasts.is_empty(), "gpu_step reads a type: {downcasts:?}");
+    let reads: Vec<String> = all
+        .iter()
+        .filter(|(_, code)| code.contains("config().backend") || code.contains("config.backend"))
+        .map(|(module, _)| module.join("/"))
+        .collect();
+    assert_eq!(
+        reads,
+        ["app/api/backend", "app/api/stage", "world/world"],
+        "the modules that read or set WorldConfig::backend"
+    );
+    // The checker sees the one read it allows.
+    assert!(all[&split("app/api/backend")].contains("config().backend == Backend::Gpu"));
+}
