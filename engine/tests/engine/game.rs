@@ -382,6 +382,7 @@ fn engine_errors_convert_into_game_errors_with_their_messages() {
 /// Lays out `session`'s control panel in a headless egui, opens the
 /// integrator menu of world number `world` and clicks `method` in it;
 /// returns the controls the panel gave back.
+#[cfg(feature = "panel")]
 fn choose_in_panel(session: &GameSession<Probe>, world: usize, method: &str) -> Vec<Control> {
     use egui_kittest::Harness;
     use egui_kittest::kittest::Queryable;
@@ -406,6 +407,7 @@ fn choose_in_panel(session: &GameSession<Probe>, world: usize, method: &str) -> 
 }
 
 /// The world hashes and integrators of a session's stage.
+#[cfg(feature = "panel")]
 fn stage_state(game: &GameSession<Probe>) -> Vec<(u64, &'static str)> {
     game.stage()
         .worlds
@@ -414,6 +416,7 @@ fn stage_state(game: &GameSession<Probe>) -> Vec<(u64, &'static str)> {
         .collect()
 }
 
+#[cfg(feature = "panel")]
 #[test]
 fn a_replay_repeats_an_integrator_switch_made_from_the_panel_at_its_tick() {
     let dir = std::env::temp_dir().join(format!("tickwork-game-controls-{}", std::process::id()));

@@ -5,6 +5,7 @@
 
 mod contacts;
 mod game;
+#[cfg(feature = "text")]
 mod game_draw;
 mod gpu_step;
 mod headings;
