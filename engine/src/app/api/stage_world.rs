@@ -14,7 +14,7 @@ use crate::world::{Colour, World};
 pub struct StageWorld {
     /// Shown in the legend, the panel and error messages.
     pub label: String,
-    /// The world. One whose [`WorldConfig::backend`] is the GPU keeps
+    /// The world. One whose [`WorldConfig::backend`](crate::WorldConfig::backend) is the GPU keeps
     /// its particles' positions and velocities there once it has stepped:
     /// here they are those of the last read-back
     /// (`Stage::read_back`); its entities, lifetimes, emitters, forces
