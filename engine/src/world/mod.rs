@@ -15,6 +15,7 @@ mod command;
 mod components;
 mod config;
 mod dynamics;
+#[cfg(feature = "render")]
 mod elsewhere;
 mod entities;
 pub(crate) mod facts;
