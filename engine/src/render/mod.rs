@@ -63,7 +63,7 @@ pub use image::{Rgba, RgbaImage};
 pub(crate) use overlay::extend_batches;
 pub use overlay::{Anchor, Batch, Line, MAX_TEXT_RUNS, Shapes, Text, TextUnit, Triangle};
 pub use renderer::Renderer;
-pub use sprite::Sprite;
+pub use sprite::{Animation, Sprite};
 pub use stroke::{Cap, Join, Stroke, Width};
 pub use target::{DEPTH_FORMAT, FrameBuffers, OFFSCREEN_FORMAT, OffscreenTarget};
 #[cfg(feature = "text")]

@@ -764,7 +764,7 @@ fn a_hidden_particle_is_not_drawn() {
     }
 }
 
-/// A 2 x 2 texture (red, green over blue, white) drawn three ways.
+/// A 2 x 2 texture (red, green over blue, white) drawn four ways.
 struct Sprites {
     texture: tickwork_engine::render::Texture,
     bad_region: bool,
@@ -790,6 +790,10 @@ impl Game for Sprites {
         // Turned a quarter turn counter-clockwise about its centre (3, 0).
         draw.sprite(&self.texture, Vec2::new(3.0, 0.0), Vec2::splat(4.0))
             .rotation(core::f32::consts::FRAC_PI_2);
+        // Mirrored both ways, 2 m square, centred at (-1, 0).
+        draw.sprite(&self.texture, Vec2::new(-1.0, 0.0), Vec2::splat(2.0))
+            .flip_x(true)
+            .flip_y(true);
         // The white texel alone, tinted yellow, its bottom-left corner at (6, 2).
         draw.sprite(&self.texture, Vec2::new(6.0, 2.0), Vec2::splat(2.0))
             .region([1, 1, 1, 1])
@@ -800,7 +804,7 @@ impl Game for Sprites {
 }
 
 #[test]
-fn sprites_are_drawn_placed_turned_tinted_and_cut_from_an_atlas() {
+fn sprites_are_drawn_placed_turned_flipped_tinted_and_cut_from_an_atlas() {
     use tickwork_engine::render::{RgbaImage, Texture};
     let gpu = crate::support::gpu().clone();
     // Through a PNG file, as a game loads one.
@@ -832,6 +836,11 @@ fn sprites_are_drawn_placed_turned_tinted_and_cut_from_an_atlas() {
     assert_eq!(at(&image, 2.0, 1.0), GREEN);
     assert_eq!(at(&image, 4.0, 1.0), white);
     assert_eq!(at(&image, 4.0, -1.0), BLUE);
+    // Mirrored on x and y: the top-left texel goes bottom-right.
+    assert_eq!(at(&image, -1.5, 0.5), white);
+    assert_eq!(at(&image, -0.5, 0.5), BLUE);
+    assert_eq!(at(&image, -1.5, -0.5), GREEN);
+    assert_eq!(at(&image, -0.5, -0.5), RED);
     // One texel of the atlas, tinted, placed by its bottom-left corner.
     let tinted = at(&image, 7.0, 3.0);
     assert!(tinted.iter().zip(YELLOW).all(|(a, b)| a.abs_diff(b) <= 2), "{tinted:?}");
