@@ -64,7 +64,7 @@ pub mod prelude {
     pub use tickwork_engine::input::{Key, PadAxis, PadButton, TickInput};
     pub use tickwork_engine::interpolation::Interpolated;
     #[cfg(feature = "render")]
-    pub use tickwork_engine::render::{Anchor, Animation, Camera, Cap, Fit, Join, Line, Stroke, Texture};
+    pub use tickwork_engine::render::{Anchor, Animation, Camera, Cap, Fit, Follow, Join, Line, Stroke, Texture};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Frame, Gravity, Heading,
         LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause,

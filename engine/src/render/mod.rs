@@ -23,6 +23,7 @@
 
 mod camera;
 mod config;
+mod follow;
 mod frame_view;
 mod gather;
 mod golden;
@@ -57,6 +58,7 @@ pub use crate::device::{Gpu, quiet_device_select_layer};
 pub use crate::interpolation::Interpolation;
 pub use camera::{Camera, CameraMatrices, Fit, FrameRect};
 pub use config::{Blend, RendererConfig};
+pub use follow::Follow;
 pub use frame_view::{FrameView, GpuParticles, WorldView};
 pub use golden::{Comparison, GoldenError, GoldenImages, Tolerance, compare, diff_image};
 pub use image::{Rgba, RgbaImage};
