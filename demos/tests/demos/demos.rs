@@ -435,6 +435,59 @@ fn a_recording_that_cannot_be_saved_is_refused_before_the_run() {
     }
 }
 
+#[test]
+fn a_recording_keeps_its_final_checksum_and_a_replay_says_whether_it_matches() {
+    let dir = root().join("target/test-demos/record-checksum");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a folder");
+    let record = dir.join("orbits.ron");
+    let run = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_orbits"))
+            .args(["--headless", "--no-frames"])
+            .args(args)
+            .output()
+            .expect("runs");
+        let stdout = text(&output.stdout);
+        assert!(output.status.success(), "{stdout}\n{}", text(&output.stderr));
+        stdout
+    };
+    let recorded = run(&["--frames", "60", "--record", record.to_str().expect("utf-8")]);
+    let line = checksum_line(&recorded);
+    let checksum = line.rsplit(' ').next().expect("a checksum").to_owned();
+    let tick: u64 = line
+        .split("the final state at tick ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("a tick: {line}"));
+    let file = std::fs::read_to_string(&record).expect("the recording");
+    let kept = u64::from_str_radix(&checksum, 16).expect("hex");
+    assert!(file.contains(&format!("checksum: Some({kept})")), "{file}");
+    // Replayed, past its end: the replay's line at the recording's end says it matches.
+    let replayed = run(&["--frames", "90", "--replay", record.to_str().expect("utf-8")]);
+    assert!(
+        replayed.contains(&format!(
+            "tickwork: the replay ended at tick {tick} with checksum {checksum}: it matches the recording"
+        )),
+        "{replayed}"
+    );
+    // A recording whose checksum is not the run's: where they differ.
+    let other = dir.join("other.ron");
+    std::fs::write(
+        &other,
+        file.replace(&format!("checksum: Some({kept})"), "checksum: Some(1)"),
+    )
+    .expect("written");
+    let differs = run(&["--frames", "90", "--replay", other.to_str().expect("utf-8")]);
+    assert!(
+        differs.contains(&format!(
+            "the replay ended at tick {tick} with checksum {checksum}: the recording ended with checksum \
+             0000000000000001: this run differs from it"
+        )),
+        "{differs}"
+    );
+}
+
 /// Runs `binary` under `--sync-test 7` with `extra`; returns its output.
 fn sync_test(binary: &str, extra: &[&str]) -> String {
     let output = Command::new(binary)

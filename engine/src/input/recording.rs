@@ -86,6 +86,12 @@ pub struct Recording {
     /// recordings.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub other_players: Vec<Vec<(u64, TickInput)>>,
+    /// The checksum of the recorded run's state at its end (after `ticks`
+    /// steps), which a replay compares with its own there. Absent in
+    /// recordings made before it was kept, and where the state could not
+    /// be had (a GPU world in a page).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checksum: Option<u64>,
 }
 
 impl Recording {
@@ -104,6 +110,7 @@ impl Recording {
             inputs: Vec::new(),
             controls: Vec::new(),
             other_players: Vec::new(),
+            checksum: None,
         }
     }
 

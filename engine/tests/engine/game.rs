@@ -240,6 +240,7 @@ fn a_replay_refuses_settings_that_differ_from_the_recording() {
         inputs: vec![],
         controls: vec![],
         other_players: vec![],
+        checksum: None,
     };
     let options = |seed| SessionOptions {
         settings: Settings {

@@ -79,6 +79,7 @@ fn play_live(source: &mut dyn TimeSource, threshold: usize) -> (Recording, u64, 
         inputs: Vec::new(),
         controls: Vec::new(),
         other_players: Vec::new(),
+        checksum: None,
     };
     let (mut frame_index, mut taps, mut seen) = (0u64, 0, 0);
     let mut carried = TickInput::default();

@@ -330,7 +330,9 @@ fn network_run<G: Game + Clone + 'static>(
     summary.ticks = FrameSource::ticks(&session);
     // The confirmed inputs are kept even when the match failed.
     if let Some(path) = &options.record {
-        let recording = session.recording();
+        let mut recording = session.recording();
+        // The match's final state, where it ended (the recording's end).
+        recording.checksum = summary.checksum.filter(|_| recording.ticks == summary.ticks);
         recording.save(path, options.force)?;
         crate::say!(
             "tickwork: recorded both players' inputs of {} ticks to {}",

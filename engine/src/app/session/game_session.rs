@@ -341,9 +341,17 @@ impl<G: Game> GameSession<G> {
                     self.replay_done = true;
                     // The state now is the recorded run's last: its checksum
                     // compares a replay with the run (or match) it recorded.
+                    let now = checksum_of(&self.game, &self.stage);
+                    let verdict = match recording.checksum {
+                        Some(recorded) if recorded == now => "it matches the recording".to_owned(),
+                        Some(recorded) => {
+                            format!("the recording ended with checksum {recorded:016x}: this run differs from it")
+                        }
+                        None => "the recording keeps no checksum to compare".to_owned(),
+                    };
                     crate::say!(
-                        "tickwork: the replay ended at tick {tick} with checksum {:016x}; the keyboard is ignored",
-                        checksum_of(&self.game, &self.stage)
+                        "tickwork: the replay ended at tick {tick} with checksum {now:016x}: {verdict}; the keyboard \
+                         is ignored"
                     );
                 }
             }
@@ -498,15 +506,24 @@ impl<G: Game> GameSession<G> {
         Ok(())
     }
 
-    /// Writes the recording, if one was asked for; returns its path.
+    /// Writes the recording, if one was asked for, with the checksum of
+    /// the state at its end (worlds on the GPU read back first, where that
+    /// can be waited for; none where it cannot); returns its path.
     ///
     /// # Errors
     /// [`RunError::Exists`] or [`RunError::Io`] for the file.
-    pub fn save_recording(&self) -> Result<Option<PathBuf>, RunError> {
-        match &self.mode {
+    pub fn save_recording(&mut self) -> Result<Option<PathBuf>, RunError> {
+        // The state at the recording's end, for a replay to compare with:
+        // worlds on the GPU read back first (where that can be waited for).
+        let checksum = match &self.mode {
+            InputMode::Live { record: Some(_) } => self.read_back().ok().map(|()| self.checksum()),
+            _ => None,
+        };
+        match &mut self.mode {
             InputMode::Live {
                 record: Some((recording, path)),
             } => {
+                recording.checksum = checksum;
                 recording.save(path, self.options.overwrite)?;
                 Ok(Some(path.clone()))
             }
