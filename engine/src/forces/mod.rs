@@ -168,7 +168,13 @@ pub(crate) fn affine_sum(forces: &[Box<dyn Force>]) -> (Vec3A, f32) {
     forces
         .iter()
         .filter_map(|f| f.affine_in_velocity())
-        .fold((Vec3A::ZERO, 0.0), |(c, b), (fc, fb)| (c + fc, b + fb))
+        .fold((Vec3A::ZERO, 0.0), add_affine)
+}
+
+/// One affine force's `(c, b)` added to a sum of them (the sum's one
+/// definition, so that every sum has the same bits).
+fn add_affine((c, b): (Vec3A, f32), (fc, fb): (Vec3A, f32)) -> (Vec3A, f32) {
+    (c + fc, b + fb)
 }
 
 /// The world's forces seen as the integrator's [`System`]: the sum of every
@@ -217,9 +223,11 @@ impl<'a> ForceField<'a> {
         for force in forces {
             field.pointwise &= force.is_pointwise();
             field.drag += force.linear_drag();
-            field.all_affine &= force.affine_in_velocity().is_some();
+            match force.affine_in_velocity() {
+                Some(term) => field.affine = add_affine(field.affine, term),
+                None => field.all_affine = false,
+            }
         }
-        field.affine = affine_sum(forces);
         field
     }
 }
