@@ -51,8 +51,8 @@ fn page_matches_native(backend: &str, expected_adapter: &str) {
     assert!(
         native
             .iter()
-            .any(|l| l.contains("the final state at tick 240 has checksum")),
-        "the native replay printed its final state: {native:?}"
+            .any(|l| l.contains("the replay ended at tick 240 with checksum")),
+        "the native replay printed its end: {native:?}"
     );
     let server = Server::start(&dir.join("site")).expect("the file server starts");
     let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
@@ -62,7 +62,7 @@ fn page_matches_native(backend: &str, expected_adapter: &str) {
     let mut page = browser.open(&url).unwrap_or_else(|e| panic!("{e}"));
     let ended = page
         .wait_console(
-            |l| l.contains("the final state at tick") || l.starts_with("error"),
+            |l| l.contains("the replay ended at tick") || l.starts_with("error"),
             PAGE_TIMEOUT,
         )
         .unwrap_or_else(|e| panic!("{e}"));

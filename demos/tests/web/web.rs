@@ -191,7 +191,11 @@ fn every_demo_matches_native(backend: &str, expected_adapter: &str) {
         ));
         let mut page = browser.open(&url).unwrap_or_else(|e| panic!("{e}"));
         let ended = page.wait_console(
-            |l| l.contains("the final state at tick") || l.starts_with("error"),
+            |l| {
+                l.contains("the final state at tick")
+                    || l.contains("the replay ended at tick")
+                    || l.starts_with("error")
+            },
             PAGE_TIMEOUT,
         );
         let printed: Vec<String> = page.console().iter().map(|l| l.text.clone()).collect();
@@ -253,7 +257,9 @@ fn page_frame_matches_golden(
     let browser = Browser::launch().unwrap_or_else(|e| panic!("{e}"));
     let url = server.url(&format!("{page}&backend={backend}"));
     let mut page = browser.open(&url).unwrap_or_else(|e| panic!("{e}"));
-    page.wait_console(|l| l.contains("the final state at tick"), PAGE_TIMEOUT)
+    // The page's last line comes after its last frame (a replay's end
+    // line may come before it).
+    page.wait_console(|l| l.contains("s of wall time"), PAGE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
     let shot = page.screenshot("#tickwork-canvas").unwrap_or_else(|e| panic!("{e}"));
     let image = image::RgbaImage::from_raw(shot.width, shot.height, shot.pixels)

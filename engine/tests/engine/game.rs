@@ -408,7 +408,6 @@ fn choose_in_panel(session: &GameSession<Probe>, world: usize, method: &str) -> 
 }
 
 /// The world hashes and integrators of a session's stage.
-#[cfg(feature = "panel")]
 fn stage_state(game: &GameSession<Probe>) -> Vec<(u64, &'static str)> {
     game.stage()
         .worlds
@@ -554,4 +553,72 @@ fn several_worlds_are_borrowed_at_once_and_a_bad_set_of_ids_is_an_error() {
         stage.worlds.iter().map(|w| w.world.len()).collect::<Vec<_>>(),
         [0, 0, 1]
     );
+}
+
+#[test]
+fn a_replay_stops_at_the_recordings_end_whatever_the_frames_ask_for() {
+    let dir = std::env::temp_dir().join(format!("tickwork-replay-end-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("end.ron");
+    let worlds = vec![("semi_implicit_euler", false, OnFailure::Stop)];
+    let mut live = GameSession::new(
+        Probe {
+            worlds: worlds.clone(),
+            ..Probe::default()
+        },
+        SessionOptions {
+            record: Some(path.clone()),
+            ..SessionOptions::default()
+        },
+    )
+    .expect("a session");
+    for frame in 0..40u64 {
+        live.key(Key::Space, frame % 7 < 3);
+        live.advance(if frame % 3 == 0 { 0.03 } else { 0.011 }).expect("steps");
+    }
+    live.save_recording().expect("saved");
+    let recording = Recording::load(&path).expect("loads");
+    assert_eq!(recording.ticks, live.ticks());
+    assert_eq!(
+        recording.checksum,
+        Some(live.checksum()),
+        "the recording keeps its end's checksum"
+    );
+    // Frames of 4.2 steps run past the end in the middle of a frame, and
+    // then many more frames follow.
+    let mut replay = GameSession::new(
+        Probe {
+            worlds,
+            ..Probe::default()
+        },
+        SessionOptions {
+            replay: Some(recording.clone()),
+            ..SessionOptions::default()
+        },
+    )
+    .expect("a session");
+    assert!(
+        recording.ticks % 4 != 0,
+        "the end falls inside a frame: {}",
+        recording.ticks
+    );
+    for _ in 0..(recording.ticks / 4 + 20) {
+        replay.advance(0.07).expect("steps");
+    }
+    assert_eq!(replay.ticks(), recording.ticks, "no step past the recording's end");
+    assert_eq!(
+        replay.game().seen.last().map(|(tick, _)| *tick),
+        Some(recording.ticks - 1),
+        "the game saw the recording's last tick and no later one"
+    );
+    assert!(matches!(replay.replay(), Some((_, true))), "the replay knows it ended");
+    assert!(replay.clock().is_paused(), "its clock stops there");
+    assert_eq!(replay.checksum(), live.checksum(), "the recorded run's last state");
+    assert_eq!(stage_state(&replay), stage_state(&live));
+    // A restart replays it again from the start.
+    replay.control(Control::Reset).expect("restarts");
+    assert!(matches!(replay.replay(), Some((_, false))));
+    replay.advance(0.05).expect("steps");
+    assert_eq!(replay.ticks(), 3);
+    std::fs::remove_dir_all(&dir).expect("clean up");
 }

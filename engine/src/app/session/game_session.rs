@@ -337,23 +337,6 @@ impl<G: Game> GameSession<G> {
                 for (player, (input, cursor)) in self.inputs.iter_mut().zip(cursors.iter_mut()).enumerate() {
                     *input = recording.input_of(player, cursor, tick, input.carried());
                 }
-                if tick >= recording.ticks && !self.replay_done {
-                    self.replay_done = true;
-                    // The state now is the recorded run's last: its checksum
-                    // compares a replay with the run (or match) it recorded.
-                    let now = checksum_of(&self.game, &self.stage);
-                    let verdict = match recording.checksum {
-                        Some(recorded) if recorded == now => "it matches the recording".to_owned(),
-                        Some(recorded) => {
-                            format!("the recording ended with checksum {recorded:016x}: this run differs from it")
-                        }
-                        None => "the recording keeps no checksum to compare".to_owned(),
-                    };
-                    crate::say!(
-                        "tickwork: the replay ended at tick {tick} with checksum {now:016x}: {verdict}; the keyboard \
-                         is ignored"
-                    );
-                }
             }
             InputMode::Live { record } => {
                 let carried = self.inputs[0].carried();
@@ -367,6 +350,51 @@ impl<G: Game> GameSession<G> {
                 self.inputs[0] = input;
             }
         }
+    }
+
+    /// The tick a replay ends at (the recording's length); `None` live.
+    pub(super) fn replay_end(&self) -> Option<u64> {
+        match &self.mode {
+            InputMode::Replay { recording, .. } => Some(recording.ticks),
+            InputMode::Live { .. } => None,
+        }
+    }
+
+    /// Ends a replay once `ran` ticks (all of the recording's) have run: the clock
+    /// stops there (a window then holds the recorded run's last state) and
+    /// one line says the tick, the checksum and whether it matches the
+    /// recording's. Worlds on the GPU are read back first where that can be
+    /// waited for.
+    pub(super) fn end_replay_if_due(&mut self, ran: u64) -> Result<(), RunError> {
+        let (Some(end), false) = (self.replay_end(), self.replay_done) else {
+            return Ok(());
+        };
+        let tick = ran;
+        if tick < end {
+            return Ok(());
+        }
+        self.replay_done = true;
+        self.clock.pause();
+        let title = self.game.title().to_owned();
+        if let Err(why) = self.read_back() {
+            crate::say!(
+                "tickwork: {title}: the replay ended at tick {tick}; its state stays on the GPU, without a \
+                 checksum: {why}"
+            );
+            return Ok(());
+        }
+        let now = self.checksum();
+        let recorded = match &self.mode {
+            InputMode::Replay { recording, .. } => recording.checksum,
+            InputMode::Live { .. } => None,
+        };
+        let verdict = match recorded {
+            Some(recorded) if recorded == now => "it matches the recording".to_owned(),
+            Some(recorded) => format!("the recording ended with checksum {recorded:016x}: this run differs from it"),
+            None => "the recording keeps no checksum to compare".to_owned(),
+        };
+        crate::say!("tickwork: {title}: the replay ended at tick {tick} with checksum {now:016x}: {verdict}");
+        Ok(())
     }
 
     /// This machine's input of the step ending at simulated time `end`,

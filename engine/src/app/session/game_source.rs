@@ -23,7 +23,18 @@ impl<G: Game> FrameSource for GameSession<G> {
     }
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
-        let frame = self.advance_clock(seconds)?;
+        let mut frame = self.advance_clock(seconds)?;
+        // A replay runs its recording's ticks and no more: the steps past
+        // its end go back to the clock, which the end pauses.
+        if let Some(end) = self.replay_end() {
+            let past = (frame.first_tick + u64::from(frame.steps)).saturating_sub(end.max(frame.first_tick));
+            let past = u32::try_from(past).unwrap_or(frame.steps).min(frame.steps);
+            if past > 0 {
+                self.clock.defer(past);
+                frame.steps -= past;
+            }
+        }
+        self.end_replay_if_due(frame.first_tick)?;
         for step in frame.fixed_steps() {
             self.replay_controls(step.tick)?;
             self.take_tick_inputs(step.tick, step.time + step.dt);
@@ -31,6 +42,7 @@ impl<G: Game> FrameSource for GameSession<G> {
             let ran = self.run_tick(step, &inputs);
             self.inputs = inputs;
             ran?;
+            self.end_replay_if_due(step.tick + 1)?;
         }
         self.finish_frame(frame);
         Ok(())
