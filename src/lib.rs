@@ -21,6 +21,7 @@
 //! | `audio` | `Sound` and `Stage::play`: decoded, deduplicated across rollbacks, silent | kira |
 //! | `audio-device` | sound through the machine's audio device (a page always has Web Audio); needs `libasound2-dev` on Linux | cpal |
 //! | `gamepad` | gamepads read by the window (a page always reads them); needs `libudev-dev` on Linux | gilrs |
+//! | `tiled` | `TileMap`: maps made in the Tiled editor (`.tmx`), solid layers as merged boxes, `Draw::tiles`, objects and sensors; implies `render` | tiled, quick-xml |
 //!
 //! `tickwork = { version = "0.1", default-features = false, features =
 //! ["window", "audio"] }` is a game with sound and no command line.
@@ -65,6 +66,8 @@ pub mod prelude {
     pub use tickwork_engine::interpolation::Interpolated;
     #[cfg(feature = "render")]
     pub use tickwork_engine::render::{Anchor, Animation, Camera, Cap, Fit, Follow, Join, Line, Stroke, Texture};
+    #[cfg(feature = "tiled")]
+    pub use tickwork_engine::tilemap::{MapObject, MapOptions, TileLayerId, TileMap};
     pub use tickwork_engine::{
         Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Frame, Gravity, Heading,
         LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause,

@@ -67,6 +67,8 @@ pub mod sensor;
 mod step;
 mod text_file;
 pub mod threads;
+#[cfg(feature = "tiled")]
+pub mod tilemap;
 pub mod world;
 
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};

@@ -338,7 +338,9 @@ fn no_module_imports_one_that_imports_it() {
 /// netcode, the sound or the window in one place.
 #[test]
 fn each_features_crates_stay_in_its_folder() {
-    let rules: [(&str, &str, &[&str]); 10] = [
+    let rules: [(&str, &str, &[&str]); 12] = [
+        ("tiled", "tiled::", &["tilemap/read"]),
+        ("tiled", "quick_xml::", &["tilemap/read"]),
         ("netcode", "ggrs::", &["app/net"]),
         ("netcode", "bincode::", &["app/net"]),
         ("audio", "kira::", &["app/audio"]),

@@ -598,7 +598,7 @@ fn a_replay_stops_at_the_recordings_end_whatever_the_frames_ask_for() {
     )
     .expect("a session");
     assert!(
-        recording.ticks % 4 != 0,
+        !recording.ticks.is_multiple_of(4),
         "the end falls inside a frame: {}",
         recording.ticks
     );

@@ -28,4 +28,6 @@ mod sensors;
 mod sound;
 mod spheres;
 mod support;
+#[cfg(feature = "tiled")]
+mod tilemap;
 mod world;

@@ -304,6 +304,23 @@ impl Draw {
         &mut self.sprites[last]
     }
 
+    /// Adds the tile layer `layer` of `map` as it is in Tiled (its tiles,
+    /// flips, offset and opacity; nothing if Tiled hides it): one sprite a
+    /// filled cell, in one batch a tileset, so a layer of one tileset is one
+    /// draw call however many tiles it has. A layer of another map is this
+    /// frame's problem, as a bad point is.
+    #[cfg(feature = "tiled")]
+    pub fn tiles(&mut self, map: &crate::tilemap::TileMap, layer: crate::tilemap::TileLayerId) {
+        let first = self.sprites.len();
+        if let Err(error) = map.sprites_of(layer, &mut self.sprites) {
+            self.problem.get_or_insert_with(|| format!("Draw::tiles: {error}"));
+            return;
+        }
+        for k in first..self.sprites.len() {
+            extend_batches(&mut self.batches, Shapes::Sprites, self.layer, self.clip, k);
+        }
+    }
+
     /// Adds `text` centred at `at` (24 px, light grey); the returned text
     /// sets its size, colour and anchor:
     /// `draw.text("YOU WIN", Vec3::ZERO).size(48.0).colour(GREEN);`
