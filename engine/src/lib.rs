@@ -46,6 +46,7 @@ macro_rules! clone_fields {
 
 #[cfg(feature = "render")]
 pub mod app;
+pub mod character;
 pub mod clock;
 pub mod colliders;
 #[cfg(feature = "render")]
@@ -71,6 +72,7 @@ pub mod threads;
 pub mod tilemap;
 pub mod world;
 
+pub use character::{Character, CharacterConfig, CharacterError, CharacterId, Ground, Touch};
 pub use clock::{ClockConfig, ClockError, FixedClock, FixedStep, Frame, HitchPolicy, Rate, TimeSource, Timeline};
 pub use colliders::{
     AxisPlane, BlockColumns, BoxCollider, Collider, ColliderError, ColliderId, Contact, ContactRule, GpuCollider,

@@ -136,6 +136,17 @@ pub enum SimulationError {
         /// The limit.
         limit: u32,
     },
+    /// A character's numbers are out of range (set through
+    /// [`World::character_mut`](crate::World::character_mut)); checked
+    /// before the step changes anything.
+    Character {
+        /// The tick of the step.
+        tick: u64,
+        /// The character.
+        id: crate::character::CharacterId,
+        /// What is wrong.
+        error: crate::character::CharacterError,
+    },
     /// The fixed step itself is invalid: a time or `dt` that is not finite
     /// (`dt` not above zero is the integrator's [`StepError::InvalidTimeStep`]).
     InvalidStep {
@@ -250,6 +261,7 @@ impl fmt::Display for SimulationError {
                  bounces between walls far closer than it travels in a step; give it room or take a \
                  smaller step"
             ),
+            Self::Character { tick, id, error } => write!(f, "step {tick}: {id}: {error}"),
             Self::InvalidStep { tick, time, dt } => write!(
                 f,
                 "step {tick}: invalid fixed step: time {} s, dt {} s (both must be finite)",

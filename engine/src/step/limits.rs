@@ -1,5 +1,5 @@
-//! The pair limits: forces and colliders of pairs refused before they
-//! visit more pairs than `WorldConfig::max_pairs`.
+//! What a step refuses before it changes anything: forces and colliders
+//! of pairs past `WorldConfig::max_pairs`, characters out of range.
 
 use super::SimulationError;
 use crate::world::World;
@@ -41,6 +41,16 @@ impl World {
                     limit,
                 });
             }
+        }
+        Ok(())
+    }
+
+    /// Refuses a step with a character whose numbers are out of range.
+    pub(crate) fn check_characters(&self, tick: u64) -> Result<(), SimulationError> {
+        for (id, character) in &self.characters.list {
+            character
+                .validate()
+                .map_err(|error| SimulationError::Character { tick, id: *id, error })?;
         }
         Ok(())
     }

@@ -140,6 +140,7 @@ impl World {
         }
         self.removed.clear();
         self.advance_colliders(dt);
+        self.move_characters(dt);
         self.integrate(t, dt, tick, &mut report)?;
         if tick.is_multiple_of(SUBNORMAL_FLUSH_EVERY) {
             flush_subnormals(self.particles.velocity.blocks_mut());
@@ -170,6 +171,7 @@ impl World {
             });
         }
         self.check_emitters(step.dt as f32, step.tick)?;
+        self.check_characters(step.tick)?;
         self.check_pairs(step.tick)
     }
 
@@ -216,6 +218,7 @@ impl World {
         self.check_step(step)?;
         self.edited = false;
         self.removed.clear();
+        self.move_characters(step.dt as f32);
         let mut report = StepReport::default();
         self.end_step(step, &mut report, |_, _| {})?;
         Ok(report)

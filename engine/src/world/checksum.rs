@@ -8,7 +8,8 @@
 //! `Debug` form (their parameters and state: a kinematic paddle's place, a
 //! game's thrust; Rust prints each float as the shortest text that reads
 //! back to the same bits, so the text is as exact as the bits) and the
-//! sensors' last overlaps; 2D headings and visibility; the emitters
+//! sensors' last overlaps; the characters (as their `Debug` form, with
+//! what they carry between steps); 2D headings and visibility; the emitters
 //! (their owed fraction too); the random generator; the integrator's name
 //! and everything it remembers between steps (history, cached
 //! accelerations: `Integrator::visit_state`). Not covered: the angular
@@ -213,6 +214,15 @@ impl World {
             h.u64(self.sensors.overlaps.len() as u64);
             for o in &self.sensors.overlaps {
                 h.debug(o);
+            }
+        }
+        // Characters likewise, each as its `Debug` form (place, velocity,
+        // ground, coyote time, buffered jump: all it carries between steps).
+        if !self.characters.list.is_empty() {
+            h.u64(self.characters.list.len() as u64);
+            for (id, character) in &self.characters.list {
+                h.u64(id.0);
+                h.debug(character);
             }
         }
         h.bytes(self.integrator.info().name.as_bytes());

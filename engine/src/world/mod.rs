@@ -8,6 +8,8 @@
 //! hands the integrator as they are ([`Vec3Column`]), the scalars as slices.
 //! The integrator's per-particle history follows the same swap.
 
+mod character_set;
+mod characters;
 mod checksum;
 mod colliders;
 mod columns;

@@ -11,6 +11,7 @@ use rand_pcg::Pcg32;
 use tickwork_integrators::angular::{AngularIntegrator, build_angular};
 use tickwork_integrators::{Integrator, UnknownMethod, build};
 
+use super::character_set::Characters;
 use super::columns::Columns;
 use super::command::Command;
 use super::{Entities, Entity, Lane, Particles, Removal, RigidBodies, Sensors, SweepScratch, WorldConfig};
@@ -55,6 +56,8 @@ pub struct World {
     pub(crate) removed: Vec<Removal>,
     /// Sensors and their overlaps.
     pub(crate) sensors: Sensors,
+    /// Kinematic characters.
+    pub(crate) characters: Characters,
     /// The rows the plain (unfused) step integrates, gathered from the blocks.
     pub(crate) gathered: Rows,
     /// The plain step's scratch for contacts inside the step.
@@ -103,6 +106,7 @@ impl Clone for World {
             expired: Vec::new(),
             removed: self.removed.clone(),
             sensors: self.sensors.clone(),
+            characters: self.characters.clone(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),
@@ -123,6 +127,7 @@ impl Clone for World {
         self.contacts.clone_from(&source.contacts);
         self.removed.clone_from(&source.removed);
         self.sensors.clone_from(&source.sensors);
+        self.characters.clone_from(&source.characters);
         self.emitters.clone_from(&source.emitters);
         if !self.integrator.copy_state_from(source.integrator.as_ref()) {
             self.integrator = source.integrator.clone_boxed();
@@ -202,6 +207,7 @@ impl World {
             expired: Vec::new(),
             removed: Vec::new(),
             sensors: Sensors::default(),
+            characters: Characters::default(),
             gathered: Rows::default(),
             sweep: SweepScratch::default(),
             touches: Vec::new(),

@@ -3,6 +3,7 @@
 //! (`tests/allocations/`, a counting global allocator) and the import
 //! checker (`tests/modules.rs`, which reads the sources, not the engine).
 
+mod character;
 mod contacts;
 mod game;
 #[cfg(feature = "text")]
