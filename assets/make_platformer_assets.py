@@ -57,14 +57,16 @@ open('assets/maps/tiles.tsx', 'w').write(f'''<?xml version="1.0" encoding="UTF-8
 ''')
 
 # The level's solid ground: '#' grass, '=' soil, 'B' brick, '.' nothing.
-# Row 0 is the top.
+# Row 0 is the top. A gap to jump, a pillar to climb, a drop onto a
+# platform, a pit of spikes that the ferry crosses (docked at x 21 and x
+# 28), two steps up to the flag.
 LEVEL = [
     "........................................",
     "........................................",
-    "........................................",
-    "........................................",
-    "........................................",
     "..............BBB.......................",
+    "........................................",
+    "........................................",
+    "........................................",
     "........................................",
     "..........BB...........................B",
     "..........BB.......................#####",
@@ -84,8 +86,8 @@ decor[8][2] = 8 | 0x80000000
 decor[8][3] = 8 | 0x40000000
 decor[8][4] = 8 | 0x20000000
 decor[7][38] = 6
-# Spikes in the pit (drawn; the objects' "spikes" is their sensor).
-for x in range(21, 25):
+# Spikes along the pit (drawn; the objects' "spikes" is their sensor).
+for x in range(21, 31):
     decor[10][x] = 4
 decor_csv = ',\n'.join(','.join(str(g) for g in row) for row in decor)
 open('assets/maps/level.tmx', 'w').write(f'''<?xml version="1.0" encoding="UTF-8"?>
@@ -108,21 +110,49 @@ open('assets/maps/level.tmx', 'w').write(f'''<?xml version="1.0" encoding="UTF-8
   <object id="1" name="player" type="spawn" x="40" y="136">
    <point/>
   </object>
-  <object id="2" name="coin" type="coin" x="180" y="104" width="16" height="16"/>
-  <object id="3" name="coin" type="coin" x="236" y="56" width="16" height="16"/>
-  <object id="4" name="coin" type="coin" x="420" y="112" width="16" height="16"/>
-  <object id="5" name="spikes" type="hazard" x="336" y="164" width="64" height="12"/>
+  <object id="2" name="coin" type="coin" x="136" y="88" width="16" height="16"/>
+  <object id="3" name="coin" type="coin" x="176" y="96" width="16" height="16"/>
+  <object id="4" name="coin" type="coin" x="296" y="128" width="16" height="16"/>
+  <object id="5" name="spikes" type="hazard" x="336" y="164" width="160" height="12"/>
   <object id="6" name="flag" type="goal" x="608" y="96" width="16" height="32">
    <properties>
     <property name="next" value="level2.tmx"/>
    </properties>
   </object>
-  <object id="7" name="ferry" type="platform" x="416" y="128" width="48" height="8">
+  <object id="7" name="ferry" type="platform" x="336" y="144" width="48" height="8">
    <properties>
     <property name="speed" type="float" value="1.5"/>
-    <property name="travel" type="int" value="4"/>
+    <property name="travel" type="int" value="7"/>
    </properties>
   </object>
  </objectgroup>
 </map>
 ''')
+
+# The hero: six frames of 16 x 24 in a row: standing, four of a run, a jump.
+HW, HH = 16, 24
+def hero_pixel(frame, x, y):
+    skin, shirt, trousers, hair = (240, 200, 160, 255), (60, 110, 220, 255), (50, 50, 70, 255), (90, 60, 30, 255)
+    if 2 <= y <= 7 and 5 <= x <= 10:  # the head, facing right
+        if y <= 3:
+            return hair
+        return (20, 20, 20, 255) if (x == 9 and y == 5) else skin
+    if 8 <= y <= 15 and 5 <= x <= 10:  # the body
+        return shirt
+    if 16 <= y <= 23:  # the legs: apart by the frame
+        spread = [0, 2, 3, 2, 0, 3][frame]
+        lift = [0, 0, 1, 0, 0, 2][frame]
+        left, right = 6 - spread // 2, 9 + spread // 2
+        if frame in (2, 3):
+            left, right = left + 1, right - 1
+        if x in (left, left + 1) and y <= 23 - (lift if frame % 2 else 0):
+            return trousers
+        if x in (right - 1, right) and y <= 23 - lift:
+            return trousers
+    if 9 <= y <= 13 and x in (4, 11) and frame != 5:  # arms
+        return skin
+    if frame == 5 and y in (6, 7) and x in (3, 12):  # arms up in a jump
+        return skin
+    return (0, 0, 0, 0)
+
+png('assets/sprites/hero.png', 6 * HW, HH, lambda x, y: hero_pixel(x // HW, x % HW, y))

@@ -69,9 +69,9 @@ pub mod prelude {
     #[cfg(feature = "tiled")]
     pub use tickwork_engine::tilemap::{MapObject, MapOptions, TileLayerId, TileMap};
     pub use tickwork_engine::{
-        Attractor, BoxCollider, ColliderId, Contact, ContactRule, Emitter, Entity, FixedStep, Frame, Gravity, Heading,
-        LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane, QuadraticDrag, Rate, Removal, RemovalCause,
-        RigidBody, Sensor, SensorId, SphereCollisions, Spring, SpringEnd, Springs, StableHasher, Touched, Wind, World,
-        WorldConfig,
+        Attractor, BoxCollider, Character, CharacterConfig, CharacterId, ColliderId, Contact, ContactRule, Emitter,
+        Entity, FixedStep, Frame, Gravity, Heading, LinearDrag, Material, Overlap, OverlapPhase, Particle, Plane,
+        QuadraticDrag, Rate, Removal, RemovalCause, RigidBody, Sensor, SensorId, SphereCollisions, Spring, SpringEnd,
+        Springs, StableHasher, Touched, Wind, World, WorldConfig,
     };
 }

@@ -12,4 +12,5 @@ pub mod cli;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod lab;
 pub mod lander;
+pub mod platformer;
 pub mod rally;

@@ -68,6 +68,11 @@ fn the_readme_line_counts_are_the_files() {
         "Breakout's lines, options and main included"
     );
     assert_eq!(
+        number_after(&text, "a platformer in ", " lines"),
+        lines_of("demos/src/platformer.rs") + lines_of("demos/src/bin/platformer.rs"),
+        "the platformer's lines, options and main included"
+    );
+    assert_eq!(
         number_after(&text, "(`demos/src/rally.rs`, ", " lines)"),
         lines_of("demos/src/rally.rs"),
         "rally's lines"

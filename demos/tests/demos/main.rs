@@ -6,6 +6,7 @@ mod cli;
 mod demos;
 mod hostile_input;
 mod lab;
+mod platformer;
 mod rally;
 mod render;
 mod support;

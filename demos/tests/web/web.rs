@@ -100,6 +100,11 @@ const DEMOS: &[Case] = &[
         binary: env!("CARGO_BIN_EXE_breakout"),
         options: &["autopilot", "frames=600"],
     },
+    Case {
+        demo: "platformer",
+        binary: env!("CARGO_BIN_EXE_platformer"),
+        options: &["autopilot", "frames=940"],
+    },
 ];
 
 /// The page's URL query for `options` (a replay's path is relative to the

@@ -120,8 +120,24 @@ pub struct Touch {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct CharacterId(pub(crate) u64);
 
+impl CharacterId {
+    /// A handle to no character, for a game's fields before set-up (every
+    /// lookup with it is an error naming it): also
+    /// [`CharacterId::default`], as for sensors and colliders.
+    pub const PLACEHOLDER: Self = Self(u64::MAX);
+}
+
+impl Default for CharacterId {
+    fn default() -> Self {
+        Self::PLACEHOLDER
+    }
+}
+
 impl fmt::Display for CharacterId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if *self == Self::PLACEHOLDER {
+            return f.write_str("CharacterId::PLACEHOLDER (a handle set before any character was added)");
+        }
         write!(f, "character #{}", self.0)
     }
 }
@@ -138,6 +154,8 @@ pub struct Character {
     pub velocity: Vec2,
     /// Its shape and movement.
     pub config: CharacterConfig,
+    /// Where the last step started it (what a frame draws from).
+    previous: Vec2,
     ground: Option<Ground>,
     wall: Option<Touch>,
     ceiling: Option<Touch>,
@@ -157,6 +175,7 @@ impl Character {
             position,
             velocity: Vec2::ZERO,
             config,
+            previous: position,
             ground: None,
             wall: None,
             ceiling: None,
@@ -164,6 +183,21 @@ impl Character {
             jump: None,
             jumped: false,
         }
+    }
+
+    /// Where to draw it `alpha` of the way from the last step's start to
+    /// its end (the frame's interpolation factor), as a particle's
+    /// [`World::drawn_position`](crate::World::drawn_position) is.
+    #[must_use]
+    pub fn drawn_position(&self, alpha: f32) -> Vec2 {
+        self.previous.lerp(self.position, alpha)
+    }
+
+    /// Puts it at `position` at once, drawn there with no sweep from where
+    /// it was (a respawn); its velocity and state stay.
+    pub fn teleport(&mut self, position: Vec2) {
+        self.position = position;
+        self.previous = position;
     }
 
     /// Sets its horizontal speed, m/s (negative: left).

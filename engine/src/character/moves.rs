@@ -200,6 +200,7 @@ pub(crate) fn step_character(character: &mut Character, solids: &Solids<'_>, dt:
     character.wall = None;
     character.ceiling = None;
     let mut c = character.position;
+    character.previous = c;
     // 1. Carried by the ground's own move this step (it moved first).
     if let Some(ground) = character.ground
         && let Some(index) = solids.ids.iter().position(|id| *id == ground.collider)

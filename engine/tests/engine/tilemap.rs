@@ -58,9 +58,9 @@ fn the_level_reads_in_metres_with_its_layers_and_a_floor_of_one_box() {
     // The first floor, 7 tiles by 3, is one box from the map's bottom.
     assert_eq!(boxes.iter().filter(|b| b.0.y == 0.0).count(), 3, "{boxes:?}");
     assert!(boxes.contains(&(Vec2::new(0.0, 0.0), Vec2::new(7.0, 3.0))), "{boxes:?}");
-    // The bricks floating at row 5, three tiles: one box 6 to 7 m high.
+    // The bricks floating at row 2, three tiles: one box 9 to 10 m high.
     assert!(
-        boxes.contains(&(Vec2::new(14.0, 6.0), Vec2::new(17.0, 7.0))),
+        boxes.contains(&(Vec2::new(14.0, 9.0), Vec2::new(17.0, 10.0))),
         "{boxes:?}"
     );
     // Each filled cell is covered once: the boxes' areas add up to the cells.
@@ -130,21 +130,21 @@ fn objects_come_with_their_areas_classes_properties_and_sensors() {
     assert_eq!(spawn.position, Vec2::new(2.5, 3.5));
     let coins: Vec<_> = objects.iter().filter(|o| o.class == "coin").collect();
     assert_eq!(coins.len(), 3);
-    assert_eq!(coins[0].area(), Some((Vec2::new(11.25, 4.5), Vec2::new(12.25, 5.5))));
-    assert_eq!(coins[0].position, Vec2::new(11.75, 5.0));
+    assert_eq!(coins[0].area(), Some((Vec2::new(8.5, 5.5), Vec2::new(9.5, 6.5))));
+    assert_eq!(coins[0].position, Vec2::new(9.0, 6.0));
     let spikes = map.object("spikes").expect("spikes");
-    assert_eq!(spikes.area(), Some((Vec2::new(21.0, 1.0), Vec2::new(25.0, 1.75))));
+    assert_eq!(spikes.area(), Some((Vec2::new(21.0, 1.0), Vec2::new(31.0, 1.75))));
     let sensor = spikes.sensor(1.0).expect("a box");
     assert_eq!(
         sensor,
-        Sensor::cuboid(Vec3::new(21.0, 1.0, -0.5), Vec3::new(25.0, 1.75, 0.5))
+        Sensor::cuboid(Vec3::new(21.0, 1.0, -0.5), Vec3::new(31.0, 1.75, 0.5))
     );
     let mut world = World::default();
     world.add_sensor(sensor).expect("added");
     let flag = map.object("flag").expect("the goal");
     assert_eq!(flag.properties.get("next"), Some(&MapValue::Text("level2.tmx".into())));
     let ferry = map.object("ferry").expect("the ferry");
-    assert_eq!((ferry.number("speed"), ferry.number("travel")), (Some(1.5), Some(4.0)));
+    assert_eq!((ferry.number("speed"), ferry.number("travel")), (Some(1.5), Some(7.0)));
     let error = spawn.sensor(1.0).expect_err("a point has no area");
     assert!(
         error.contains("object \"player\" (class \"spawn\", id 1) is a point"),

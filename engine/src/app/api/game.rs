@@ -123,6 +123,9 @@ engine_errors!(
     #[cfg(feature = "audio")]
     crate::app::audio::sound::SoundError,
     crate::sensor::SensorError,
+    crate::character::CharacterError,
+    #[cfg(feature = "tiled")]
+    crate::tilemap::MapError,
 );
 // `PlaybackError` and `RunError` convert too: their `From` impls are in
 // `error.rs`, beside them (this file is imported by it, not the reverse).
