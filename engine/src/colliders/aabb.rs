@@ -337,6 +337,15 @@ impl Collider for BoxCollider {
     }
 
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
+        self.first_contact_kept(path, radius, &mut |_| true)
+    }
+
+    fn first_contact_kept(
+        &self,
+        path: &StepPath,
+        radius: f32,
+        keep: &mut dyn FnMut(&SweptHit) -> bool,
+    ) -> Option<SweptHit> {
         // Each face is a plane moving with the box; a container's faces
         // face inwards (every crossing is a contact), a solid box's
         // outwards (a crossing is a contact where the path then is within
@@ -370,13 +379,16 @@ impl Collider for BoxCollider {
                         continue;
                     }
                 }
-                best = Some(SweptHit {
+                let hit = SweptHit {
                     fraction: s,
                     normal: n,
                     offset,
                     velocity: u,
                     material: self.material,
-                });
+                };
+                if keep(&hit) {
+                    best = Some(hit);
+                }
             }
         }
         best

@@ -15,6 +15,7 @@ mod contact;
 mod contacts;
 mod gpu;
 mod plane;
+pub mod seams;
 pub(crate) mod set;
 mod spheres;
 pub mod sweep;
@@ -254,6 +255,20 @@ pub trait Collider: Send + Sync + fmt::Debug + ColliderState {
     fn first_contact(&self, path: &StepPath, radius: f32) -> Option<SweptHit> {
         let _ = (path, radius);
         None
+    }
+
+    /// As [`first_contact`](Self::first_contact), leaving out each
+    /// surface whose hit `keep` refuses (the step refuses the hit of a
+    /// box's face at a seam with a flush box: [`seams`]), so that a later
+    /// surface of the same collider still counts. Default: `first_contact`'s
+    /// hit, if `keep` takes it.
+    fn first_contact_kept(
+        &self,
+        path: &StepPath,
+        radius: f32,
+        keep: &mut dyn FnMut(&SweptHit) -> bool,
+    ) -> Option<SweptHit> {
+        self.first_contact(path, radius).filter(|hit| keep(hit))
     }
 
     /// For [`in_step`](Self::in_step) colliders, on a chunk in blocks of

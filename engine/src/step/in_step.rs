@@ -57,6 +57,7 @@ use tickwork_integrators::Vec3x4;
 use super::chunk::Chunk;
 use super::follow::PlaneLanes;
 use super::reporting::{Reporting, resolve_rows};
+use crate::colliders::seams::at_seam;
 use crate::colliders::{Collider, EventOverflow, MAX_CONTACT_EVENTS, RowTouch, StepPath, SweptHit, bounce};
 use crate::forces::{Force, affine_sum};
 use crate::layout::{CHUNK, Rows};
@@ -451,7 +452,8 @@ fn first_hit(
         if !collider.in_step() || skip == Some(k) {
             continue;
         }
-        if let Some(hit) = collider.first_contact(path, radius)
+        let mut keep = |hit: &SweptHit| !at_seam(colliders, k, hit, path, radius);
+        if let Some(hit) = collider.first_contact_kept(path, radius, &mut keep)
             && best.is_none_or(|(_, b)| hit.fraction < b.fraction)
         {
             best = Some((k, hit));

@@ -24,6 +24,7 @@ mod replay;
 #[cfg(feature = "netcode")]
 mod rollback;
 mod scenes;
+mod seams;
 mod sensors;
 #[cfg(all(feature = "audio", feature = "netcode"))]
 mod sound;
