@@ -741,3 +741,31 @@ fn a_match_played_in_a_window_ends_where_its_headless_opponent_does() {
     );
     assert_eq!(match_checksum(&hosted), match_checksum(&joined), "{hosted}\n{joined}");
 }
+
+#[test]
+fn the_platformer_runs_in_a_window_and_plays_itself() {
+    let xvfb = Xvfb::start(480, 270);
+    let output = Command::new(env!("CARGO_BIN_EXE_platformer"))
+        .args([
+            "--autopilot",
+            "--size",
+            "480x270",
+            "--frames",
+            "120",
+            "--display-hz",
+            "60",
+        ])
+        .env("DISPLAY", &xvfb.display)
+        .env("WGPU_BACKEND", "vulkan")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("runs");
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{stdout}\n{}", text(&output.stderr));
+    // 120 frames of a simulated 60 Hz display: two seconds of play, the
+    // gap jumped and two coins taken, in a window.
+    assert!(
+        stdout.contains("platformer: stopped before the flag with 2 coins and 0 deaths"),
+        "{stdout}"
+    );
+}

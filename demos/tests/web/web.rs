@@ -103,7 +103,7 @@ const DEMOS: &[Case] = &[
     Case {
         demo: "platformer",
         binary: env!("CARGO_BIN_EXE_platformer"),
-        options: &["autopilot", "frames=940"],
+        options: &["autopilot", "frames=400"],
     },
 ];
 

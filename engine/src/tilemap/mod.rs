@@ -21,9 +21,11 @@
 //! [`MapOptions::origin`] and a tile [`MapOptions::tile_metres`] wide, so a
 //! physics step sees sizes it was tuned for whatever the art's resolution.
 //!
-//! **Limits.** Orthogonal, finite maps of tilesets made from one image
-//! each (Tiled's default); an isometric or infinite map, or a tileset of
-//! separate images, is refused by name. At most
+//! **Limits.** Orthogonal, finite maps in Tiled's XML format (`.tmx`, what
+//! the `tiled` crate reads; a `.tmj` is refused with how to save it as
+//! one) of tilesets made from one image each (Tiled's default); an
+//! isometric or infinite map, or a tileset of separate images, is refused
+//! by name. At most
 //! [`MapOptions::max_tiles`] cells a map.
 //!
 //! In a page a map is fetched like any asset: list the `.tmx`, each

@@ -89,6 +89,17 @@ pub(super) fn parse(text: &[u8], path: &Path, options: MapOptions) -> Result<Til
             options.origin
         )));
     }
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("tmj") || e.eq_ignore_ascii_case("json"))
+    {
+        return Err(MapError::Unsupported {
+            path: path.to_path_buf(),
+            what: "a map in Tiled's JSON format: the tiled crate reads the XML format, so save it as a .tmx \
+                   (File > Save As, \"Tiled map files (*.tmx)\")"
+                .to_owned(),
+        });
+    }
     check_layers(text, path, options.max_tiles)?;
     let main = plain(path);
     let mut loader = tiled::Loader::with_reader(Assets {

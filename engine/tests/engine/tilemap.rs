@@ -244,6 +244,15 @@ fn bad_maps_are_refused_with_what_and_where() {
         error.contains("nest deeper than 64 levels (tilemap::MAX_NESTING)"),
         "{error}"
     );
+    let json = TileMap::parse(b"{}", root().join("assets/maps/level.tmj"), options)
+        .expect_err("JSON")
+        .to_string();
+    assert!(
+        json.contains(
+            "level.tmj: a map in Tiled's JSON format: the tiled crate reads the XML format, so save it as a .tmx"
+        ),
+        "{json}"
+    );
     let error = TileMap::load(root().join("assets/maps/none.tmx"))
         .expect_err("no such file")
         .to_string();
