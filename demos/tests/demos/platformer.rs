@@ -181,3 +181,38 @@ fn the_showcase_stays_within_300_lines_with_its_options_and_main() {
     let total = lines("demos/src/platformer.rs") + lines("demos/src/bin/platformer.rs");
     assert!(total <= 300, "{total} lines");
 }
+
+#[test]
+fn a_rollback_redraws_the_same_animation_frames() {
+    // Ticks stepped directly with an input a tick, as a rollback session
+    // does: run right, jump at tick 30 and 90, left from 120.
+    let input = |tick: u64| {
+        let mut input = TickInput::default();
+        input.held.insert(if tick < 120 { Key::Right } else { Key::Left });
+        if tick == 30 || tick == 90 {
+            input.held.insert(Key::Space);
+            input.pressed.insert(Key::Space);
+        }
+        input
+    };
+    let mut game = session(Platformer::new(false), SessionOptions::default());
+    for tick in 0..60 {
+        game.step_tick(tick, &[input(tick)]).expect("steps");
+    }
+    let saved = game.save_tick();
+    let mut frames = Vec::new();
+    for tick in 60..160 {
+        game.step_tick(tick, &[input(tick)]).expect("steps");
+        frames.push(hero_frame(&game));
+    }
+    let end = game.checksum();
+    // Back to tick 60 and the same ticks again: the same frames, drawn.
+    game.load_tick(&saved).expect("loads");
+    for (k, tick) in (60..160).enumerate() {
+        game.step_tick(tick, &[input(tick)]).expect("steps");
+        assert_eq!(hero_frame(&game), frames[k], "tick {tick}");
+    }
+    assert_eq!(game.checksum(), end);
+    let distinct: std::collections::BTreeSet<_> = frames.iter().collect();
+    assert!(distinct.len() >= 5, "it ran, jumped and turned: {distinct:?}");
+}

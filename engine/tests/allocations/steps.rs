@@ -4,8 +4,8 @@
 use crate::counting::this_thread as allocations;
 use glam::Vec3;
 use tickwork_engine::{
-    Attractor, FixedStep, Gravity, LinearDrag, Material, Particle, Plane, SphereCollisions, Spring, SpringEnd, Springs,
-    World, WorldConfig,
+    Attractor, BoxCollider, Character, CharacterConfig, FixedStep, Gravity, LinearDrag, Material, Particle, Plane,
+    SphereCollisions, Spring, SpringEnd, Springs, World, WorldConfig,
 };
 
 fn scene(method: &str, coupled: bool) -> World {
@@ -46,6 +46,21 @@ fn scene(method: &str, coupled: bool) -> World {
             .collect();
         w.add_force(Springs::new(springs));
         w.add_collider(SphereCollisions::new(Material::default()));
+        // Flush boxes (their seams) and characters running over them,
+        // one riding a moving box.
+        for k in 0..4 {
+            let min = Vec3::new(6.0 + k as f32, -1.0, -1.0);
+            w.add_collider(BoxCollider {
+                velocity: Vec3::new(0.0, if k == 3 { 0.001 } else { 0.0 }, 0.0),
+                ..BoxCollider::solid(min, min + Vec3::new(1.0, 1.0, 2.0), Material::default())
+            });
+        }
+        for x in [6.5, 9.5] {
+            let mut c = Character::new(glam::Vec2::new(x, 0.5), CharacterConfig::default());
+            c.run(2.0);
+            c.jump(5.0);
+            w.add_character(c).expect("a character");
+        }
     }
     w
 }
