@@ -89,10 +89,19 @@ static PANIC_MESSAGE: Mutex<Option<String>> = Mutex::new(None);
 /// # Errors
 /// An unreadable directory or file.
 pub fn ron_files(dir: &Path) -> std::io::Result<Vec<String>> {
+    files_ending(dir, ".ron")
+}
+
+/// The texts of the files of `dir` whose names end in `suffix` (`.tmx`),
+/// in name order.
+///
+/// # Errors
+/// An unreadable directory or file.
+pub fn files_ending(dir: &Path, suffix: &str) -> std::io::Result<Vec<String>> {
     let mut paths: Vec<_> = std::fs::read_dir(dir)?
         .filter_map(Result::ok)
         .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+        .filter(|p| p.to_str().is_some_and(|name| name.ends_with(suffix)))
         .collect();
     paths.sort();
     paths.iter().map(std::fs::read_to_string).collect()

@@ -11,8 +11,8 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use tickwork_fuzz::campaign::{ron_files, shipped_seeds};
-use tickwork_fuzz::{Campaign, LimitedAlloc, run_case, run_recording_case};
+use tickwork_fuzz::campaign::{files_ending, ron_files, shipped_seeds};
+use tickwork_fuzz::{Campaign, LimitedAlloc, run_case, run_map_case, run_recording_case};
 
 #[global_allocator]
 static ALLOC: LimitedAlloc = LimitedAlloc;
@@ -40,6 +40,10 @@ struct Args {
     /// instead of the scenes.
     #[arg(long)]
     recordings: Option<PathBuf>,
+    /// Fuzz the Tiled maps (`.tmx`) of this directory (read, built and
+    /// stepped) instead of the scenes.
+    #[arg(long)]
+    maps: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -58,9 +62,10 @@ fn main() -> ExitCode {
         eprintln!("error: give --minutes or --cases");
         return ExitCode::from(2);
     }
-    let (dir, seeds, target) = match &args.recordings {
-        Some(dir) => (dir, ron_files(dir), run_recording_case as fn(&str) -> _),
-        None => (&args.scenes, shipped_seeds(&args.scenes), run_case as fn(&str) -> _),
+    let (dir, seeds, target) = match (&args.recordings, &args.maps) {
+        (Some(dir), _) => (dir, ron_files(dir), run_recording_case as fn(&str) -> _),
+        (None, Some(dir)) => (dir, files_ending(dir, ".tmx"), run_map_case as fn(&str) -> _),
+        (None, None) => (&args.scenes, shipped_seeds(&args.scenes), run_case as fn(&str) -> _),
     };
     let seeds = match seeds {
         Ok(seeds) if !seeds.is_empty() => seeds,

@@ -92,3 +92,22 @@ fn a_fixed_seed_campaign_over_the_shipped_recordings_finds_no_defect() {
     assert_no_defect(&report);
     assert!(report.refused[0] > 0 && report.stepped > 0, "{}", report.summary());
 }
+
+#[test]
+fn a_fixed_seed_campaign_over_the_shipped_map_finds_no_defect() {
+    let _one_at_a_time = ONE_CAMPAIGN.lock();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/maps");
+    let seeds = tickwork_fuzz::campaign::files_ending(&dir, ".tmx").expect("the shipped level");
+    assert!(!seeds.is_empty(), "a shipped map");
+    let report = Campaign {
+        seed: 20261207,
+        cases: 1_500,
+        seeds,
+        target: tickwork_fuzz::run_map_case,
+        ..Campaign::default()
+    }
+    .run();
+    assert_no_defect(&report);
+    // The mutations reach the reader's refusals and worlds that step.
+    assert!(report.refused[0] > 0 && report.stepped > 0, "{}", report.summary());
+}
