@@ -185,16 +185,13 @@ pub(crate) struct Tileset {
 }
 
 impl Tileset {
-    /// The region of tile `tile` in the image, `[x, y, width, height]`.
-    pub(crate) fn region(&self, tile: u32) -> [u32; 4] {
+    /// The region of tile `tile` in the image, `[x, y, width, height]`
+    /// (`None` past `u32`: a tileset's numbers are the map's, unchecked).
+    pub(crate) fn region(&self, tile: u32) -> Option<[u32; 4]> {
         let (column, row) = (tile % self.columns.max(1), tile / self.columns.max(1));
         let [w, h] = self.tile;
-        [
-            self.margin + column * (w + self.spacing),
-            self.margin + row * (h + self.spacing),
-            w,
-            h,
-        ]
+        let at = |k: u32, size: u32| size.checked_add(self.spacing)?.checked_mul(k)?.checked_add(self.margin);
+        Some([at(column, w)?, at(row, h)?, w, h])
     }
 }
 
@@ -422,7 +419,8 @@ impl TileMap {
                 self.options.origin + offset + Vec2::new(x as f32 * cell.x, (height - 1 - y) as f32 * cell.y);
             let (rotation, flip_x, flip_y) = orientation(tile.flips);
             let mut sprite = Sprite::new(&set.texture, bottom_left + size / 2.0, size);
-            sprite.region = Some(set.region(tile.tile));
+            // Checked when read: every cell's region is in its image.
+            sprite.region = set.region(tile.tile);
             sprite.rotation = rotation;
             sprite.flip_x = flip_x;
             sprite.flip_y = flip_y;

@@ -410,7 +410,7 @@ fn cell(data: &tiled::LayerTileData, tilesets: &[Tileset], layer: &str, [x, y]: 
             "layer \"{layer}\", cell ({x}, {y}): tileset {set} does not exist"
         ));
     };
-    let [rx, ry, rw, rh] = tileset.region(tile);
+    let [rx, ry, rw, rh] = tileset.region(tile).unwrap_or([u32::MAX, u32::MAX, 0, 0]);
     let (w, h) = (tileset.texture.width(), tileset.texture.height());
     let fits = tile < tileset.count.max(1)
         && rx.checked_add(rw).is_some_and(|r| r <= w)
