@@ -411,7 +411,8 @@ impl TileMap {
         let alpha = (layer.opacity.clamp(0.0, 1.0) * 255.0).round() as u8;
         for (k, cell_tile) in layer.cells.iter().enumerate() {
             let Some(tile) = cell_tile else { continue };
-            let (x, y) = (k as u32 % width, k as u32 / width);
+            // Cells are rows of `width` (at most u32::MAX of them).
+            let (x, y) = ((k % width as usize) as u32, (k / width as usize) as u32);
             let set = &self.tilesets[tile.tileset];
             let size = Vec2::new(set.tile[0] as f32 * s, set.tile[1] as f32 * s);
             // A tile larger than the cell stands on the cell's bottom-left.
