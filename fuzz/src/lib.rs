@@ -25,6 +25,6 @@ pub use campaign::{Campaign, Defect, Report};
 pub use case::{Outcome, Stage, run_case, run_full_scale_case};
 pub use cpu_time::process_cpu_time;
 pub use limits::LimitedAlloc;
-pub use mutate::Mutator;
 pub use map::run_map_case;
+pub use mutate::Mutator;
 pub use recording::run_recording_case;

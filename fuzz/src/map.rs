@@ -6,9 +6,9 @@
 
 use std::path::Path;
 
-use tickwork_engine::glam::Vec2;
 use tickwork_engine::app::Draw;
 use tickwork_engine::clock::FixedStep;
+use tickwork_engine::glam::Vec2;
 use tickwork_engine::tilemap::{MapOptions, MapShape, TileMap};
 use tickwork_engine::{Character, CharacterConfig, Material, World};
 
@@ -47,7 +47,9 @@ pub fn run_map_case(text: &str) -> Result<Outcome, String> {
     let mut draw = Draw::default();
     let names: Vec<String> = map.tile_layer_names().map(str::to_owned).collect();
     for name in &names {
-        let layer = map.tile_layer(name).map_err(|e| format!("a listed layer is missing: {e}"))?;
+        let layer = map
+            .tile_layer(name)
+            .map_err(|e| format!("a listed layer is missing: {e}"))?;
         if let Err(error) = map.add_colliders(&mut world, layer, Material::default()) {
             return Ok(Outcome::Refused(Stage::Build, error.to_string()));
         }
@@ -56,7 +58,9 @@ pub fn run_map_case(text: &str) -> Result<Outcome, String> {
     let mut spawn = None;
     let layers: Vec<String> = map.object_layer_names().map(str::to_owned).collect();
     for name in &layers {
-        let objects = map.objects(name).map_err(|e| format!("a listed layer is missing: {e}"))?;
+        let objects = map
+            .objects(name)
+            .map_err(|e| format!("a listed layer is missing: {e}"))?;
         for object in objects {
             match object.sensor(1.0) {
                 Ok(sensor) => {

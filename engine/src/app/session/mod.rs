@@ -8,4 +8,5 @@ pub(crate) mod game_session;
 mod game_source;
 pub(crate) mod options;
 pub(crate) mod playback;
+mod replay;
 pub(crate) mod source;
