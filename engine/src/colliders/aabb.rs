@@ -289,8 +289,13 @@ impl Collider for BoxCollider {
         let at_rest = self.velocity == Vec3::ZERO;
         const ALL: u8 = 0b1111;
         // The face that settled the last block goes first (neighbours are
-        // usually alike: resting on the same face, or clear of it).
+        // usually alike: resting on the same face, or clear of it), and
+        // where the last block rested on it, its resting test goes first:
+        // a resting lane is never clear of the face it rests on, so the
+        // clear test would settle none (the same lanes either way: the
+        // union of both tests).
         let mut first = 0;
+        let mut rested = false;
         for (b, mask) in settled.iter_mut().enumerate() {
             let r = radius4(radius, b);
             let ends = (&x0[b], &x[b], &v[b]);
@@ -317,18 +322,28 @@ impl Collider for BoxCollider {
                 // side of any one face (the contact test asks for a point
                 // within the faces), or rests on one.
                 let mut lanes = 0;
+                let mut on_face = false;
                 for j in 0..6 {
                     let k = (first + j) % 6;
                     let face = self.face(k, ends, dt);
+                    if j == 0 && rested {
+                        lanes = self.resting_on_face(&face, ends, r, dt, rest_dt);
+                        if lanes == ALL {
+                            on_face = true;
+                            break;
+                        }
+                    }
                     lanes |= face.clear(r);
                     if at_rest && lanes != ALL {
                         lanes |= self.resting_on_face(&face, ends, r, dt, rest_dt);
+                        on_face = lanes == ALL;
                     }
                     if lanes == ALL {
                         first = k;
                         break;
                     }
                 }
+                rested = at_rest && on_face;
                 lanes
             };
             *mask &= lanes;
