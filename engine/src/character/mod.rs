@@ -30,8 +30,10 @@
 //!
 //! **What it meets.** The world's colliders by their declared form
 //! ([`Collider::gpu_form`](crate::Collider::gpu_form)): solid boxes and
-//! containers whose z range holds 0, and planes (a floor, a wall, a slope
-//! taken as a wall it can step up). Particles and other characters pass
+//! containers whose z range holds 0, and planes (a floor, a wall; a slope
+//! stops a move across as a wall does, and is ground to land on where its
+//! normal points up by at least [`CharacterConfig::min_ground_normal`]; it
+//! is not walked up). Particles and other characters pass
 //! through it; sensors see it through
 //! [`World::sensors_touching`](crate::World::sensors_touching).
 //!
@@ -194,10 +196,13 @@ impl Character {
     }
 
     /// Puts it at `position` at once, drawn there with no sweep from where
-    /// it was (a respawn); its velocity and state stay.
+    /// it was (a respawn): off any ground and out of coyote time; its
+    /// velocity and a buffered jump stay.
     pub fn teleport(&mut self, position: Vec2) {
         self.position = position;
         self.previous = position;
+        self.ground = None;
+        self.coyote = 0;
     }
 
     /// Sets its horizontal speed, m/s (negative: left).
@@ -288,6 +293,11 @@ impl Character {
             if let Some(bad) = v.to_array().into_iter().find(|x| !x.is_finite()) {
                 return invalid(field, bad, "finite");
             }
+        }
+        if let Some((speed, _)) = self.jump
+            && !speed.is_finite()
+        {
+            return invalid("jump speed", speed, "finite");
         }
         if let Some(bad) = c
             .half_extents

@@ -112,7 +112,9 @@ impl Solids<'_> {
                     }
                 }
                 Solid::Room { min, max, velocity } => {
-                    if !(c[other] >= min[other] && c[other] <= max[other]) {
+                    // Only from inside (beside or above it, it is not in the way).
+                    let inside = |a: usize| c[a] >= min[a] + h[a] && c[a] <= max[a] - h[a];
+                    if !(inside(axis) && inside(other)) {
                         continue;
                     }
                     if s > 0.0 {
@@ -218,6 +220,7 @@ pub(crate) fn step_character(character: &mut Character, solids: &Solids<'_>, dt:
     // 2. Out of whatever moved into it.
     solids.push_out(&mut c, h, skin);
     // 3. A buffered jump, taken standing or in coyote time.
+    let had_ground = character.ground.is_some();
     if let Some((speed, left)) = character.jump {
         if character.ground.is_some() || character.coyote > 0 {
             character.velocity.y = speed;
@@ -279,6 +282,9 @@ pub(crate) fn step_character(character: &mut Character, solids: &Solids<'_>, dt:
                 normal: hit.normal,
             });
             character.velocity.y = character.velocity.y.min(0.0);
+        } else {
+            // A slope too steep to stand on: the fall into it stops.
+            character.velocity.y = 0.0;
         }
     }
     // 6. Snapped down onto ground just below, if it stood and did not jump.
@@ -296,10 +302,12 @@ pub(crate) fn step_character(character: &mut Character, solids: &Solids<'_>, dt:
             });
         }
     }
-    character.coyote = if character.ground.is_some() {
-        config.coyote_ticks
-    } else {
-        character.coyote.saturating_sub(1)
-    };
+    // Coyote time counts the steps that start in the air: after leaving
+    // the ground, `coyote_ticks` of them may still jump.
+    if character.ground.is_some() {
+        character.coyote = config.coyote_ticks;
+    } else if !had_ground {
+        character.coyote = character.coyote.saturating_sub(1);
+    }
     character.position = c;
 }

@@ -6,7 +6,9 @@
 //! its data holding exactly width x height cells (the crate indexes its
 //! cells unchecked), no compressed data (it would be inflated without a
 //! bound before any size is known: Tiled's default, CSV, is what it takes)
-//! and at most [`MAX_NESTING`] levels of elements.
+//! and at most [`MAX_NESTING`] levels of elements. It reads the XML as the
+//! crate does: elements and attributes by local name, the last of a
+//! repeated attribute, a data's first piece of text (unescaped) or CDATA.
 
 use std::io::Cursor;
 use std::path::{Component, Path, PathBuf};
@@ -125,7 +127,9 @@ fn check_layers(text: &[u8], path: &Path, max_tiles: u64) -> Result<(), MapError
     let mut depth = 0usize;
     // The tile layer being read: its name and cells, and its data's count.
     let mut layer: Option<(String, u128)> = None;
-    let mut in_data: Option<(bool, u128)> = None;
+    // Inside a `<data>`: whether CSV, and its cells once its first piece of
+    // text was read (the crate reads that piece only).
+    let mut in_data: Option<(bool, Option<u128>)> = None;
     loop {
         let at = reader.buffer_position() as u64;
         let event = reader
@@ -143,16 +147,19 @@ fn check_layers(text: &[u8], path: &Path, max_tiles: u64) -> Result<(), MapError
                         ));
                     }
                 }
+                // As the crate reads them: by local name (a namespace
+                // prefix aside), the last of a repeated attribute.
                 let attribute = |name: &[u8]| -> Option<String> {
                     element
                         .attributes()
                         .flatten()
-                        .find(|a| a.key.as_ref() == name)
+                        .filter(|a| a.key.local_name().as_ref() == name)
+                        .last()
                         .map(|a| String::from_utf8_lossy(&a.value).into_owned())
                 };
-                match element.name().as_ref() {
+                match element.local_name().as_ref() {
                     b"map" | b"layer" => {
-                        let kind = if element.name().as_ref() == b"map" {
+                        let kind = if element.local_name().as_ref() == b"map" {
                             "the map"
                         } else {
                             "a layer"
@@ -213,7 +220,7 @@ fn check_layers(text: &[u8], path: &Path, max_tiles: u64) -> Result<(), MapError
                         if empty {
                             check_count(&layer, 0, path)?;
                         } else {
-                            in_data = Some((csv, 0));
+                            in_data = Some((csv, None));
                         }
                     }
                     b"chunk" => {
@@ -228,23 +235,24 @@ fn check_layers(text: &[u8], path: &Path, max_tiles: u64) -> Result<(), MapError
                 }
             }
             Event::Text(ref content) => {
-                if let Some((csv, count)) = &mut in_data {
-                    let text = String::from_utf8_lossy(content.as_ref());
-                    *count += if *csv {
-                        text.split(',').filter(|v| !v.trim().is_empty()).count() as u128
-                    } else {
-                        let letters = text.bytes().filter(|b| !b.is_ascii_whitespace()).count() as u128;
-                        // Four bytes a cell, base64 four letters per three bytes.
-                        letters / 4 * 3 / 4
-                    };
+                if let Some((csv, count @ None)) = &mut in_data {
+                    let text = content
+                        .unescape()
+                        .map_err(|e| error(format!("not well-formed XML: {e}"), at))?;
+                    *count = Some(cells_in(&text, *csv));
+                }
+            }
+            Event::CData(ref content) => {
+                if let Some((csv, count @ None)) = &mut in_data {
+                    *count = Some(cells_in(&String::from_utf8_lossy(content.as_ref()), *csv));
                 }
             }
             Event::End(ref element) => {
                 depth = depth.saturating_sub(1);
-                if element.name().as_ref() == b"data"
+                if element.local_name().as_ref() == b"data"
                     && let Some((_, count)) = in_data.take()
                 {
-                    check_count(&layer, count, path)?;
+                    check_count(&layer, count.unwrap_or(0), path)?;
                 }
             }
             Event::Eof => return Ok(()),
@@ -252,6 +260,18 @@ fn check_layers(text: &[u8], path: &Path, max_tiles: u64) -> Result<(), MapError
         }
         buffer.clear();
     }
+}
+
+/// The cells the crate reads from a layer's data `text`: CSV, one a
+/// comma-separated value; base64, four bytes a cell (`=` padding less).
+fn cells_in(text: &str, csv: bool) -> u128 {
+    if csv {
+        return text.split(',').count() as u128;
+    }
+    let letters: Vec<u8> = text.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
+    let padding = letters.iter().rev().take_while(|&&b| b == b'=').count().min(2);
+    let bytes = (letters.len() / 4 * 3).saturating_sub(padding);
+    (bytes / 4) as u128
 }
 
 /// A layer's data holds exactly its width x height cells.

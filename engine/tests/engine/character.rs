@@ -285,7 +285,7 @@ fn coyote_time_takes_a_late_jump_and_a_buffered_jump_is_taken_on_landing() {
         }
         false
     };
-    assert!(late(1) && late(5), "within the 6 steps of coyote time");
+    assert!(late(1) && late(5) && late(6), "within the 6 steps of coyote time");
     assert!(!late(7), "past them");
     // Pressed 4 steps before landing: kept and taken on landing.
     let fall = |press_at: Option<u32>| {
@@ -487,4 +487,54 @@ fn bad_characters_are_refused_with_the_field_and_range() {
             .to_string()
             .contains("at most 256 characters (tickwork::engine::character::MAX_CHARACTERS)")
     );
+}
+
+#[test]
+fn a_container_holds_only_what_is_inside_it_and_a_nan_jump_is_refused() {
+    // Beside a container (a room to the right), the character walks away
+    // from it and jumps: the room's walls are not in its way.
+    let mut world = World::default();
+    block(&mut world, Vec2::new(-5.0, -1.0), Vec2::new(5.0, 0.0));
+    world.add_collider(BoxCollider::container(
+        Vec3::new(1.0, 0.0, -1.0),
+        Vec3::new(4.0, 3.0, 1.0),
+        Material::default(),
+    ));
+    let hero = standing(&mut world, 0.0, 0.0);
+    world.character_mut(hero).expect("there").jump(9.0);
+    let mut apex = f32::MIN;
+    for _ in 0..30 {
+        world.character_mut(hero).expect("there").run(-3.0);
+        step(&mut world);
+        apex = apex.max(at(&world, hero).y);
+    }
+    assert!(at(&world, hero).x < -1.4, "walked away: {}", at(&world, hero));
+    assert!(apex > 1.5, "jumped beside the room: {apex}");
+    world.character_mut(hero).expect("there").jump(f32::NAN);
+    let error = world
+        .step(FixedStep {
+            tick: world.tick(),
+            time: 1.0,
+            dt: f64::from(DT),
+        })
+        .expect_err("a NaN jump");
+    assert!(
+        error
+            .to_string()
+            .contains("character jump speed is NaN: it must be finite"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_teleport_leaves_the_ground_and_its_coyote_time_behind() {
+    let mut world = World::default();
+    block(&mut world, Vec2::new(-5.0, -1.0), Vec2::new(5.0, 0.0));
+    let hero = standing(&mut world, 0.0, 0.0);
+    step(&mut world);
+    assert!(world.character(hero).expect("there").can_jump());
+    let c = world.character_mut(hero).expect("there");
+    c.teleport(Vec2::new(0.0, 5.0));
+    assert!(!c.can_jump() && !c.grounded(), "in the air at once");
+    assert_eq!(c.drawn_position(0.0), Vec2::new(0.0, 5.0), "drawn there, not swept");
 }

@@ -270,6 +270,38 @@ fn bad_maps_are_refused_with_what_and_where() {
         error.contains("MapOptions::tile_metres is 0: it must be finite and above 0"),
         "{error}"
     );
+    // Read as the crate reads it: a comment splitting the data (the crate
+    // reads its first piece), a namespaced layer, a repeated attribute and
+    // base64 padding are counted as the crate counts them, and refused.
+    let error = refused(
+        "<data encoding=\"csv\">\n0,",
+        "<data encoding=\"csv\">\n0<!-- x -->,",
+        options,
+    );
+    assert!(
+        error.contains("layer \"ground\" has 1 cells of data where its size says 480"),
+        "{error}"
+    );
+    let error = refused(
+        "<layer id=\"1\" name=\"ground\" width=\"40\"",
+        "<layer id=\"1\" name=\"ground\" width=\"40\" t:width=\"41\"",
+        options,
+    );
+    assert!(
+        error.contains("layer \"ground\" has 480 cells of data where its size says 492"),
+        "{error}"
+    );
+    let base64 =
+        "<layer id=\"9\" name=\"b\" width=\"2\" height=\"1\"><data encoding=\"base64\">AQAAAAEAAA==</data></layer>";
+    let error = refused(
+        " <layer id=\"2\" name=\"decor\"",
+        &format!(" {base64}\n <layer id=\"2\" name=\"decor\""),
+        options,
+    );
+    assert!(
+        error.contains("layer \"b\" has 1 cells of data where its size says 2"),
+        "{error}"
+    );
     // A tile past its tileset's image.
     let error = refused("<data encoding=\"csv\">\n0,", "<data encoding=\"csv\">\n9,", options);
     assert!(error.contains("layer \"ground\", cell (0, 0)"), "{error}");
