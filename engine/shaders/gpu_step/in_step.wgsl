@@ -152,7 +152,7 @@ fn first_contact(k: u32, c: Collider, p: Path, r: f32) -> Hit {
             continue;
         }
         if (!inside) {
-            let at = path_at(p, s) - u * (p.dt * (1.0 - s));
+            let at = path_at(p, s) + u * (p.dt * (1.0 - s));
             var within = true;
             for (var b = 0u; b < 3u; b++) {
                 if (b != axis && !(at[b] >= lo[b] - r && at[b] <= hi[b] + r)) {

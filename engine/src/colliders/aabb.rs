@@ -386,7 +386,7 @@ impl Collider for BoxCollider {
                 if !self.inside {
                     // Within the face: the other axes inside the grown box,
                     // where the box is at that instant.
-                    let at = path.at(s) - u * path.dt * (1.0 - s);
+                    let at = path.at(s) + u * path.dt * (1.0 - s);
                     let within = (0..3)
                         .filter(|&k| k != axis)
                         .all(|k| at[k] >= min[k] - r && at[k] <= max[k] + r);

@@ -61,7 +61,7 @@ pub(crate) fn at_seam(colliders: &[Box<dyn Collider>], k: usize, hit: &SweptHit,
     // Where the centre is at the hit, in each box's frame at the step's end.
     let centre = path.at(hit.fraction);
     let rest = path.dt * (1.0 - hit.fraction);
-    let p = centre - u * rest;
+    let p = centre + u * rest;
     for edge_axis in (0..3).filter(|&a| a != axis) {
         for high in [false, true] {
             let edge = if high { max[edge_axis] + r } else { min[edge_axis] - r };
@@ -72,7 +72,7 @@ pub(crate) fn at_seam(colliders: &[Box<dyn Collider>], k: usize, hit: &SweptHit,
                 let Some((lo, hi, w)) = (j != k).then(|| solid_box(other.as_ref())).flatten() else {
                     return false;
                 };
-                let q = centre - w * rest;
+                let q = centre + w * rest;
                 let flush = if high { hi[edge_axis] + r } else { lo[edge_axis] - r };
                 (flush - edge).abs() <= tol
                     && (0..3)

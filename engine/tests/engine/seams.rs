@@ -104,3 +104,29 @@ fn a_jump_along_a_wall_of_stacked_boxes_rises_as_high_as_along_one_box() {
     assert!(one > 3.9, "{one}");
     assert!((stacked - one).abs() < 1e-3, "stacked {stacked} against one {one}");
 }
+
+#[test]
+fn a_box_moving_sideways_is_hit_where_it_is_at_the_instant() {
+    // A box 1 m wide moving right at 30 m/s (0.5 m a step) under a
+    // particle falling at 30 m/s just beyond its leading edge: when the
+    // particle reaches the top's height (a tenth into the step) the box is
+    // not under it yet; its leading face then sweeps into the particle,
+    // below the top, and carries it along. It must not bounce off the top
+    // of a box that was not there.
+    let mut world = World::default();
+    world.add_collider(block([0.0, -1.0], [1.0, 0.0], Vec3::new(30.0, 0.0, 0.0)));
+    let p = world
+        .spawn(Particle {
+            position: Vec3::new(1.3, 0.05, 0.0),
+            velocity: Vec3::new(0.0, -30.0, 0.0),
+            ..Particle::default()
+        })
+        .expect("spawned");
+    let mut clock = FixedClock::default();
+    for step in clock.step(1).fixed_steps() {
+        world.step(step).expect("steps");
+    }
+    let v = world.velocity(p).expect("there");
+    assert!(v.y < 0.0, "no bounce off a top that was elsewhere: {v}");
+    assert!((v.x - 30.0).abs() < 1e-3, "carried by the leading face: {v}");
+}
