@@ -340,9 +340,21 @@ fn convert(map: &tiled::Map, path: &Path, options: MapOptions) -> Result<TileMap
     let height_px = map.height as f32 * map.tile_height as f32;
     let mut layers = Vec::new();
     let mut object_layers = Vec::new();
-    let mut pending: Vec<tiled::Layer<'_>> = map.layers().collect();
+    // Each layer with what its groups give it: their offsets added, their
+    // opacities multiplied, hidden if any is.
+    let top = (Vec2::ZERO, 1.0f32, true);
+    let mut pending: Vec<(tiled::Layer<'_>, (Vec2, f32, bool))> = map.layers().map(|l| (l, top)).collect();
     pending.reverse();
-    while let Some(layer) = pending.pop() {
+    while let Some((layer, (group_offset, group_opacity, group_visible))) = pending.pop() {
+        let offset = group_offset + Vec2::new(layer.offset_x, layer.offset_y);
+        let opacity = group_opacity * layer.opacity;
+        let visible = group_visible && layer.visible;
+        if !offset.is_finite() || !opacity.is_finite() {
+            return Err(invalid(format!(
+                "layer \"{}\" has offset {offset} and opacity {opacity} (with its groups'): they must be finite",
+                layer.name
+            )));
+        }
         match layer.layer_type() {
             tiled::LayerType::Tiles(tiles) => {
                 let tiled::TileLayer::Finite(finite) = tiles else {
@@ -378,33 +390,27 @@ fn convert(map: &tiled::Map, path: &Path, options: MapOptions) -> Result<TileMap
                     layer.properties.get("solid"),
                     Some(tiled::PropertyValue::BoolValue(true))
                 );
-                let offset = Vec2::new(layer.offset_x, layer.offset_y);
-                if !offset.is_finite() || !layer.opacity.is_finite() {
-                    return Err(invalid(format!(
-                        "layer \"{}\" has offset {offset} and opacity {}: they must be finite",
-                        layer.name, layer.opacity
-                    )));
-                }
                 layers.push(Layer {
                     name: layer.name.clone(),
-                    visible: layer.visible,
+                    visible,
                     solid,
                     cells,
                     offset,
-                    opacity: layer.opacity,
+                    opacity,
                 });
             }
             tiled::LayerType::Objects(group) => {
                 let mut objects = Vec::new();
                 for object in group.objects() {
-                    objects.push(map_object(&object, metres_per_pixel, height_px, options.origin).map_err(&invalid)?);
+                    let place = (metres_per_pixel, height_px, options.origin, offset);
+                    objects.push(map_object(&object, place).map_err(&invalid)?);
                 }
                 object_layers.push((layer.name.clone(), objects));
             }
             tiled::LayerType::Group(group) => {
                 // Its layers next, in their order.
                 let inner: Vec<tiled::Layer<'_>> = group.layers().collect();
-                pending.extend(inner.into_iter().rev());
+                pending.extend(inner.into_iter().rev().map(|l| (l, (offset, opacity, visible))));
             }
             tiled::LayerType::Image(_) => {}
         }
@@ -449,10 +455,12 @@ fn cell(data: &tiled::LayerTileData, tilesets: &[Tileset], layer: &str, [x, y]: 
     })
 }
 
-/// An object in metres (y up).
-fn map_object(object: &tiled::Object<'_>, scale: f32, height_px: f32, origin: Vec2) -> Result<MapObject, String> {
+/// An object in metres (y up), placed by `(metres a pixel, the map's
+/// height in pixels, the map's origin, its layer's offset in pixels)`.
+fn map_object(object: &tiled::Object<'_>, place: (f32, f32, Vec2, Vec2)) -> Result<MapObject, String> {
+    let (scale, height_px, origin, offset) = place;
     let name = |problem: String| format!("object \"{}\" (id {}): {problem}", object.name, object.id());
-    let world = |x: f32, y: f32| origin + Vec2::new(x, height_px - y) * scale;
+    let world = |x: f32, y: f32| origin + Vec2::new(x + offset.x, height_px - (y + offset.y)) * scale;
     if !(object.x.is_finite() && object.y.is_finite() && object.rotation.is_finite()) {
         return Err(name(format!(
             "its x {}, y {} and rotation {} must be finite",
@@ -477,6 +485,12 @@ fn map_object(object: &tiled::Object<'_>, scale: f32, height_px: f32, origin: Ve
         Ok((world(object.x, top + height), world(object.x + width, top)))
     };
     let points = |points: &[(f32, f32)]| -> Result<Vec<Vec2>, String> {
+        if object.rotation != 0.0 {
+            return Err(name(format!(
+                "it is turned {} degrees: Tickwork reads paths as drawn unturned (set its rotation to 0)",
+                object.rotation
+            )));
+        }
         points
             .iter()
             .map(|&(x, y)| {

@@ -450,3 +450,47 @@ fn a_map_at_the_size_limit_reads_and_one_cell_past_it_is_refused() {
         "{error}"
     );
 }
+
+#[test]
+fn a_groups_offset_opacity_and_visibility_reach_its_layers_and_objects() {
+    let text = std::fs::read_to_string(root().join("assets/maps/level.tmx")).expect("the level");
+    let grouped = |attributes: &str| {
+        let text = text
+            .replacen(
+                " <layer id=\"2\" name=\"decor\"",
+                &format!(" <group id=\"7\" name=\"g\" {attributes}>\n <layer id=\"2\" name=\"decor\""),
+                1,
+            )
+            .replacen(
+                " <objectgroup",
+                " </group>\n <group id=\"8\" name=\"h\" offsety=\"16\">\n <objectgroup",
+                1,
+            )
+            .replacen("</objectgroup>", "</objectgroup>\n </group>", 1);
+        TileMap::parse(
+            text.as_bytes(),
+            root().join("assets/maps/grouped.tmx"),
+            MapOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let plain = level();
+    let decor = |map: &TileMap| {
+        let mut draw = Draw::default();
+        draw.tiles(map, map.tile_layer("decor").expect("decor"));
+        draw.sprites
+    };
+    let (before, after) = (decor(&plain), decor(&grouped("offsetx=\"16\" opacity=\"0.5\"")));
+    assert_eq!(before.len(), after.len());
+    for (a, b) in before.iter().zip(&after) {
+        assert_eq!(b.at - a.at, Vec2::new(1.0, 0.0), "the group's 16 px to the right");
+        assert_eq!((a.tint[3], b.tint[3]), (255, 128), "half its opacity");
+    }
+    assert!(
+        decor(&grouped("visible=\"0\"")).is_empty(),
+        "a hidden group hides its layers"
+    );
+    // The objects' group is 16 px lower: a metre.
+    let map = grouped("");
+    assert_eq!(map.object("player").expect("the spawn").position, Vec2::new(2.5, 2.5));
+}
