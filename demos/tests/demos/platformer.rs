@@ -23,6 +23,21 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Runs the platformer binary with `args`; its output, once it succeeded.
+fn platformer(args: &[&str]) -> String {
+    let output = Command::new(env!("CARGO_BIN_EXE_platformer"))
+        .args(args)
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
 fn session(game: Platformer, options: SessionOptions) -> GameSession<Platformer> {
     GameSession::new(game, options).expect("a session")
 }
@@ -66,25 +81,17 @@ fn the_autopilot_takes_every_coin_rides_the_ferry_and_reaches_the_flag() {
 #[test]
 fn the_demo_plays_itself_off_screen_to_its_golden_frame() {
     let out = scratch("frames");
-    let output = Command::new(env!("CARGO_BIN_EXE_platformer"))
-        .args([
-            "--headless",
-            "--autopilot",
-            "--frames",
-            "700",
-            "--size",
-            "480x270",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let out_arg = out.to_str().expect("utf-8");
+    let stdout = platformer(&[
+        "--headless",
+        "--autopilot",
+        "--frames",
+        "700",
+        "--size",
+        "480x270",
+        "--out",
+        out_arg,
+    ]);
     assert!(
         stdout.contains("platformer: stopped before the flag with 3 coins and 0 deaths"),
         "{stdout}"
@@ -150,16 +157,7 @@ fn a_recorded_game_replays_to_the_same_state_and_animation_frames() {
 
 #[test]
 fn the_whole_run_to_the_flag_passes_the_rollback_sync_test() {
-    let output = Command::new(env!("CARGO_BIN_EXE_platformer"))
-        .args(["--sync-test", "7", "--autopilot", "--frames", "940"])
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let stdout = platformer(&["--sync-test", "7", "--autopilot", "--frames", "940"]);
     assert!(
         stdout.contains("tickwork: platformer: sync test passed: 940 ticks, each rolled back 7 ticks"),
         "{stdout}"

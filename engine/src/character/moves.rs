@@ -205,7 +205,8 @@ pub(crate) fn step_character(character: &mut Character, solids: &Solids<'_>, dt:
     character.previous = c;
     // 1. Carried by the ground's own move this step (it moved first).
     if let Some(ground) = character.ground
-        && let Some(index) = solids.ids.iter().position(|id| *id == ground.collider)
+        // Ids ascend with the list (as `ColliderSet::index` finds them).
+        && let Ok(index) = solids.ids.binary_search(&ground.collider)
         && let Some(solid) = solids.colliders.get(index).and_then(|c| solid(c.as_ref()))
     {
         let velocity = match solid {

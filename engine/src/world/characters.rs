@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use super::World;
 use crate::character::{Character, CharacterError, CharacterId, MAX_CHARACTERS};
-use crate::sensor::{Sensor, SensorId};
+use crate::sensor::{Sensor, SensorId, SensorShape};
 
 impl World {
     /// Adds a character (see [`crate::character`]); each step from the next
@@ -66,14 +66,16 @@ impl World {
     /// [`CharacterError::Unknown`] for a removed or foreign handle.
     pub fn sensors_touching(&self, id: CharacterId) -> Result<impl Iterator<Item = SensorId> + '_, CharacterError> {
         let character = self.character(id)?;
-        let (min, max) = character.bounds();
-        let body = Sensor::cuboid(min.extend(0.0), max.extend(0.0));
+        let body = (
+            character.position.extend(0.0),
+            character.config.half_extents.extend(0.0),
+        );
         Ok(self.sensors.list.iter().filter_map(move |(sid, sensor)| {
             let centre = match sensor.follow {
                 Some(entity) => self.position(entity).ok()? + sensor.centre,
                 None => sensor.centre,
             };
-            overlaps(&body, sensor, centre).then_some(*sid)
+            overlaps(body, sensor, centre).then_some(*sid)
         }))
     }
 
@@ -83,19 +85,16 @@ impl World {
     }
 }
 
-/// Whether the box `body` (a character's, centred at its centre) and
-/// `sensor` centred at `centre` overlap.
-fn overlaps(body: &Sensor, sensor: &Sensor, centre: Vec3) -> bool {
-    let crate::sensor::SensorShape::Box { half_extents: h } = body.shape else {
-        return false;
-    };
+/// Whether a character's box `(centre, half extents)` (flat: no depth on
+/// z) and `sensor` centred at `centre` overlap.
+fn overlaps((at, h): (Vec3, Vec3), sensor: &Sensor, centre: Vec3) -> bool {
     match sensor.shape {
-        crate::sensor::SensorShape::Box { half_extents } => {
-            let apart = (body.centre - centre).abs() - (h + half_extents);
+        SensorShape::Box { half_extents } => {
+            let apart = (at - centre).abs() - (h + half_extents);
             apart.x < 0.0 && apart.y < 0.0 && apart.z <= 0.0
         }
-        crate::sensor::SensorShape::Sphere { radius } => {
-            let nearest = centre.clamp(body.centre - h, body.centre + h);
+        SensorShape::Sphere { radius } => {
+            let nearest = centre.clamp(at - h, at + h);
             (nearest - centre).length_squared() < radius * radius
         }
     }
