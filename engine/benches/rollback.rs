@@ -4,10 +4,10 @@
 //! measures each part on a falling-particle game (gravity, drag, a floor,
 //! semi-implicit Euler), saving into reused buffers as the sync test does.
 //!
-//! Run: `cargo bench -p tickwork-engine --bench rollback`; criterion's
-//! medians come first, then a table of the same parts timed again in one
-//! pass (medians of 31 runs each, interleaved), with the worst frame
-//! `load + 9 (step + save + checksum)`.
+//! Run: `cargo bench -p tickwork-engine --features netcode --bench
+//! rollback`; criterion's medians come first, then a table of the same
+//! parts timed again in one pass (medians of 31 runs each, interleaved),
+//! with the worst frame `load + 9 (step + save + checksum)`.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
