@@ -157,11 +157,12 @@ impl Plane {
     /// the same bits).
     ///
     /// In two passes: the clear test on every block, without a branch
-    /// (each block's lanes into `settled`, and a bit a block with a lane not
-    /// clear); then only those blocks (in a bouncing crowd about one in
-    /// eight, scattered), found by their bits, ask whether it rests. One pass with a branch a block on its test
-    /// mispredicted at each such block, and resolved clear blocks, which the
-    /// end-of-step rule leaves as they are (the same bits).
+    /// (each block's lanes into `settled`, and a bit for each block with a
+    /// lane not clear); then only those blocks (in a bouncing crowd about
+    /// one in eight, scattered), found by their bits, ask whether they
+    /// rest. One pass with a branch a block mispredicted at each such
+    /// block, and resolved clear blocks, which the end-of-step rule leaves
+    /// as they are (the same bits).
     pub(super) fn settle_mixed<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool, const FRICTIONLESS: bool>(
         &self,
         first: usize,
