@@ -306,8 +306,11 @@ impl PlaneLanes {
                     g[3 * i + 1][lane] = p.y[j];
                     g[3 * i + 2][lane] = p.z[j];
                 }
-                g[9][lane] = c.radius[b * 4 + j];
-                g[10][lane] = c.inverse_mass[b * 4 + j];
+                // A chunk of point particles has radius +0 and a movable
+                // one w > 0 (all `follow` asks of it) in every lane: their
+                // columns, not touched by the settling pass, are not read.
+                g[9][lane] = if c.point { 0.0 } else { c.radius[b * 4 + j] };
+                g[10][lane] = if c.movable { 1.0 } else { c.inverse_mass[b * 4 + j] };
             }
             let block = |i: usize| Vec3x4 {
                 x: Vec4::from_array(g[i]),
