@@ -272,13 +272,20 @@ impl PlaneLanes {
 }
 
 impl PlaneLanes {
-    /// [`follow`](Self::follow) on a chunk's lanes not settled, gathered
-    /// four at a time into one block (a block of a crowd rarely has more
-    /// than one such lane): their bits in `settled` set where it decides
-    /// them, the contacts met reported if the plane `reports`. Then, with
-    /// `resolve`, the plane's end-of-step rule on each block whose lanes
-    /// are now all decided (the others are resolved after their paths are
-    /// followed, by [`Sweep::row`](super::in_step::Sweep::row)).
+    /// [`follow`](Self::follow) on a chunk's lanes not settled, four at a
+    /// time: their bits in `settled` set where it decides them, the
+    /// contacts met reported if the plane `reports`. Then, with `resolve`,
+    /// the plane's end-of-step rule on each block whose lanes are now all
+    /// decided (the others are resolved after their paths are followed, by
+    /// [`Sweep::row`](super::in_step::Sweep::row)).
+    ///
+    /// A block of a crowd rarely has more than one such lane, and which
+    /// one is random: the lanes are first listed (by row, without a branch
+    /// a lane), then gathered four rows at a time into one block, and
+    /// every gathered lane is written back whether it changed or not (a
+    /// lane `follow` leaves alone keeps its own bits), so no branch depends
+    /// on a lane but the reports'. A short last group repeats its last
+    /// row, which gives that row the same answer twice.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn follow_chunk<const AXIS: usize>(
         &self,
@@ -291,106 +298,120 @@ impl PlaneLanes {
         touches: &mut Vec<RowTouch>,
     ) {
         const ALL: u8 = 0b1111;
-        let (plane, k) = (self, self.collider);
-        let normal = Followed::normal::<AXIS>(&plane.plane);
-        // Up to four lanes, by (block, lane), gathered into one block.
-        let mut held = [(0usize, 0usize); 4];
+        let normal = Followed::normal::<AXIS>(&self.plane);
+        let open = open_blocks(settled);
+        // Their lanes, by row in the chunk: each lane of an open block
+        // written, and kept where it is not settled.
+        let mut rows = [0u16; CHUNK];
         let mut count = 0;
-        let mut follow = |held: &[(usize, usize)], c: &mut Chunk<'_>, settled: &mut [u8]| {
-            // Gathered through arrays (a lane of a vector in a register
-            // set by index costs a shuffle per lane and index).
-            let mut g = [[0.0f32; 4]; 11];
-            for (lane, &(b, j)) in held.iter().enumerate() {
-                for (i, p) in [&start[b], &c.x[b], &c.v[b]].into_iter().enumerate() {
-                    g[3 * i][lane] = p.x[j];
-                    g[3 * i + 1][lane] = p.y[j];
-                    g[3 * i + 2][lane] = p.z[j];
-                }
-                // A chunk of point particles has radius +0 and a movable
-                // one w > 0 (all `follow` asks of it) in every lane: their
-                // columns, not touched by the settling pass, are not read.
-                g[9][lane] = if c.point { 0.0 } else { c.radius[b * 4 + j] };
-                g[10][lane] = if c.movable { 1.0 } else { c.inverse_mass[b * 4 + j] };
+        for_each_bit(&open, |b| {
+            let lanes = !settled[b];
+            for j in 0..4 {
+                rows[count] = (b * 4 + j) as u16;
+                count += usize::from(lanes >> j & 1);
             }
-            let block = |i: usize| Vec3x4 {
-                x: Vec4::from_array(g[i]),
-                y: Vec4::from_array(g[i + 1]),
-                z: Vec4::from_array(g[i + 2]),
-            };
-            let (x0, mut x, mut v) = (block(0), block(3), block(6));
-            let (r, w) = (Vec4::from_array(g[9]), Vec4::from_array(g[10]));
-            // Lanes past `held` have inverse mass 0: left alone.
-            let todo = 0b1111 >> (4 - held.len());
-            let followed = plane.follow::<AXIS>(&x0, &mut x, &mut v, r, w, todo);
-            let (xs, vs) = (
-                [x.x, x.y, x.z].map(|p| p.to_array()),
-                [v.x, v.y, v.z].map(|p| p.to_array()),
-            );
-            for (lane, &(b, j)) in held.iter().enumerate() {
-                if followed.decided & (1 << lane) == 0 {
-                    continue;
-                }
-                settled[b] |= 1 << j;
-                if followed.met & (1 << lane) == 0 {
-                    continue;
-                }
+        });
+        for group in rows[..count].chunks(4) {
+            let last = group.len() - 1;
+            let row = |lane: usize| usize::from(group[lane.min(last)]);
+            let at = [row(0), row(1), row(2), row(3)];
+            let (x0, mut x, mut v, r, w) = gather(start, c, at);
+            let followed = self.follow::<AXIS>(&x0, &mut x, &mut v, r, w, ALL);
+            for (lane, &row) in at.iter().enumerate() {
+                let (b, j) = (row / 4, row % 4);
+                settled[b] |= (followed.decided >> lane & 1) << j;
                 let (xb, vb) = (&mut c.x[b], &mut c.v[b]);
-                (xb.x[j], xb.y[j], xb.z[j]) = (xs[0][lane], xs[1][lane], xs[2][lane]);
-                (vb.x[j], vb.y[j], vb.z[j]) = (vs[0][lane], vs[1][lane], vs[2][lane]);
-                if reports {
+                xb.x.as_mut()[j] = x.x.as_ref()[lane];
+                xb.y.as_mut()[j] = x.y.as_ref()[lane];
+                xb.z.as_mut()[j] = x.z.as_ref()[lane];
+                vb.x.as_mut()[j] = v.x.as_ref()[lane];
+                vb.y.as_mut()[j] = v.y.as_ref()[lane];
+                vb.z.as_mut()[j] = v.z.as_ref()[lane];
+                if reports && lane <= last && followed.met & (1 << lane) != 0 {
                     touches.push(RowTouch {
-                        collider: k as u32,
-                        row: (first_row + b * 4 + j) as u32,
+                        collider: self.collider as u32,
+                        row: (first_row + row) as u32,
                         other: u32::MAX,
                         point: followed.point(lane),
                         normal,
-                        impulse: followed.impulse_w[lane] / c.inverse_mass[b * 4 + j],
+                        impulse: followed.impulse_w[lane] / c.inverse_mass[row],
                         fraction: followed.fraction[lane],
                         event: 1,
                     });
                 }
             }
-        };
-        // The blocks with lanes to follow, as bits.
-        // Eight bytes at a time: most are all settled (`ALL` each).
-        let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
-        const EIGHT: u64 = u64::from_ne_bytes([ALL; 8]);
-        for (k, bytes) in settled.chunks(8).enumerate() {
-            if <[u8; 8]>::try_from(bytes).is_ok_and(|eight| u64::from_ne_bytes(eight) == EIGHT) {
-                continue;
-            }
-            for (i, &lanes) in bytes.iter().enumerate() {
-                let b = k * 8 + i;
-                open[b / 64] |= u64::from(lanes != ALL) << (b % 64);
-            }
-        }
-        for_each_bit(&open, |b| {
-            let lanes = settled[b];
-            for lane in (0..4).filter(|lane| lanes & (1 << lane) == 0) {
-                held[count] = (b, lane);
-                count += 1;
-                if count == 4 {
-                    follow(&held, c, settled);
-                    count = 0;
-                }
-            }
-        });
-        if count > 0 {
-            follow(&held[..count], c, settled);
         }
         if !resolve {
             return;
         }
         // The blocks that had lanes to follow and are now decided whole:
         // the end-of-step rule (those still open are resolved after `row`).
-        let rest = plane.rest_speed;
+        // (A point chunk's radii are +0 and a movable one's `w > 0`, all
+        // the rule asks of them: their cold columns are not read.)
+        let rest = self.rest_speed;
         for_each_bit(&open, |b| {
             if settled[b] == ALL {
-                let (r, w) = (radius4(c.radius, b), radius4(c.inverse_mass, b));
-                plane.plane.resolve_block::<AXIS>(&mut c.x[b], &mut c.v[b], r, w, rest);
+                let r = if c.point { Vec4::ZERO } else { radius4(c.radius, b) };
+                let w = if c.movable {
+                    Vec4::ONE
+                } else {
+                    radius4(c.inverse_mass, b)
+                };
+                self.plane.resolve_block::<AXIS>(&mut c.x[b], &mut c.v[b], r, w, rest);
             }
         });
     }
+}
+
+/// Rows `at` of a chunk (`start`: its start positions) gathered into one
+/// block: start and end positions, end velocities, radii and inverse
+/// masses. A chunk of point particles has radius +0 and a movable one
+/// `w > 0` (all [`PlaneLanes::follow`] asks of it) in every lane: their
+/// columns, which the settling pass leaves cold, are not read.
+#[inline(always)]
+fn gather(start: &[Vec3x4], c: &Chunk<'_>, at: [usize; 4]) -> (Vec3x4, Vec3x4, Vec3x4, Vec4, Vec4) {
+    let [r0, r1, r2, r3] = at;
+    let (b, j) = ([r0 / 4, r1 / 4, r2 / 4, r3 / 4], [r0 % 4, r1 % 4, r2 % 4, r3 % 4]);
+    let axis = |blocks: &[Vec3x4], pick: fn(&Vec3x4) -> &Vec4| {
+        Vec4::new(
+            pick(&blocks[b[0]]).as_ref()[j[0]],
+            pick(&blocks[b[1]]).as_ref()[j[1]],
+            pick(&blocks[b[2]]).as_ref()[j[2]],
+            pick(&blocks[b[3]]).as_ref()[j[3]],
+        )
+    };
+    let block = |blocks: &[Vec3x4]| Vec3x4 {
+        x: axis(blocks, |p| &p.x),
+        y: axis(blocks, |p| &p.y),
+        z: axis(blocks, |p| &p.z),
+    };
+    let column = |values: &[f32]| Vec4::new(values[r0], values[r1], values[r2], values[r3]);
+    let r = if c.point { Vec4::ZERO } else { column(c.radius) };
+    let w = if c.movable { Vec4::ONE } else { column(c.inverse_mass) };
+    (block(start), block(c.x), block(c.v), r, w)
+}
+
+/// The blocks of `settled` (each block's settled lanes, four bits a byte)
+/// with a lane not settled, as bits, eight bytes at a time without a
+/// branch a byte: a byte `ALL` (`0b1111`) XOR `ALL` is 0, any other has
+/// one of its low four bits set, which is folded into its lowest bit and
+/// the eight lowest bits gathered by one multiplication.
+fn open_blocks(settled: &[u8]) -> [u64; (CHUNK / 4).div_ceil(64)] {
+    const ALL: u64 = u64::from_ne_bytes([0b1111; 8]);
+    const LOW: u64 = u64::from_le_bytes([1; 8]);
+    let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
+    for (k, bytes) in settled.chunks(8).enumerate() {
+        let eight = match <[u8; 8]>::try_from(bytes) {
+            Ok(eight) => u64::from_le_bytes(eight),
+            Err(_) => bytes.iter().rev().fold(ALL, |word, &byte| word << 8 | u64::from(byte)),
+        };
+        let t = eight ^ ALL;
+        let any = (t | t >> 1 | t >> 2 | t >> 3) & LOW;
+        // Byte i's bit (at 8 i) to bit 56 + i: no two products overlap.
+        let bits = any.wrapping_mul(0x0102_0408_1020_4080) >> 56;
+        open[k / 8] |= bits << (k % 8 * 8);
+    }
+    open
 }
 
 /// Calls `f` with the index of each set bit of `words`, in order.
@@ -413,6 +434,34 @@ mod tests {
     use crate::colliders::{Collider, Material, Plane};
     use crate::forces::{Force, Gravity, LinearDrag};
     use crate::step::in_step::Sweep;
+
+    /// The open blocks found eight bytes at a time are those whose byte is
+    /// not `0b1111`, whatever the bytes and the chunk's length.
+    #[test]
+    fn open_blocks_are_the_bytes_not_all_settled() {
+        let mut seed = 0x9e37_79b9_u32;
+        for case in 0..2_000 {
+            let len = 1 + case % (CHUNK / 4);
+            let settled: Vec<u8> = (0..len)
+                .map(|_| {
+                    seed ^= seed << 13;
+                    seed ^= seed >> 17;
+                    seed ^= seed << 5;
+                    // Mostly settled, as in a crowd.
+                    if seed.is_multiple_of(3) {
+                        (seed >> 8) as u8 & 0b1111
+                    } else {
+                        0b1111
+                    }
+                })
+                .collect();
+            let open = open_blocks(&settled);
+            for b in 0..CHUNK / 4 {
+                let expected = b < len && settled[b] != 0b1111;
+                assert_eq!(open[b / 64] >> (b % 64) & 1 == 1, expected, "case {case}, block {b}");
+            }
+        }
+    }
 
     /// Random lanes near planes along each axis and sign, under gravity
     /// and drag, stepped by semi-implicit Euler's path (straight) or a
