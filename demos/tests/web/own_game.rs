@@ -124,6 +124,13 @@ fn get(port: &str, path: &str) -> (String, String, usize) {
 fn web_serve_builds_and_serves_the_page_with_the_types_a_browser_needs() {
     let dir = own_game();
     let manifest = std::fs::read_to_string(dir.join("manifest.txt")).expect("manifest.txt");
+    // The game itself lives outside the checkout only while scripts/test
+    // runs (it removes it when it ends).
+    assert!(
+        Path::new(manifest.trim()).is_file(),
+        "the new game's {} is gone: run this test through scripts/test, which makes the game and removes it at its end",
+        manifest.trim()
+    );
     let out = std::env::temp_dir().join(format!("tickwork-own-game-serve-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let mut serve = Command::new(env!("CARGO_BIN_EXE_tickwork"))
