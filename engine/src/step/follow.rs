@@ -347,12 +347,15 @@ impl PlaneLanes {
         // The blocks that had lanes to follow and are now decided whole:
         // the end-of-step rule (those still open are resolved after `row`).
         // (A point chunk's radii are +0 and a movable one's `w > 0`, all
-        // the rule asks of them: their cold columns are not read.)
+        // the rule asks of them: their cold columns are not read, but for
+        // a short last block, whose padding lanes keep `w` 0 and are left
+        // alone.)
         let rest = self.rest_speed;
+        let rows = c.inverse_mass.len();
         for_each_bit(&open, |b| {
             if settled[b] == ALL {
                 let r = if c.point { Vec4::ZERO } else { radius4(c.radius, b) };
-                let w = if c.movable {
+                let w = if c.movable && b * 4 + 4 <= rows {
                     Vec4::ONE
                 } else {
                     radius4(c.inverse_mass, b)
@@ -434,6 +437,61 @@ mod tests {
     use crate::colliders::{Collider, Material, Plane};
     use crate::forces::{Force, Gravity, LinearDrag};
     use crate::step::in_step::Sweep;
+
+    /// A short last block decided whole is resolved without touching its
+    /// padding lanes, in a chunk of movable point particles too (whose
+    /// real lanes take `w` 1 without reading the column).
+    #[test]
+    fn the_padding_lanes_of_a_short_last_block_are_left_alone() {
+        let dt = 1.0 / 60.0;
+        let plane = Plane {
+            normal: Vec3::Y,
+            ..Plane::default()
+        };
+        let forces: Vec<Box<dyn Force>> = vec![Box::new(Gravity {
+            acceleration: Vec3::new(0.0, -9.81, 0.0),
+        })];
+        let colliders: Vec<Box<dyn Collider>> = vec![Box::new(plane)];
+        let sweep = Sweep::new(&colliders, &[false], &forces, dt, 0.1).expect("an in-step plane");
+        let lanes = sweep.plane.expect("a lone plane along an axis");
+        // Five rows: block 1 holds row 4, which falls through the floor
+        // within the step, and three padding lanes below it.
+        let below = Vec3A::new(0.0, -1.0, 0.0);
+        let v = Vec3A::new(0.0, -3.0, 0.0);
+        let start = [
+            Vec3x4::from_lanes([Vec3A::splat(5.0); 4]),
+            Vec3x4::from_lanes([Vec3A::new(0.0, 0.02, 0.0), below, below, below]),
+        ];
+        let mut x = [
+            start[0],
+            Vec3x4::from_lanes([Vec3A::new(0.0, 0.02, 0.0) + v * dt, below, below, below]),
+        ];
+        let mut vel = [
+            Vec3x4::from_lanes([Vec3A::ZERO; 4]),
+            Vec3x4::from_lanes([v, Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO]),
+        ];
+        let (radius, inverse_mass) = ([0.0f32; 5], [1.0f32; 5]);
+        let mut chunk = Chunk {
+            x: &mut x,
+            v: &mut vel,
+            radius: &radius,
+            inverse_mass: &inverse_mass,
+            movable: true,
+            point: true,
+        };
+        // Block 0 settled (clear), block 1: row 4 open, its padding set.
+        let mut settled = [0b1111, 0b1110];
+        lanes.follow_chunk::<1>(false, true, 0, &start, &mut chunk, &mut settled, &mut Vec::new());
+        assert_eq!(settled, [0b1111, 0b1111], "row 4 is decided by the lanes");
+        assert!(x[1].lane(0).y >= 0.0, "row 4 bounced off the floor: {}", x[1].lane(0));
+        for lane in 1..4 {
+            assert_eq!(
+                (x[1].lane(lane), vel[1].lane(lane)),
+                (below, Vec3A::ZERO),
+                "padding lane {lane}"
+            );
+        }
+    }
 
     /// The open blocks found eight bytes at a time are those whose byte is
     /// not `0b1111`, whatever the bytes and the chunk's length.
