@@ -17,6 +17,10 @@ pub struct MatchReport {
     pub waits: u64,
     /// Ticks skipped on GGRS's advice, to let the other side catch up.
     pub skipped: u64,
+    /// Messages from the other peer that were neither GGRS's nor
+    /// Tickwork's (malformed, or cut short past 4 KiB): dropped, never
+    /// read, and counted here.
+    pub dropped: u64,
     /// The game's outcome line.
     pub outcome: Option<String>,
 }

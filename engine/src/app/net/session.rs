@@ -448,6 +448,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             resimulated: self.cursor.resimulated,
             waits: self.waits,
             skipped: self.skipped,
+            dropped: self.shared.borrow().dropped,
             outcome: self.session.outcome(),
         })
     }

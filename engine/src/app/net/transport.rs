@@ -82,6 +82,10 @@ pub(super) struct Shared {
     pub remote_done: Option<(u64, u64)>,
     /// The host's welcome, answered to every late hello.
     pub welcome: Option<Vec<u8>>,
+    /// Datagrams from the other peer that were neither a control message
+    /// nor a GGRS message (malformed, or cut short at [`DATAGRAM_BYTES`]):
+    /// dropped, and counted here for the match's report.
+    pub dropped: u64,
 }
 
 /// GGRS's [`NonBlockingSocket`] over a non-blocking [`UdpSocket`] bound by
@@ -129,8 +133,8 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
             match self.socket.recv_from(&mut self.buffer[..]) {
                 Ok((length, from)) => {
                     let bytes = &self.buffer[..length];
+                    let mut shared = self.shared.borrow_mut();
                     if bytes.starts_with(MAGIC) {
-                        let mut shared = self.shared.borrow_mut();
                         match ControlMessage::decode(bytes) {
                             Some(ControlMessage::Done { tick, checksum }) if from == self.peer => {
                                 shared.remote_done = Some((tick, checksum));
@@ -140,10 +144,13 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
                                     let _ = self.socket.send_to(welcome, from);
                                 }
                             }
+                            None if from == self.peer => shared.dropped = shared.dropped.saturating_add(1),
                             _ => {}
                         }
                     } else if let Ok(message) = bincode::deserialize(bytes) {
                         messages.push((from, message));
+                    } else if from == self.peer {
+                        shared.dropped = shared.dropped.saturating_add(1);
                     }
                 }
                 Err(error) if error.kind() == ErrorKind::WouldBlock => break,
@@ -158,5 +165,56 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
             self.send_control(&ControlMessage::Done { tick, checksum });
         }
         messages
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Datagrams from the peer that are neither GGRS's nor Tickwork's
+    /// (garbage, a control message that does not parse, one cut short past
+    /// the read buffer) are dropped and counted, a stranger's are dropped
+    /// without counting, and a GGRS message between them still arrives.
+    #[test]
+    fn malformed_datagrams_from_the_peer_are_dropped_and_counted() {
+        let local = UdpSocket::bind("127.0.0.1:0").expect("a local socket");
+        let peer = UdpSocket::bind("127.0.0.1:0").expect("the peer's socket");
+        let stranger = UdpSocket::bind("127.0.0.1:0").expect("a stranger's socket");
+        let (to, peer_address) = (local.local_addr().expect("bound"), peer.local_addr().expect("bound"));
+        let shared = Rc::new(RefCell::new(Shared::default()));
+        let mut transport = UdpTransport::new(local, peer_address, Rc::clone(&shared)).expect("non-blocking");
+        // GGRS's keep-alive (magic 0x1234, the body's eighth variant), as
+        // bincode encodes it.
+        let keep_alive = [0x34, 0x12, 7, 0, 0, 0];
+        assert!(bincode::deserialize::<Message>(&keep_alive).is_ok(), "a GGRS message");
+        let mut control = MAGIC.to_vec();
+        control.extend_from_slice(b"Done(tick: \"not a number\")");
+        let oversized = vec![0xff; DATAGRAM_BYTES + 100];
+        for datagram in [&[0xff, 0xfe, 0x00][..], &control, &keep_alive[..], &oversized] {
+            peer.send_to(datagram, to).expect("sent");
+        }
+        stranger.send_to(&[0xff; 8], to).expect("sent");
+        // Loopback delivers at once, but not within the sends' calls:
+        // read until all five have arrived, bounded by their count.
+        let mut received = Vec::new();
+        let mut polls = 0;
+        while received.is_empty() || shared.borrow().dropped < 3 {
+            received.extend(transport.receive_all_messages());
+            polls += 1;
+            assert!(
+                polls < 1_000_000,
+                "the datagrams did not arrive: {received:?}, {:?}",
+                shared.borrow()
+            );
+            std::thread::yield_now();
+        }
+        assert_eq!(received.len(), 1, "the GGRS message arrives: {received:?}");
+        assert_eq!(received[0].0, peer_address);
+        assert_eq!(
+            shared.borrow().dropped,
+            3,
+            "garbage, a bad control message, an oversized one"
+        );
     }
 }

@@ -355,6 +355,12 @@ fn network_run<G: Game + Clone + 'static>(
 /// Prints how a match ended; returns its checksum.
 #[cfg(feature = "netcode")]
 fn match_ended(title: &str, report: MatchReport) -> u64 {
+    if report.dropped > 0 {
+        crate::say!(
+            "tickwork: {title}: {} messages from the other player were neither the game's nor GGRS's and were dropped",
+            report.dropped
+        );
+    }
     crate::say!(
         "tickwork: {title}: the match ended at tick {}: checksum {:016x}; {} rollbacks re-ran {} ticks, {} ticks \
          waited for the other player, {} were skipped to let it catch up",
