@@ -36,7 +36,8 @@ pub use audio::sound::{Sound, SoundError};
 pub use clap;
 #[cfg(feature = "netcode")]
 pub use net::{
-    ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MatchReport, NetOptions, NetSession, Peer, Welcome,
+    ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MAX_DECODED_INPUT_BYTES, MatchReport, NetOptions, NetSession,
+    Peer, Welcome, decode_peer_message,
 };
 #[cfg(feature = "netcode")]
 pub use net::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};

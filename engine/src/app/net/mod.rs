@@ -30,4 +30,4 @@ pub use match_report::MatchReport;
 pub use net_options::NetOptions;
 pub use rollback::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};
 pub use session::NetSession;
-pub use transport::Welcome;
+pub use transport::{MAX_DECODED_INPUT_BYTES, Welcome, decode_peer_message};

@@ -23,6 +23,78 @@ pub(super) const MAGIC: &[u8] = b"tickwork-net/2 ";
 /// The largest datagram read: GGRS's messages stay far below it.
 const DATAGRAM_BYTES: usize = 4096;
 
+/// The most bytes a GGRS input message's run-length-encoded inputs may
+/// decode to: far above what a prediction window of inputs takes (GGRS
+/// sends at most 128 frames of a few dozen bytes), far below what would
+/// strain memory.
+pub const MAX_DECODED_INPUT_BYTES: usize = 1 << 16;
+
+/// A datagram from a peer as the GGRS message it holds, where it is one
+/// GGRS can take: `None` for bytes that are not a GGRS message, and for an
+/// input message whose run-length-encoded inputs are malformed (a varint
+/// cut short or past 64 bits, a run past the end) or decode to more than
+/// [`MAX_DECODED_INPUT_BYTES`]. GGRS 0.13 decodes those inputs without
+/// checking them and panics (or tries to allocate what the lengths say)
+/// on such bytes, which a damaged datagram or a hostile peer can send; they
+/// are refused here, before GGRS reads them.
+///
+/// The layout read is bincode's (fixed-width little-endian integers, as
+/// GGRS's own socket and this transport encode), of GGRS 0.13's
+/// `Message`: a `u16` magic, the body's variant as a `u32` (input: 2),
+/// and an input's connection statuses (a `u64` count of a `bool` and an
+/// `i32` each), `bool`, two `i32` frames, then its bytes (a `u64` length).
+#[must_use]
+pub fn decode_peer_message(bytes: &[u8]) -> Option<Message> {
+    const INPUT: u32 = 2;
+    let word = |at: usize, n: usize| -> Option<u64> {
+        let field = bytes.get(at..at.checked_add(n)?)?;
+        Some(field.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b)))
+    };
+    if word(2, 4)? == u64::from(INPUT) {
+        // The statuses (5 bytes each), the flag and the two frames.
+        let statuses = usize::try_from(word(6, 8)?).ok()?;
+        let at = statuses.checked_mul(5)?.checked_add(6 + 8 + 1 + 4 + 4)?;
+        let length = usize::try_from(word(at, 8)?).ok()?;
+        let start = at.checked_add(8)?;
+        let inputs = bytes.get(start..start.checked_add(length)?)?;
+        if rle_decoded_len(inputs)? > MAX_DECODED_INPUT_BYTES {
+            return None;
+        }
+    }
+    bincode::deserialize(bytes).ok()
+}
+
+/// The length `bitfield-rle` decodes `data` to, if it is well formed: a
+/// sequence of varints (seven bits a byte, least significant first, at
+/// most ten bytes), each a run of `value >> 2` bytes of 0 or 255 where bit
+/// 0 is set, else `value >> 1` literal bytes that follow it.
+fn rle_decoded_len(data: &[u8]) -> Option<usize> {
+    let (mut at, mut total) = (0usize, 0usize);
+    while at < data.len() {
+        let mut value = 0u64;
+        let mut shift = 0;
+        loop {
+            let byte = *data.get(at)?;
+            at += 1;
+            let bits = u64::from(byte & 127);
+            if shift > 63 || (shift == 63 && bits > 1) {
+                return None;
+            }
+            value |= bits << shift;
+            shift += 7;
+            if byte & 128 == 0 {
+                break;
+            }
+        }
+        let run = usize::try_from(if value & 1 == 1 { value >> 2 } else { value >> 1 }).ok()?;
+        if value & 1 == 0 {
+            at = at.checked_add(run).filter(|&end| end <= data.len())?;
+        }
+        total = total.checked_add(run)?;
+    }
+    Some(total)
+}
+
 /// What the peers tell each other outside GGRS.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub(super) enum ControlMessage {
@@ -147,7 +219,7 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
                             None if from == self.peer => shared.dropped = shared.dropped.saturating_add(1),
                             _ => {}
                         }
-                    } else if let Ok(message) = bincode::deserialize(bytes) {
+                    } else if let Some(message) = decode_peer_message(bytes) {
                         messages.push((from, message));
                     } else if from == self.peer {
                         shared.dropped = shared.dropped.saturating_add(1);
@@ -171,6 +243,52 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// GGRS's input message (magic 0x1234, no connection statuses, frames
+    /// 0 and -1) carrying `inputs` as its run-length-encoded bytes.
+    fn input_message(inputs: &[u8]) -> Vec<u8> {
+        let mut bytes = vec![0x34, 0x12];
+        bytes.extend_from_slice(&2u32.to_le_bytes());
+        bytes.extend_from_slice(&0u64.to_le_bytes());
+        bytes.push(0);
+        bytes.extend_from_slice(&0i32.to_le_bytes());
+        bytes.extend_from_slice(&(-1i32).to_le_bytes());
+        bytes.extend_from_slice(&(inputs.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(inputs);
+        bytes
+    }
+
+    /// An input message whose encoded inputs GGRS would decode is taken;
+    /// one whose encoding is cut short, runs past its end or decodes to
+    /// more than the limit (which GGRS would try to allocate) is refused.
+    #[test]
+    fn input_messages_ggrs_cannot_decode_are_refused() {
+        // Two literal bytes, then a run of 8 bytes of 255 (8 << 2 | 3).
+        assert!(decode_peer_message(&input_message(&[4, 7, 9, 35])).is_some());
+        assert_eq!(rle_decoded_len(&[4, 7, 9, 35]), Some(10));
+        let huge_run = {
+            let mut varint = Vec::new();
+            let mut value = (1u64 << 40) << 2 | 1;
+            while value >= 128 {
+                varint.push(value as u8 | 128);
+                value >>= 7;
+            }
+            varint.push(value as u8);
+            varint
+        };
+        for (inputs, why) in [
+            (&[0x80][..], "a varint cut short"),
+            (&[4, 7][..], "a literal run past the end"),
+            (&[0xff; 11][..], "a varint past 64 bits"),
+            (&huge_run[..], "a run of 2^40 bytes"),
+        ] {
+            assert_eq!(decode_peer_message(&input_message(inputs)).map(|_| ()), None, "{why}");
+        }
+        // The input's declared length past the datagram.
+        let mut short = input_message(&[4, 7, 9]);
+        short.truncate(short.len() - 1);
+        assert!(decode_peer_message(&short).is_none());
+    }
 
     /// Datagrams from the peer that are neither GGRS's nor Tickwork's
     /// (garbage, a control message that does not parse, one cut short past
