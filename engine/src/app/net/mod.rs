@@ -16,6 +16,8 @@
 //!
 //! [`GameSession`]: crate::app::GameSession
 
+#[cfg(test)]
+mod fuzz;
 mod impairment;
 mod lobby;
 mod match_report;

@@ -93,6 +93,24 @@ fn ggrs_error(error: GgrsError) -> RunError {
     RunError::Network(format!("GGRS: {error}"))
 }
 
+/// Runs a call into GGRS that reads what the other peer sent, as the error
+/// that ends the match where GGRS panics: GGRS 0.13 asserts on some
+/// messages a damaged datagram or a hostile peer can send (an input for a
+/// frame its rollback cannot load), which would otherwise take this
+/// process down. The session is not used again after such an error.
+pub(super) fn guarded<T>(what: &str, call: impl FnOnce() -> T) -> Result<T, RunError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(call)).map_err(|cause| {
+        let why = cause
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| cause.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        RunError::Network(format!(
+            "the other player sent what GGRS could not take while {what} ({why}); the match ends"
+        ))
+    })
+}
+
 impl<G: Game + Clone + 'static> NetSession<G> {
     /// Finds the other player from `lobby` and starts the match: the host's
     /// seed, rate and integrator (from `options`) are the joiner's too.
@@ -277,7 +295,8 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     /// Reads GGRS's events: a desync or a lost peer ends the match.
     fn handle_events(&mut self) -> Result<(), RunError> {
         let tick = self.cursor.tick;
-        for event in self.p2p.events() {
+        let events: Vec<_> = guarded("reading its events", || self.p2p.events().collect())?;
+        for event in events {
             match event {
                 GgrsEvent::Synchronized { addr } => crate::say!("tickwork: connected to {addr}"),
                 GgrsEvent::WaitRecommendation { skip_frames } => self.skip += skip_frames,
@@ -333,7 +352,11 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             None => self.next_local_input(end_time),
         };
         self.pending = Some(input);
-        self.p2p.add_local_input(self.local, input.into()).map_err(ggrs_error)?;
+        let local = self.local;
+        guarded("taking this side's input", || {
+            self.p2p.add_local_input(local, input.into())
+        })?
+        .map_err(ggrs_error)?;
         // Whether tick `end`'s state is certain once this call's rollback
         // (if any) is done: every input before it confirmed.
         let end = self.end;
@@ -341,7 +364,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         let certain_before = confirmed.min(self.cursor.tick);
         let certain = end.is_some_and(|end| certain_before >= end);
         let frame = self.p2p.current_frame();
-        let requests = self.p2p.advance_frame().map_err(ggrs_error)?;
+        let requests = guarded("advancing a frame", || self.p2p.advance_frame())?.map_err(ggrs_error)?;
         // A rollback re-runs ticks even when the new one waits: only the
         // frame count says whether this tick ran.
         let advanced = self.p2p.current_frame() > frame;
@@ -386,7 +409,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             );
             self.shared.borrow_mut().local_done = Some((tick, checksum));
             // Say so now: the other side may be waiting only for this.
-            self.p2p.poll_remote_clients();
+            guarded("reading the network", || self.p2p.poll_remote_clients())?;
         }
         if advanced {
             self.pending = None;
@@ -493,7 +516,7 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
     }
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
-        self.p2p.poll_remote_clients();
+        guarded("reading the network", || self.p2p.poll_remote_clients())?;
         self.handle_events()?;
         let frame = self.session.advance_clock(seconds)?;
         let mut ran = 0;
