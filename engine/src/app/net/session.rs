@@ -52,6 +52,8 @@ struct Script {
 pub struct NetSession<G: Game + Clone + 'static> {
     session: GameSession<G>,
     p2p: P2PSession<Rollback<G>>,
+    /// Why GGRS is no longer trusted: it panicked in a call ([`guarded`]).
+    broken: Option<String>,
     local: usize,
     remote: SocketAddr,
     shared: Rc<RefCell<Shared>>,
@@ -97,7 +99,8 @@ fn ggrs_error(error: GgrsError) -> RunError {
 /// that ends the match where GGRS panics: GGRS 0.13 asserts on some
 /// messages a damaged datagram or a hostile peer can send (an input for a
 /// frame its rollback cannot load), which would otherwise take this
-/// process down. The session is not used again after such an error.
+/// process down. A [`NetSession`] refuses every later call after such an
+/// error ([`NetSession::guard`]).
 pub(super) fn guarded<T>(what: &str, call: impl FnOnce() -> T) -> Result<T, RunError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(call)).map_err(|cause| {
         let why = cause
@@ -106,12 +109,23 @@ pub(super) fn guarded<T>(what: &str, call: impl FnOnce() -> T) -> Result<T, RunE
             .or_else(|| cause.downcast_ref::<String>().cloned())
             .unwrap_or_default();
         RunError::Network(format!(
-            "the other player sent what GGRS could not take while {what} ({why}); the match ends"
+            "GGRS panicked while {what} ({why}), most likely on a message from the other player that it could \
+             not take; the match ends"
         ))
     })
 }
 
 impl<G: Game + Clone + 'static> NetSession<G> {
+    /// A call into GGRS, [`guarded`]: after a panic in one, GGRS's state is
+    /// not trusted, and this and every later call give that error.
+    fn guard<T>(&mut self, what: &str, call: impl FnOnce(&mut P2PSession<Rollback<G>>) -> T) -> Result<T, RunError> {
+        if let Some(why) = &self.broken {
+            return Err(RunError::Network(why.clone()));
+        }
+        let p2p = &mut self.p2p;
+        guarded(what, || call(p2p)).inspect_err(|error| self.broken = Some(error.to_string()))
+    }
+
     /// Finds the other player from `lobby` and starts the match: the host's
     /// seed, rate and integrator (from `options`) are the joiner's too.
     /// `script` plays this side's input from a recording (tests, bots).
@@ -229,6 +243,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         Ok(Self {
             session,
             p2p,
+            broken: None,
             local,
             remote: connection.remote,
             shared,
@@ -295,7 +310,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     /// Reads GGRS's events: a desync or a lost peer ends the match.
     fn handle_events(&mut self) -> Result<(), RunError> {
         let tick = self.cursor.tick;
-        let events: Vec<_> = guarded("reading its events", || self.p2p.events().collect())?;
+        let events: Vec<_> = self.guard("reading its events", |p2p| p2p.events().collect())?;
         for event in events {
             match event {
                 GgrsEvent::Synchronized { addr } => crate::say!("tickwork: connected to {addr}"),
@@ -364,7 +379,9 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         let certain_before = confirmed.min(self.cursor.tick);
         let certain = end.is_some_and(|end| certain_before >= end);
         let frame = self.p2p.current_frame();
-        let requests = guarded("advancing a frame", || self.p2p.advance_frame())?.map_err(ggrs_error)?;
+        let requests = self
+            .guard("advancing a frame", |p2p| p2p.advance_frame())?
+            .map_err(ggrs_error)?;
         // A rollback re-runs ticks even when the new one waits: only the
         // frame count says whether this tick ran.
         let advanced = self.p2p.current_frame() > frame;
@@ -409,7 +426,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             );
             self.shared.borrow_mut().local_done = Some((tick, checksum));
             // Say so now: the other side may be waiting only for this.
-            guarded("reading the network", || self.p2p.poll_remote_clients())?;
+            self.guard("reading the network", |p2p| p2p.poll_remote_clients())?;
         }
         if advanced {
             self.pending = None;
@@ -516,7 +533,7 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
     }
 
     fn advance(&mut self, seconds: f64) -> Result<(), RunError> {
-        guarded("reading the network", || self.p2p.poll_remote_clients())?;
+        self.guard("reading the network", |p2p| p2p.poll_remote_clients())?;
         self.handle_events()?;
         let frame = self.session.advance_clock(seconds)?;
         let mut ran = 0;

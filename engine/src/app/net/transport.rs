@@ -25,18 +25,19 @@ const DATAGRAM_BYTES: usize = 4096;
 
 /// The most bytes a GGRS input message's run-length-encoded inputs may
 /// decode to: far above what a prediction window of inputs takes (GGRS
-/// sends at most 128 frames of a few dozen bytes), far below what would
-/// strain memory.
+/// sends at most 128 frames of about a hundred bytes: 14 KB), far below
+/// what would strain memory.
 pub const MAX_DECODED_INPUT_BYTES: usize = 1 << 16;
 
 /// A datagram from a peer as the GGRS message it holds, where it is one
 /// GGRS can take: `None` for bytes that are not a GGRS message, and for an
 /// input message whose run-length-encoded inputs are malformed (a varint
-/// cut short or past 64 bits, a run past the end) or decode to more than
-/// [`MAX_DECODED_INPUT_BYTES`]. GGRS 0.13 decodes those inputs without
-/// checking them and panics (or tries to allocate what the lengths say)
-/// on such bytes, which a damaged datagram or a hostile peer can send; they
-/// are refused here, before GGRS reads them.
+/// cut short or past 64 bits; a run past the end, which GGRS would
+/// discard itself) or decode to more than [`MAX_DECODED_INPUT_BYTES`].
+/// GGRS 0.13 reads those varints without checking them and panics (or
+/// tries to allocate what the lengths say) on such bytes, which a damaged
+/// datagram or a hostile peer can send; they are refused here, before
+/// GGRS reads them.
 ///
 /// The layout read is bincode's (fixed-width little-endian integers, as
 /// GGRS's own socket and this transport encode), of GGRS 0.13's
@@ -155,8 +156,9 @@ pub(super) struct Shared {
     /// The host's welcome, answered to every late hello.
     pub welcome: Option<Vec<u8>>,
     /// Datagrams from the other peer that were neither a control message
-    /// nor a GGRS message (malformed, or cut short at [`DATAGRAM_BYTES`]):
-    /// dropped, and counted here for the match's report.
+    /// nor a GGRS message GGRS can take (malformed, or what is left of one
+    /// cut short at [`DATAGRAM_BYTES`] no message): dropped, and counted
+    /// here for the match's report.
     pub dropped: u64,
 }
 
