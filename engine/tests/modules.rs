@@ -35,6 +35,12 @@ fn modules() -> BTreeMap<Module, String> {
                 module.push(name);
                 walk(&path, &module, out);
             } else if path.extension().is_some_and(|e| e == "rs") {
+                // A module's tests in a file of their own (`mod tests;`)
+                // are skipped as an inline `mod tests` is below: they
+                // import what they test with, not the module's design.
+                if name == "tests" {
+                    continue;
+                }
                 let mut module = prefix.clone();
                 if name != "mod" && !(prefix.is_empty() && name == "lib") {
                     module.push(name);

@@ -8,7 +8,7 @@ use std::rc::Rc;
 
 use ggrs::{Message, NonBlockingSocket};
 
-use super::session::guarded;
+use super::guard::guarded;
 use super::transport::decode_peer_message;
 
 /// The GGRS settings of the message fuzz: four bytes of input a player,

@@ -18,6 +18,7 @@
 
 #[cfg(test)]
 mod fuzz;
+mod guard;
 mod impairment;
 mod lobby;
 mod match_report;
