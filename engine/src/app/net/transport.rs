@@ -268,6 +268,14 @@ mod tests {
         // Two literal bytes, then a run of 8 bytes of 255 (8 << 2 | 3).
         assert!(decode_peer_message(&input_message(&[4, 7, 9, 35])).is_some());
         assert_eq!(rle_decoded_len(&[4, 7, 9, 35]), Some(10));
+        // A varint of ten bytes, the most 64 bits take, is read (here an
+        // empty literal run); an eleventh byte is refused.
+        let ten = [0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x00];
+        assert_eq!(rle_decoded_len(&ten), Some(0));
+        assert_eq!(
+            rle_decoded_len(&[0x80; 10].iter().copied().chain([0]).collect::<Vec<_>>()),
+            None
+        );
         let huge_run = {
             let mut varint = Vec::new();
             let mut value = (1u64 << 40) << 2 | 1;
