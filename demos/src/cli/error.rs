@@ -149,6 +149,8 @@ pub enum CliError {
     /// `tickwork new` or `tickwork web` stopped: shown as the
     /// [`WebError`](super::web::WebError) itself, which says what to change.
     Web(super::web::WebError),
+    /// `tickwork signal` could not listen or serve: what failed, and why.
+    Signal(String),
 }
 
 impl fmt::Display for CliError {
@@ -206,6 +208,7 @@ impl fmt::Display for CliError {
             Self::Output(_) => f.write_str("cannot write the output"),
             Self::Lab(e) => e.fmt(f),
             Self::Web(e) => e.fmt(f),
+            Self::Signal(why) => write!(f, "tickwork signal: {why}"),
         }
     }
 }
@@ -228,6 +231,7 @@ impl Error for CliError {
             Self::Lab(e) => e.source(),
             Self::Web(e) => e.source(),
             Self::EveryZero
+            | Self::Signal(_)
             | Self::TooManySteps { .. }
             | Self::TooLong { .. }
             | Self::BadUntil(_)

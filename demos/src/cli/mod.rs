@@ -6,6 +6,7 @@ pub mod integrators;
 pub mod new;
 pub mod project;
 pub mod render;
+pub mod signal;
 pub mod sim;
 pub mod web;
 
@@ -47,6 +48,9 @@ pub enum Command {
     /// Build any game crate as a web page (`build`), or build and serve it
     /// on localhost (`serve`).
     Web(web::WebArgs),
+    /// Run the signalling server players meet through for a match over
+    /// WebRTC (`--room ws://HOST:PORT/ROOM`, a page's `?room=`).
+    Signal(signal::SignalArgs),
 }
 
 /// Runs the command line; returns the process exit code. An error is
@@ -82,6 +86,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Some(Command::View(args)) => render::view(&args),
         Some(Command::New(args)) => new::run(&args).map(drop).map_err(CliError::Web),
         Some(Command::Web(args)) => web::run(args).map_err(CliError::Web),
+        Some(Command::Signal(args)) => signal::run(&args),
         None => integrators::run(&integrators::IntegratorsArgs::default(), &mut std::io::stdout().lock())
             .map_err(CliError::Output),
     }

@@ -37,7 +37,7 @@ pub use clap;
 #[cfg(feature = "netcode")]
 pub use net::{
     ImpairedSocket, Impairment, ImpairmentCounts, Lobby, MAX_DECODED_INPUT_BYTES, MatchReport, NetOptions, NetSession,
-    Peer, Welcome, decode_peer_message,
+    Peer, PeerAddress, Welcome, decode_peer_message,
 };
 #[cfg(feature = "netcode")]
 pub use net::{MAX_CHECK_DISTANCE, Rollback, SavedTick, SyncTestReport, WireInput, sync_test};

@@ -15,6 +15,8 @@
 //! | writing a file ([`write_text`]) | the file system | a download offered to the user |
 //! | reading an asset ([`read_asset`]) | the file system (`TICKWORK_ASSETS`, or the current folder and those above it) | the bytes fetched before the game's setup (`Game::assets`) |
 //! | waiting on a future ([`ready_now`]) | blocks (pollster) | one poll: a browser resolves futures only once the page's script yields |
+//! | a task beside the game ([`spawn_background`]) | a thread | the browser's event loop |
+//! | a pause in an `async` function ([`pause`]) | the thread sleeps | a timer the page yields to |
 //!
 //! The browser alone has `platform::web`: fetching files by URL, offering a file as
 //! a download, showing a message on the page. Files, windows and GPU
@@ -129,6 +131,31 @@ pub fn window_attributes(
 /// browser's event loop once the current script yields.
 pub fn spawn_local(future: impl Future<Output = ()> + 'static) {
     imp::spawn_local(future);
+}
+
+/// Runs `future` beside the caller, to its end: natively on a thread of
+/// its own (so the future must be `Send`), in a page on the browser's
+/// event loop. For a connection's loop (a WebRTC socket's) that runs while
+/// the game does.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn spawn_background(future: impl Future<Output = ()> + Send + 'static) {
+    imp::spawn_background(future);
+}
+
+/// Runs `future` beside the caller, to its end: natively on a thread of
+/// its own (so the future must be `Send`), in a page on the browser's
+/// event loop. For a connection's loop (a WebRTC socket's) that runs while
+/// the game does.
+#[cfg(target_arch = "wasm32")]
+pub fn spawn_background(future: impl Future<Output = ()> + 'static) {
+    imp::spawn_background(future);
+}
+
+/// Waits `length` in an `async` function: natively the thread sleeps (the
+/// caller blocks on the future anyway); in a page the script yields to the
+/// browser until a timer fires, so the page goes on meanwhile.
+pub async fn pause(length: std::time::Duration) {
+    imp::pause(length).await;
 }
 
 /// Writes `text` to the file `path`: natively the file system; in a page

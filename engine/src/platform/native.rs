@@ -54,6 +54,16 @@ pub(super) fn spawn_local(future: impl Future<Output = ()> + 'static) {
     pollster::block_on(future);
 }
 
+pub(super) fn spawn_background(future: impl Future<Output = ()> + Send + 'static) {
+    // A thread of its own: the future's I/O is driven by its own reactor
+    // (async-io's), so any executor runs it.
+    std::thread::spawn(move || pollster::block_on(future));
+}
+
+pub(super) async fn pause(length: std::time::Duration) {
+    std::thread::sleep(length);
+}
+
 pub(super) fn show_status(_line: &str) {}
 
 pub(super) fn write_text(path: &std::path::Path, text: &str) -> std::io::Result<()> {

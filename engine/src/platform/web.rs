@@ -110,6 +110,21 @@ pub(super) fn spawn_local(future: impl Future<Output = ()> + 'static) {
     wasm_bindgen_futures::spawn_local(future);
 }
 
+pub(super) fn spawn_background(future: impl Future<Output = ()> + 'static) {
+    wasm_bindgen_futures::spawn_local(future);
+}
+
+pub(super) async fn pause(length: std::time::Duration) {
+    let milliseconds = i32::try_from(length.as_millis()).unwrap_or(i32::MAX);
+    let timer = js_sys::Promise::new(&mut |resolve, _| {
+        if let Some(window) = web_sys::window() {
+            let _ = window.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, milliseconds);
+        }
+    });
+    // A page without a window never resolves the timer: nothing runs there.
+    let _ = JsFuture::from(timer).await;
+}
+
 /// Fetches `url` (relative to the page): the response, checked to be a
 /// success whose announced length (if any) is at most `limit` bytes, so
 /// that a body past it is refused before it is read.

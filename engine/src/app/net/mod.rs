@@ -1,7 +1,8 @@
 //! Netcode (the `netcode` feature; GGRS and bincode live only here):
 //! rollback ([`Rollback`], the sync test) and two players over the
 //! network with it: a [`Lobby`] finds
-//! the other player over UDP, a [`NetSession`] plays the match (every
+//! the other player over UDP, or the two meet in a signalling server's
+//! room (`--room`, WebRTC: the `webrtc` feature), a [`NetSession`] plays the match (every
 //! machine runs the whole simulation, predicts the other's input, and
 //! rolls back to re-run ticks when the real input differs), and an
 //! [`ImpairedSocket`] makes the link as bad as asked, the same way every
@@ -20,14 +21,18 @@
 mod fuzz;
 mod guard;
 mod impairment;
+mod link;
 mod lobby;
 mod match_report;
 mod net_options;
 pub(crate) mod rollback;
+#[cfg(feature = "webrtc")]
+mod room;
 mod session;
 mod transport;
 
 pub use impairment::{ImpairedSocket, Impairment, ImpairmentCounts};
+pub use link::PeerAddress;
 pub use lobby::{Lobby, Peer};
 pub use match_report::MatchReport;
 pub use net_options::NetOptions;

@@ -1,27 +1,25 @@
-//! The UDP transport of a match: GGRS's messages (bincode, as GGRS's own
-//! socket sends them) and Tickwork's few control datagrams on one socket.
+//! The transport of a match over a [`Link`]: GGRS's messages (bincode, as
+//! GGRS's own socket sends them) and Tickwork's few control messages.
 //!
-//! Control datagrams start with [`MAGIC`] and carry RON: the joiner's
-//! hello, the host's welcome (the settings both peers must share), and
-//! "done" (this peer knows the match's final state and needs nothing more).
-//! GGRS ignores datagrams from addresses it does not know; the transport
-//! drops anything that is neither a control datagram nor a GGRS message.
+//! Control messages start with [`MAGIC`] and carry RON: the joiner's
+//! hello, the host's welcome (the settings both peers must share), the
+//! meeting of two players in a room, and "done" (this peer knows the
+//! match's final state and needs nothing more). The transport drops (and
+//! counts) anything from the other player that is neither a control
+//! message nor a GGRS message GGRS can take.
 
 use std::cell::RefCell;
-use std::io::ErrorKind;
-use std::net::{SocketAddr, UdpSocket};
 use std::rc::Rc;
 
 use ggrs::{Message, NonBlockingSocket};
 use serde::{Deserialize, Serialize};
 
+use super::link::{Link, MESSAGE_BYTES, PeerAddress};
+
 /// The first bytes of a Tickwork control datagram: the protocol's version,
 /// so a peer of another version is not a peer (version 2: inputs carry the
 /// keys released in their tick, a fixed-size input four bytes longer).
 pub(super) const MAGIC: &[u8] = b"tickwork-net/2 ";
-
-/// The largest datagram read: GGRS's messages stay far below it.
-const DATAGRAM_BYTES: usize = 4096;
 
 /// The most bytes a GGRS input message's run-length-encoded inputs may
 /// decode to: far above what a prediction window of inputs takes (GGRS
@@ -106,6 +104,14 @@ pub(super) enum ControlMessage {
     },
     /// The host's answer: the settings both simulations must share.
     Welcome(Welcome),
+    /// A player met in a room: its game and settings, and how long it
+    /// waited there for the other (the one that waited longer hosts).
+    Meet {
+        /// The settings it would host with.
+        welcome: Welcome,
+        /// Milliseconds from its joining the room to the other's arrival.
+        waited_ms: u64,
+    },
     /// This peer has the match's final state: the tick and its checksum.
     Done {
         /// The match's last tick.
@@ -157,86 +163,70 @@ pub(super) struct Shared {
     pub welcome: Option<Vec<u8>>,
     /// Datagrams from the other peer that were neither a control message
     /// nor a GGRS message GGRS can take (malformed, or what is left of one
-    /// cut short at [`DATAGRAM_BYTES`] no message): dropped, and counted
+    /// cut short at [`MESSAGE_BYTES`] no message): dropped, and counted
     /// here for the match's report.
     pub dropped: u64,
+    /// Why the other player is known to have left (its link says so).
+    pub remote_left: Option<String>,
 }
 
-/// GGRS's [`NonBlockingSocket`] over a non-blocking [`UdpSocket`] bound by
-/// the lobby, talking to one peer.
+/// GGRS's [`NonBlockingSocket`] over a [`Link`] to the other player: GGRS's
+/// messages go out as they are; what arrives is sorted into GGRS's
+/// messages, Tickwork's control messages and what is neither (dropped and
+/// counted).
 #[derive(Debug)]
-pub(super) struct UdpTransport {
-    socket: UdpSocket,
-    peer: SocketAddr,
-    buffer: Box<[u8; DATAGRAM_BYTES]>,
+pub(super) struct Transport<L> {
+    link: L,
+    peer: PeerAddress,
     shared: Rc<RefCell<Shared>>,
 }
 
-impl UdpTransport {
-    /// The transport of `socket`, whose peer is `peer`.
-    ///
-    /// # Errors
-    /// The socket cannot be made non-blocking.
-    pub(super) fn new(socket: UdpSocket, peer: SocketAddr, shared: Rc<RefCell<Shared>>) -> std::io::Result<Self> {
-        socket.set_nonblocking(true)?;
-        Ok(Self {
-            socket,
-            peer,
-            buffer: Box::new([0; DATAGRAM_BYTES]),
-            shared,
-        })
-    }
-
-    fn send_control(&self, message: &ControlMessage) {
-        // A lost datagram is what UDP does: the next poll sends again.
-        let _ = self.socket.send_to(&message.encode(), self.peer);
+impl<L: Link> Transport<L> {
+    /// The transport over `link`, whose other end GGRS knows as `peer`.
+    pub(super) fn new(link: L, peer: PeerAddress, shared: Rc<RefCell<Shared>>) -> Self {
+        Self { link, peer, shared }
     }
 }
 
-impl NonBlockingSocket<SocketAddr> for UdpTransport {
-    fn send_to(&mut self, msg: &Message, addr: &SocketAddr) {
+impl<L: Link> NonBlockingSocket<PeerAddress> for Transport<L> {
+    fn send_to(&mut self, msg: &Message, _addr: &PeerAddress) {
         if let Ok(bytes) = bincode::serialize(msg) {
-            // Unreliable by design: GGRS sends again what is not acknowledged.
-            let _ = self.socket.send_to(&bytes, addr);
+            self.link.send(&bytes);
         }
     }
 
-    fn receive_all_messages(&mut self) -> Vec<(SocketAddr, Message)> {
+    fn receive_all_messages(&mut self) -> Vec<(PeerAddress, Message)> {
         let mut messages = Vec::new();
-        loop {
-            match self.socket.recv_from(&mut self.buffer[..]) {
-                Ok((length, from)) => {
-                    let bytes = &self.buffer[..length];
-                    let mut shared = self.shared.borrow_mut();
-                    if bytes.starts_with(MAGIC) {
-                        match ControlMessage::decode(bytes) {
-                            Some(ControlMessage::Done { tick, checksum }) if from == self.peer => {
-                                shared.remote_done = Some((tick, checksum));
-                            }
-                            Some(ControlMessage::Hello { .. }) if from == self.peer => {
-                                if let Some(welcome) = &shared.welcome {
-                                    let _ = self.socket.send_to(welcome, from);
-                                }
-                            }
-                            None if from == self.peer => shared.dropped = shared.dropped.saturating_add(1),
-                            _ => {}
-                        }
-                    } else if let Some(message) = decode_peer_message(bytes) {
-                        messages.push((from, message));
-                    } else if from == self.peer {
-                        shared.dropped = shared.dropped.saturating_add(1);
-                    }
+        let mut answer_hello = false;
+        let (peer, shared) = (&self.peer, &self.shared);
+        self.link.receive(&mut |bytes| {
+            let mut shared = shared.borrow_mut();
+            if bytes.len() >= MESSAGE_BYTES {
+                shared.dropped = shared.dropped.saturating_add(1);
+            } else if bytes.starts_with(MAGIC) {
+                match ControlMessage::decode(bytes) {
+                    Some(ControlMessage::Done { tick, checksum }) => shared.remote_done = Some((tick, checksum)),
+                    Some(ControlMessage::Hello { .. }) => answer_hello = true,
+                    Some(_) => {}
+                    None => shared.dropped = shared.dropped.saturating_add(1),
                 }
-                Err(error) if error.kind() == ErrorKind::WouldBlock => break,
-                // A datagram socket may report an earlier send's failure
-                // (the peer's port closed) here; there may be more to read.
-                Err(error) if error.kind() == ErrorKind::ConnectionReset => {}
-                Err(_) => break,
+            } else if let Some(message) = decode_peer_message(bytes) {
+                messages.push((peer.clone(), message));
+            } else {
+                shared.dropped = shared.dropped.saturating_add(1);
             }
+        });
+        let gone = self.link.gone();
+        let mut shared = self.shared.borrow_mut();
+        if let Some(why) = gone {
+            shared.remote_left.get_or_insert(why);
         }
-        let done = self.shared.borrow().local_done;
-        if let Some((tick, checksum)) = done {
-            self.send_control(&ControlMessage::Done { tick, checksum });
+        // A joiner that missed the welcome says hello again.
+        if let (true, Some(welcome)) = (answer_hello, &shared.welcome) {
+            self.link.send_control(welcome);
+        }
+        if let Some((tick, checksum)) = shared.local_done {
+            self.link.send_control(&ControlMessage::Done { tick, checksum }.encode());
         }
         messages
     }
@@ -245,6 +235,8 @@ impl NonBlockingSocket<SocketAddr> for UdpTransport {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::net::link::UdpLink;
+    use std::net::UdpSocket;
 
     /// GGRS's input message (magic 0x1234, no connection statuses, frames
     /// 0 and -1) carrying `inputs` as its run-length-encoded bytes.
@@ -311,14 +303,15 @@ mod tests {
         let stranger = UdpSocket::bind("127.0.0.1:0").expect("a stranger's socket");
         let (to, peer_address) = (local.local_addr().expect("bound"), peer.local_addr().expect("bound"));
         let shared = Rc::new(RefCell::new(Shared::default()));
-        let mut transport = UdpTransport::new(local, peer_address, Rc::clone(&shared)).expect("non-blocking");
+        let link = UdpLink::new(local, peer_address).expect("non-blocking");
+        let mut transport = Transport::new(link, PeerAddress::Udp(peer_address), Rc::clone(&shared));
         // GGRS's keep-alive (magic 0x1234, the body's eighth variant), as
         // bincode encodes it.
         let keep_alive = [0x34, 0x12, 7, 0, 0, 0];
         assert!(bincode::deserialize::<Message>(&keep_alive).is_ok(), "a GGRS message");
         let mut control = MAGIC.to_vec();
         control.extend_from_slice(b"Done(tick: \"not a number\")");
-        let oversized = vec![0xff; DATAGRAM_BYTES + 100];
+        let oversized = vec![0xff; MESSAGE_BYTES + 100];
         for datagram in [&[0xff, 0xfe, 0x00][..], &control, &keep_alive[..], &oversized] {
             peer.send_to(datagram, to).expect("sent");
         }
@@ -338,7 +331,7 @@ mod tests {
             std::thread::yield_now();
         }
         assert_eq!(received.len(), 1, "the GGRS message arrives: {received:?}");
-        assert_eq!(received[0].0, peer_address);
+        assert_eq!(received[0].0, PeerAddress::Udp(peer_address));
         assert_eq!(
             shared.borrow().dropped,
             3,

@@ -11,6 +11,9 @@ pub(crate) mod options;
 // window's).
 #[cfg(all(target_arch = "wasm32", feature = "window"))]
 pub(crate) mod page;
+// A match in a page, over WebRTC.
+#[cfg(all(target_arch = "wasm32", feature = "window", feature = "webrtc"))]
+pub(crate) mod page_match;
 pub(crate) mod start;
 #[cfg(feature = "window")]
 pub(crate) mod window;

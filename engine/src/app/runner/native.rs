@@ -162,7 +162,7 @@ pub(crate) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
     }
     let replay = options.replay.as_deref().map(Recording::load).transpose()?;
     #[cfg(feature = "netcode")]
-    if let Some((peer, net)) = options.network() {
+    if let Some(meeting) = Meeting::of(&options) {
         if replay.is_some() {
             return Err(RunError::Limit(
                 "--replay plays a whole run back alone; in a match, --script plays this side's input from a recording"
@@ -170,13 +170,13 @@ pub(crate) fn run_native<G: Game + Clone + 'static>(game: G, options: RunOptions
             ));
         }
         let script = options.script.as_deref().map(Recording::load).transpose()?;
-        return network_run(game, peer, &net, &options, windowed, script);
+        return network_run(game, meeting, &options.net_options(), &options, windowed, script);
     }
     #[cfg(feature = "netcode")]
     if options.script.is_some() {
         return Err(RunError::Limit(
-            "--script plays one side of a networked match: pass --host PORT or --join ADDR with it (to play a \
-             recording back alone, use --replay)"
+            "--script plays one side of a networked match: pass --host PORT, --join ADDR or --room URL with it (to \
+             play a recording back alone, use --replay)"
                 .into(),
         ));
     }
@@ -247,47 +247,75 @@ pub(crate) fn session_options(options: &RunOptions, replay: Option<Recording>) -
 #[cfg(feature = "netcode")]
 pub const DEFAULT_MATCH_TICKS: u64 = 600;
 
+/// Where the other player of a match is found.
 #[cfg(feature = "netcode")]
-/// `--host` or `--join`: finds the other player, then plays the match in
-/// the window, or headless for `--frames` ticks; saves both players'
-/// inputs with `--record`.
+enum Meeting {
+    /// `--host` or `--join`: over UDP.
+    Udp(Peer),
+    /// `--room`: in a signalling server's room, over WebRTC.
+    #[cfg(feature = "webrtc")]
+    Room(String),
+}
+
+#[cfg(feature = "netcode")]
+impl Meeting {
+    /// The meeting `options` ask for, if any.
+    fn of(options: &RunOptions) -> Option<Self> {
+        #[cfg(feature = "webrtc")]
+        if let Some(url) = &options.room {
+            return Some(Self::Room(url.clone()));
+        }
+        options.network().map(|(peer, _)| Self::Udp(peer))
+    }
+}
+
+#[cfg(feature = "netcode")]
+/// `--host`, `--join` or `--room`: finds the other player, then plays the
+/// match in the window, or headless for `--frames` ticks; saves both
+/// players' inputs with `--record`.
 fn network_run<G: Game + Clone + 'static>(
     game: G,
-    peer: Peer,
+    meeting: Meeting,
     net: &NetOptions,
     options: &RunOptions,
     windowed: bool,
     script: Option<Recording>,
 ) -> Result<RunSummary, RunError> {
     let title = game.title().to_owned();
-    let lobby = Lobby::bind(peer)?;
-    match peer {
-        Peer::Host { .. } => crate::say!(
-            "tickwork: {title}: hosting on port {}; the other player joins with --join <this machine's address>:{}",
-            lobby.local_addr()?.port(),
-            lobby.local_addr()?.port()
-        ),
-        Peer::Join { host } => crate::say!("tickwork: {title}: joining {host}"),
-    }
-    let mut session = NetSession::start(
-        game,
-        lobby,
-        SessionOptions {
-            settings: Settings {
-                integrator: options.integrator.clone(),
-                seed: options.seed,
-                networked: true,
-                gpu: options.gpu,
-            },
-            hz: options.hz,
-            time_scale: 1.0,
-            record: None,
-            replay: None,
-            overwrite: options.force,
+    let session_options = SessionOptions {
+        settings: Settings {
+            integrator: options.integrator.clone(),
+            seed: options.seed,
+            networked: true,
+            gpu: options.gpu,
         },
-        net,
-        script,
-    )?;
+        hz: options.hz,
+        time_scale: 1.0,
+        record: None,
+        replay: None,
+        overwrite: options.force,
+    };
+    let mut session = match meeting {
+        Meeting::Udp(peer) => {
+            let lobby = Lobby::bind(peer)?;
+            match peer {
+                Peer::Host { .. } => crate::say!(
+                    "tickwork: {title}: hosting on port {}; the other player joins with --join <this machine's \
+                     address>:{}",
+                    lobby.local_addr()?.port(),
+                    lobby.local_addr()?.port()
+                ),
+                Peer::Join { host } => crate::say!("tickwork: {title}: joining {host}"),
+            }
+            NetSession::start(game, lobby, session_options, net, script)?
+        }
+        // Natively the meeting blocks until it is done.
+        #[cfg(feature = "webrtc")]
+        Meeting::Room(url) => {
+            crate::platform::ready_now(NetSession::start_in_room(game, &url, session_options, net, script))
+                .ok_or_else(|| RunError::Network("the meeting in the room did not end".into()))??
+        }
+    };
     let mut summary = RunSummary::nothing_yet(windowed);
     #[cfg(not(feature = "window"))]
     let played = {
@@ -354,7 +382,7 @@ fn network_run<G: Game + Clone + 'static>(
 
 /// Prints how a match ended; returns its checksum.
 #[cfg(feature = "netcode")]
-fn match_ended(title: &str, report: MatchReport) -> u64 {
+pub(crate) fn match_ended(title: &str, report: MatchReport) -> u64 {
     if report.dropped > 0 {
         crate::say!(
             "tickwork: {title}: {} messages from the other player were neither the game's nor GGRS's and were dropped",

@@ -89,6 +89,16 @@ pub struct RunOptions {
     #[cfg(feature = "netcode")]
     #[cfg_attr(feature = "cli", arg(long, value_name = "ADDR", conflicts_with = "sync_test"))]
     pub join: Option<std::net::SocketAddr>,
+    /// Meet the other player in this room of a signalling server
+    /// (`ws://HOST:PORT/ROOM`, as `tickwork signal` prints) and play over
+    /// WebRTC: the first in the room hosts and plays player 1. A page
+    /// takes it as `?room=`.
+    #[cfg(feature = "webrtc")]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "URL", conflicts_with_all = ["host", "join", "sync_test"])
+    )]
+    pub room: Option<String>,
     /// In a match: play this side from a recording of one player's input
     /// (`--record` of a run alone) instead of the keyboard (tests, bots).
     #[cfg(feature = "netcode")]
@@ -152,6 +162,8 @@ impl Default for RunOptions {
             host: None,
             #[cfg(feature = "netcode")]
             join: None,
+            #[cfg(feature = "webrtc")]
+            room: None,
             #[cfg(feature = "netcode")]
             script: None,
             #[cfg(feature = "netcode")]
@@ -179,16 +191,20 @@ impl RunOptions {
             (None, Some(host)) => crate::app::Peer::Join { host },
             (None, None) => return None,
         };
-        Some((
-            peer,
-            crate::app::NetOptions {
-                input_delay: self.input_delay,
-                max_prediction: self.max_prediction,
-                impairment: self.impair,
-                wait_seconds: self.wait_seconds,
-                ..crate::app::NetOptions::default()
-            },
-        ))
+        Some((peer, self.net_options()))
+    }
+
+    /// How a match is played (`--input-delay`, `--max-prediction`,
+    /// `--impair`, `--wait-seconds`), over UDP or in a room.
+    #[must_use]
+    pub fn net_options(&self) -> crate::app::NetOptions {
+        crate::app::NetOptions {
+            input_delay: self.input_delay,
+            max_prediction: self.max_prediction,
+            impairment: self.impair,
+            wait_seconds: self.wait_seconds,
+            ..crate::app::NetOptions::default()
+        }
     }
 }
 

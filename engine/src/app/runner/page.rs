@@ -12,8 +12,10 @@
 //! `tickwork: <game>: the final state at tick N has checksum X` (or, for a
 //! replay that reached its end, `the replay ended at tick N with checksum
 //! X` and whether that matches the recording),
-//! which the browser tests wait for. What a page cannot do (a match over
-//! UDP, frames written to files) is refused with a message on the page.
+//! which the browser tests wait for. A match meets the other player in a
+//! signalling server's room (`room=`, `page_match.rs`). What a page cannot
+//! do (a match over UDP, frames written to files) is refused with a
+//! message on the page.
 
 use crate::app::api::error::RunError;
 use crate::app::api::game::Game;
@@ -37,8 +39,8 @@ pub(crate) fn run_in_page<G: Game + Clone + 'static>(game: G, options: RunOption
     #[cfg(feature = "netcode")]
     if options.network().is_some() {
         return Err(RunError::Limit(
-            "a networked match (--host, --join) needs UDP sockets, which a browser does not have: play a match \
-             with the native build"
+            "a networked match over UDP (--host, --join) needs sockets a browser does not have: in a page, meet \
+             the other player in a signalling server's room with room=ws://HOST:PORT/ROOM (`tickwork signal`)"
                 .into(),
         ));
     }
@@ -77,6 +79,10 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
     web::fetch_assets(game.assets())
         .await
         .map_err(|message| RunError::Game(format!("an asset the game lists (Game::assets): {message}").into()))?;
+    #[cfg(feature = "webrtc")]
+    if let Some(url) = options.room.clone() {
+        return super::page_match::start(game, &url, options).await;
+    }
     #[cfg(feature = "netcode")]
     let sync_inputs = options.sync_test.and(replay.clone());
     // (A page's recording is a download: nothing to overwrite.)
@@ -127,7 +133,7 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
 }
 
 /// The backends a page tries: `webgpu`, `webgl2`, or both (WebGPU first).
-fn backends(name: Option<&str>) -> Result<wgpu::Backends, RunError> {
+pub(super) fn backends(name: Option<&str>) -> Result<wgpu::Backends, RunError> {
     match name {
         None => Ok(wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL),
         Some("webgpu") => Ok(wgpu::Backends::BROWSER_WEBGPU),

@@ -17,26 +17,24 @@
 //! it done) and the other side says it does too (or has gone).
 
 use std::cell::RefCell;
-use std::net::SocketAddr;
 use std::rc::Rc;
 use std::time::Duration;
 
 use crate::platform::Instant;
 
-use ggrs::{DesyncDetection, GgrsError, GgrsEvent, P2PSession, PlayerType, SessionBuilder, SessionState};
+use ggrs::{GgrsError, GgrsEvent, P2PSession, SessionState};
 
 use super::guard::guarded;
-use super::impairment::ImpairedSocket;
-use super::lobby::{Lobby, Peer};
+use super::link::PeerAddress;
 use super::match_report::MatchReport;
-use super::net_options::NetOptions;
-use super::transport::{ControlMessage, Shared, UdpTransport, Welcome};
-use crate::app::api::stage::Settings;
+use super::transport::Shared;
 use crate::app::net::rollback::{Rollback, RollbackCursor, SavedTick, fulfil};
-use crate::app::{Control, FrameSource, Game, GameError, GameSession, RunError, SessionOptions};
+use crate::app::{Control, FrameSource, Game, GameSession, RunError};
 use crate::input::{InputEvent, Recording, TickInput};
 use crate::interpolation::Interpolation;
 use crate::render::{Camera, FrameView, RenderError};
+
+mod start;
 
 /// A local player's input read from a recording instead of the keyboard.
 #[derive(Debug)]
@@ -56,7 +54,7 @@ pub struct NetSession<G: Game + Clone + 'static> {
     /// Why GGRS is no longer trusted: it panicked in a call ([`guarded`]).
     broken: Option<String>,
     local: usize,
-    remote: SocketAddr,
+    remote: PeerAddress,
     shared: Rc<RefCell<Shared>>,
     cursor: RollbackCursor,
     /// This side's input given to GGRS for a tick not yet run.
@@ -107,149 +105,6 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         guarded(what, || call(p2p)).inspect_err(|error| self.broken = Some(error.to_string()))
     }
 
-    /// Finds the other player from `lobby` and starts the match: the host's
-    /// seed, rate and integrator (from `options`) are the joiner's too.
-    /// `script` plays this side's input from a recording (tests, bots).
-    ///
-    /// # Errors
-    /// [`RunError::Network`] if the other player is not found in time or
-    /// plays another game, [`RunError::Limit`] for options out of range,
-    /// [`RunError::Game`] for a game that does not have two players or
-    /// whose set-up fails.
-    pub fn start(
-        game: G,
-        lobby: Lobby,
-        options: SessionOptions,
-        net: &NetOptions,
-        script: Option<Recording>,
-    ) -> Result<Self, RunError> {
-        net.check()?;
-        let title = game.title().to_owned();
-        if game.players() != 2 {
-            return Err(RunError::Game(GameError::Message(format!(
-                "\"{title}\" has {} player(s); a networked match (--host, --join) needs a game of 2",
-                game.players()
-            ))));
-        }
-        if let Some(script) = &script
-            && (script.game != title || script.players() != 1)
-        {
-            return Err(RunError::Game(GameError::Message(format!(
-                "the recording is of {} player(s) of \"{}\"; a networked match plays one player's recording of \
-                 \"{title}\" for this side",
-                script.players(),
-                script.game
-            ))));
-        }
-        let wait = Duration::from_secs_f64(net.wait_seconds);
-        let peer = lobby.peer();
-        let own = Welcome {
-            game: title.clone(),
-            seed: options.settings.seed,
-            hz: options.hz,
-            integrator: options.settings.integrator.clone(),
-        };
-        let connection = lobby.connect(own.clone(), wait)?;
-        // Synchronising gets a wait of its own.
-        let started = Instant::now();
-        let welcome = connection.welcome;
-        if let Peer::Join { host } = peer {
-            if welcome.game != title {
-                return Err(RunError::Network(format!(
-                    "the host at {host} plays \"{}\", not \"{title}\"",
-                    welcome.game
-                )));
-            }
-            let differs = [
-                ("--seed", own.seed != 0 && own.seed != welcome.seed),
-                ("--hz", own.hz.is_some() && own.hz != welcome.hz),
-                (
-                    "--integrator",
-                    own.integrator.is_some() && own.integrator != welcome.integrator,
-                ),
-            ];
-            if let Some((flag, _)) = differs.iter().find(|d| d.1) {
-                return Err(RunError::Network(format!(
-                    "{flag} differs from the host's (seed {}, hz {}, integrator {}): a joiner plays with the \
-                     host's settings; leave {flag} out",
-                    welcome.seed,
-                    welcome.hz.map_or_else(|| "the game's".to_owned(), |hz| hz.to_string()),
-                    welcome.integrator.as_deref().unwrap_or("the game's"),
-                )));
-            }
-        }
-        let session = GameSession::new(
-            game,
-            SessionOptions {
-                settings: Settings {
-                    integrator: welcome.integrator.clone(),
-                    seed: welcome.seed,
-                    networked: true,
-                    gpu: false,
-                },
-                hz: welcome.hz,
-                record: None,
-                replay: None,
-                ..options
-            },
-        )?;
-        let shared = Rc::new(RefCell::new(Shared {
-            welcome: matches!(peer, Peer::Host { .. }).then(|| ControlMessage::Welcome(welcome.clone()).encode()),
-            ..Shared::default()
-        }));
-        let transport = UdpTransport::new(connection.socket, connection.remote, Rc::clone(&shared))
-            .map_err(|e| RunError::Network(e.to_string()))?;
-        let fps = session.clock().timeline().rate().hz_value().round().max(1.0) as usize;
-        let local = peer.player();
-        let builder = SessionBuilder::<Rollback<G>>::new()
-            .with_num_players(2)
-            .map_err(ggrs_error)?
-            .with_input_delay(net.input_delay)
-            .with_max_prediction_window(net.max_prediction)
-            .with_desync_detection_mode(DesyncDetection::On {
-                interval: net.desync_interval,
-            })
-            .with_fps(fps)
-            .map_err(ggrs_error)?
-            .with_disconnect_timeout(Duration::from_secs_f64(net.disconnect_seconds))
-            .add_player(PlayerType::Local, local)
-            .map_err(ggrs_error)?
-            .add_player(PlayerType::Remote(connection.remote), 1 - local)
-            .map_err(ggrs_error)?;
-        let p2p = match net.impairment {
-            Some(impairment) => builder.start_p2p_session(ImpairedSocket::new(transport, impairment)),
-            None => builder.start_p2p_session(transport),
-        }
-        .map_err(ggrs_error)?;
-        Ok(Self {
-            session,
-            p2p,
-            broken: None,
-            local,
-            remote: connection.remote,
-            shared,
-            cursor: RollbackCursor::new(0),
-            pending: None,
-            script: script.map(|recording| Script {
-                recording,
-                cursor: 0,
-                input: TickInput::default(),
-            }),
-            played: Vec::new(),
-            certain_ticks: 0,
-            skip: 0,
-            end: None,
-            final_state: None,
-            settled: false,
-            remote_gone: false,
-            lockstep: net.max_prediction == 0,
-            waits: 0,
-            skipped: 0,
-            started,
-            wait,
-        })
-    }
-
     /// The game session underneath (the stage, the clock, the game).
     #[must_use]
     pub fn session(&self) -> &GameSession<G> {
@@ -288,9 +143,34 @@ impl<G: Game + Clone + 'static> NetSession<G> {
         }
     }
 
+    /// The HUD's line for the match: this side's player, the other's
+    /// address, the round trip GGRS measures, and the rollbacks so far.
+    fn hud_line(&self) -> String {
+        let ping = match self.p2p.network_stats(1 - self.local) {
+            Ok(stats) => format!("ping {} ms", stats.ping),
+            Err(_) => "connecting".to_owned(),
+        };
+        format!(
+            "player {} vs {}, {ping}, {} rollbacks",
+            self.local + 1,
+            self.remote,
+            self.cursor.rollbacks
+        )
+    }
+
     /// Reads GGRS's events: a desync or a lost peer ends the match.
     fn handle_events(&mut self) -> Result<(), RunError> {
         let tick = self.cursor.tick;
+        let left = self.shared.borrow().remote_left.clone();
+        if let Some(why) = left {
+            if !self.settled {
+                return Err(RunError::Network(format!(
+                    "the other player ({}) left at tick {tick}: {why}; the match ends",
+                    self.remote
+                )));
+            }
+            self.remote_gone = true;
+        }
         let events: Vec<_> = self.guard("reading its events", |p2p| p2p.events().collect())?;
         for event in events {
             match event {
@@ -583,6 +463,19 @@ impl<G: Game + Clone + 'static> FrameSource for NetSession<G> {
         size: (u32, u32),
         render: &mut dyn FnMut(&FrameView<'_>) -> Result<(), RenderError>,
     ) -> Result<(), RunError> {
-        self.session.with_view(hud, size, render)
+        if !hud {
+            return self.session.with_view(hud, size, render);
+        }
+        // The match's line under the game's HUD: who, the ping, rollbacks.
+        let line = self.hud_line();
+        self.session.with_view(hud, size, &mut |view| {
+            let mut text = String::with_capacity(view.hud.len() + line.len() + 1);
+            text.push_str(view.hud);
+            if !text.is_empty() && !text.ends_with('\n') {
+                text.push('\n');
+            }
+            text.push_str(&line);
+            render(&FrameView { hud: &text, ..*view })
+        })
     }
 }
