@@ -4,5 +4,6 @@
 
 mod browser;
 mod browser_smoke;
+mod netplay;
 mod own_game;
 mod web;
