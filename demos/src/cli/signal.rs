@@ -215,6 +215,10 @@ fn refuse(status: StatusCode, why: String) -> Response {
 ///
 /// # Errors
 /// [`CliError::Signal`] if the port cannot be bound or the server fails.
+#[allow(
+    clippy::result_large_err,
+    reason = "matchbox's connection callback answers a refusal with axum's Response"
+)]
 pub fn run(args: &SignalArgs) -> Result<(), CliError> {
     let rooms = Rooms::new(args.clone());
     let admit = rooms.clone();

@@ -205,7 +205,7 @@ fn a_match_that_cannot_start_says_why() {
         .expect("runs");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("\"breakout\" has 1 player(s); a networked match (--host, --join) needs a game of 2"),
+        stderr.contains("\"breakout\" has 1 player(s); a networked match (--host, --join, --room) needs a game of 2"),
         "{stderr}"
     );
     // Options out of range name the range.
@@ -233,7 +233,7 @@ fn a_match_that_cannot_start_says_why() {
         .expect("runs");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("--script plays one side of a networked match: pass --host PORT or --join ADDR"),
+        stderr.contains("--script plays one side of a networked match: pass --host PORT, --join ADDR or --room URL"),
         "{stderr}"
     );
 }
