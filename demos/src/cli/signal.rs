@@ -18,15 +18,15 @@ use std::collections::HashMap;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use matchbox_signaling::common_logic::{SignalingChannel, parse_request, try_send};
-use matchbox_signaling::{
-    ClientRequestError, NoCallbacks, SignalingServerBuilder, SignalingState, SignalingTopology, WsStateMeta,
-};
 use axum::extract::ws::Message;
 use axum::http::StatusCode;
 use axum::response::Response;
 use futures::StreamExt;
 use matchbox_protocol::{JsonPeerEvent, PeerId, PeerRequest};
+use matchbox_signaling::common_logic::{SignalingChannel, parse_request, try_send};
+use matchbox_signaling::{
+    ClientRequestError, NoCallbacks, SignalingServerBuilder, SignalingState, SignalingTopology, WsStateMeta,
+};
 
 use super::CliError;
 
@@ -143,8 +143,7 @@ impl Rooms {
 /// Whether `room` is a name a room may have: 1 to [`MAX_ROOM_NAME`]
 /// letters, digits, `-`, `_` or `.`.
 fn room_name_ok(room: &str) -> bool {
-    (1..=MAX_ROOM_NAME).contains(&room.len())
-        && room.bytes().all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b))
+    (1..=MAX_ROOM_NAME).contains(&room.len()) && room.bytes().all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b))
 }
 
 /// Tickwork's topology: matchbox's full mesh within a room, with limits.

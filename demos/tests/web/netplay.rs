@@ -4,7 +4,8 @@
 //! meet: two native builds in a room, two pages in headless Chromium, a
 //! page and a native build. A room already full refuses a third player; a
 //! player killed mid-match ends the other's match with a message saying
-//! so, within the disconnect timeout.
+//! so, within the disconnect timeout. A page's `record=` offers the
+//! match's inputs; `--impair` lays a bad link on WebRTC too.
 //!
 //! Nothing here waits on time: each side is waited on for the line it
 //! prints, within a deadline that only bounds one that never prints it.
@@ -186,7 +187,11 @@ fn udp_checksum() -> String {
         .to_owned();
     let mut joiner = native_side(&["--join", &format!("127.0.0.1:{port}")], "right");
     let ours = match_checksum(&host.wait_line(ENDED));
-    assert_eq!(ours, match_checksum(&joiner.wait_line(ENDED)), "the UDP match's two sides");
+    assert_eq!(
+        ours,
+        match_checksum(&joiner.wait_line(ENDED)),
+        "the UDP match's two sides"
+    );
     ours
 }
 
@@ -197,12 +202,17 @@ fn udp_checksum() -> String {
 fn two_native_builds_in_a_room_end_as_over_udp_a_third_is_refused_and_a_killed_player_ends_the_match() {
     let (mut server, url) = signal_server();
     let room = format!("{url}/natives");
-    let mut host = native_side(&["--room", &room], "left");
+    // The host's link is a bad one: the same end, with rollbacks.
+    let mut host = native_side(&["--room", &room, "--impair", "40,10,0.05"], "left");
     host.wait_line("waiting for the other player");
     let mut joiner = native_side(&["--room", &room], "right");
     let checksum = match_checksum(&host.wait_line(ENDED));
     assert_eq!(checksum, match_checksum(&joiner.wait_line(ENDED)));
-    assert_eq!(checksum, udp_checksum(), "a match over WebRTC ends where one over UDP does");
+    assert_eq!(
+        checksum,
+        udp_checksum(),
+        "a match over WebRTC ends where one over UDP does"
+    );
     let (host_ok, host_out) = host.finish();
     let (joiner_ok, _) = joiner.finish();
     assert!(host_ok && joiner_ok, "{host_out}");
@@ -232,11 +242,17 @@ fn two_native_builds_in_a_room_end_as_over_udp_a_third_is_refused_and_a_killed_p
     let (second_ok, second_out) = second.finish();
     let heard = killed.elapsed();
     assert!(!second_ok, "{second_out}");
+    // Said by the room at once, or by GGRS after its disconnect timeout
+    // of silence, whichever comes first on a busy machine.
     assert!(
-        second_out.contains("error: network: the other player (peer ") && second_out.contains(" left at tick "),
+        second_out.contains("error: network: the other player (peer ")
+            && (second_out.contains(" left at tick ") || second_out.contains(" disconnected at tick ")),
         "{second_out}"
     );
-    assert!(heard < 3 * DISCONNECT, "the other side heard after {heard:?}: {second_out}");
+    assert!(
+        heard < 3 * DISCONNECT,
+        "the other side heard after {heard:?}: {second_out}"
+    );
 }
 
 /// The web build's folder, with Rally's page (`scripts/web build`).
@@ -296,8 +312,16 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     page.wait_console(|l| l.contains("waiting for the other player"), LINE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
     let mut native = native_side(&["--room", &room], "right");
-    assert_eq!(match_checksum(&native.wait_line(ENDED)), expected, "page against native: the native build");
-    assert_eq!(page_checksum(&mut page, None), expected, "page against native: the page");
+    assert_eq!(
+        match_checksum(&native.wait_line(ENDED)),
+        expected,
+        "page against native: the native build"
+    );
+    assert_eq!(
+        page_checksum(&mut page, None),
+        expected,
+        "page against native: the page"
+    );
     drop(page);
 
     // Two browsers, as two players have: a tab behind another gets no
@@ -307,8 +331,60 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     host.wait_console(|l| l.contains("waiting for the other player"), LINE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
     let other_chromium = browser();
-    let mut joiner = other_chromium.open(&page_url(&files, &room, "right")).expect("a tab");
-    assert_eq!(page_checksum(&mut host, Some(&joiner)), expected, "page against page: the host");
-    assert_eq!(page_checksum(&mut joiner, Some(&host)), expected, "page against page: the joiner");
+    // The joiner keeps both players' inputs (offered as a download; the
+    // download itself is cancelled by headless Chromium for a match's
+    // page, not yet understood, so its replay is not checked here).
+    let recorded = format!("{}&record=match.ron", page_url(&files, &room, "right"));
+    let mut joiner = other_chromium.open(&recorded).expect("a tab");
+    assert_eq!(
+        page_checksum(&mut host, Some(&joiner)),
+        expected,
+        "page against page: the host"
+    );
+    assert_eq!(
+        page_checksum(&mut joiner, Some(&host)),
+        expected,
+        "page against page: the joiner"
+    );
+    let offered = joiner
+        .wait_console(
+            |l| l.contains("offered as a download") || l.starts_with("error"),
+            LINE_TIMEOUT,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(offered.contains("inputs of 300 ticks to match.ron"), "{offered}");
     drop((host, joiner));
+}
+
+/// The server's rules, seen from a plain websocket client: a room's name
+/// is checked (400), a room tells its player of the next one, a room of
+/// two refuses a third (409), a message past `--max-message-bytes` is
+/// dropped and said.
+#[test]
+fn the_signalling_server_checks_names_introduces_players_refuses_a_third_and_drops_long_messages() {
+    use tungstenite::{Error, Message};
+    let (mut server, url) = signal_server();
+    let status = |url: &str| match tungstenite::connect(url) {
+        Err(Error::Http(response)) => response.status().as_u16(),
+        Ok(_) => 101,
+        Err(other) => panic!("{url}: {other}"),
+    };
+    assert_eq!(status(&format!("{url}/bad!name")), 400);
+    server.wait_line("refused 127.0.0.1:");
+    let (mut first, _) = tungstenite::connect(format!("{url}/rules")).expect("the first player");
+    let text = |socket: &mut tungstenite::WebSocket<_>| match socket.read() {
+        Ok(Message::Text(text)) => text.to_string(),
+        other => panic!("not a text message: {other:?}"),
+    };
+    assert!(text(&mut first).contains("IdAssigned"));
+    let (mut second, _) = tungstenite::connect(format!("{url}/rules")).expect("the second player");
+    assert!(text(&mut second).contains("IdAssigned"));
+    assert!(text(&mut first).contains("NewPeer"), "the first hears of the second");
+    assert_eq!(status(&format!("{url}/rules")), 409, "a third is refused");
+    server.wait_line("in room \"rules\": the room is full (2 of 2 players; --room-size)");
+    first.send(Message::Text("x".repeat(20_000).into())).expect("sent");
+    server.wait_line("dropped a message of 20000 bytes from peer ");
+    drop(first);
+    server.wait_line("left room \"rules\" (1 of 2)");
+    drop(second);
 }

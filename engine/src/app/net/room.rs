@@ -36,7 +36,10 @@ type Ended = std::rc::Rc<std::cell::RefCell<Option<String>>>;
 
 fn ended_now(ended: &Ended) -> Option<String> {
     #[cfg(not(target_arch = "wasm32"))]
-    let why = ended.lock().map(|why| why.clone()).unwrap_or_else(|e| e.into_inner().clone());
+    let why = ended
+        .lock()
+        .map(|why| why.clone())
+        .unwrap_or_else(|e| e.into_inner().clone());
     #[cfg(target_arch = "wasm32")]
     let why = ended.borrow().clone();
     why

@@ -226,7 +226,8 @@ impl<L: Link> NonBlockingSocket<PeerAddress> for Transport<L> {
             self.link.send_control(welcome);
         }
         if let Some((tick, checksum)) = shared.local_done {
-            self.link.send_control(&ControlMessage::Done { tick, checksum }.encode());
+            self.link
+                .send_control(&ControlMessage::Done { tick, checksum }.encode());
         }
         messages
     }

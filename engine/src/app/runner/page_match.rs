@@ -19,11 +19,7 @@ use crate::platform::{complain, say, web};
 
 /// Meets the other player in the room at `url` and starts the match on
 /// the page's canvas.
-pub(super) async fn start<G: Game + Clone + 'static>(
-    game: G,
-    url: &str,
-    options: RunOptions,
-) -> Result<(), RunError> {
+pub(super) async fn start<G: Game + Clone + 'static>(game: G, url: &str, options: RunOptions) -> Result<(), RunError> {
     let script = match &options.script {
         Some(path) => {
             let name = path.to_string_lossy();
@@ -139,7 +135,9 @@ impl<G: Game + Clone + 'static> FrameSource for PageMatch<G> {
     }
 
     fn finished(&self) -> bool {
-        self.ended
+        // The page holds the last frame (the window's end would cancel
+        // the recording's download).
+        false
     }
 
     fn camera_mut(&mut self) -> &mut crate::render::Camera {

@@ -91,7 +91,10 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     ) -> Result<Self, RunError> {
         let own = check_match(&game, &options, net, script.as_ref())?;
         let room = crate::app::net::room::Room::open(url)?;
-        crate::say!("tickwork: {}: in the room {url}, waiting for the other player", own.game);
+        crate::say!(
+            "tickwork: {}: in the room {url}, waiting for the other player",
+            own.game
+        );
         let met = room.meet(&own, Duration::from_secs_f64(net.wait_seconds)).await?;
         if !met.host {
             check_welcome(&own, &met.welcome, &format!("the host ({})", met.remote))?;
