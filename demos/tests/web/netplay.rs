@@ -4,8 +4,8 @@
 //! meet: two native builds in a room, two pages in headless Chromium, a
 //! page and a native build. A room already full refuses a third player; a
 //! player killed mid-match ends the other's match with a message saying
-//! so, within the disconnect timeout. A page's `record=` offers the
-//! match's inputs; `--impair` lays a bad link on WebRTC too.
+//! so, within the disconnect timeout. A page's `record=` replays natively
+//! to the match's end; `--impair` lays a bad link on WebRTC too.
 //!
 //! Nothing here waits on time: each side is waited on for the line it
 //! prints, within a deadline that only bounds one that never prints it.
@@ -331,9 +331,14 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     host.wait_console(|l| l.contains("waiting for the other player"), LINE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
     let other_chromium = browser();
-    // The joiner keeps both players' inputs (offered as a download; the
-    // download itself is cancelled by headless Chromium for a match's
-    // page, not yet understood, so its replay is not checked here).
+    // The joiner keeps both players' inputs: they replay natively to the end.
+    // (A folder whose path has no "..": Chromium cancels a download there.)
+    let downloads = std::env::temp_dir().join(format!("tickwork-netplay-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&downloads);
+    std::fs::create_dir_all(&downloads).expect("a folder for the download");
+    other_chromium
+        .allow_downloads(&downloads)
+        .unwrap_or_else(|e| panic!("{e}"));
     let recorded = format!("{}&record=match.ron", page_url(&files, &room, "right"));
     let mut joiner = other_chromium.open(&recorded).expect("a tab");
     assert_eq!(
@@ -353,6 +358,22 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
         )
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(offered.contains("inputs of 300 ticks to match.ron"), "{offered}");
+    let saved = other_chromium
+        .wait_download(LINE_TIMEOUT)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(saved, "match.ron");
+    let replay = Running::start(Command::new(env!("CARGO_BIN_EXE_rally")).args([
+        "--headless",
+        "--no-frames",
+        "--replay",
+        &downloads.join(&saved).to_string_lossy(),
+    ]));
+    let (replayed, out) = replay.finish();
+    let _ = std::fs::remove_dir_all(&downloads);
+    assert!(
+        replayed && out.contains(&format!("the replay ended at tick 300 with checksum {expected}")),
+        "{out}"
+    );
     drop((host, joiner));
 }
 
