@@ -287,3 +287,48 @@ fn two_peers_agree_and_a_corrupted_peer_is_caught_with_the_tick_and_both_checksu
     assert_eq!(words.iter().filter(|w| hex(w)).count(), 2, "{caught}");
     assert!(caught.contains("run it with --sync-test to find it"), "{caught}");
 }
+
+/// A match's HUD ends with its own line: this side's player, the other's
+/// address, the round trip GGRS measured and the rollbacks so far.
+#[test]
+fn a_matchs_hud_names_the_other_player_the_ping_and_the_rollbacks() {
+    use tickwork_engine::app::FrameSource;
+    let lobby = Lobby::bind(Peer::Host { port: 0 }).expect("binds");
+    let port = lobby.local_addr().expect("an address").port();
+    let ticks = 120;
+    let host = std::thread::spawn(move || {
+        let mut session = NetSession::start(
+            Drift::default(),
+            lobby,
+            SessionOptions::default(),
+            &NetOptions::default(),
+            Some(script(30, 5, 17, ticks)),
+        )?;
+        let report = session.play_headless(ticks)?;
+        let mut hud = String::new();
+        session.with_view(true, (320, 180), &mut |view| {
+            hud = view.hud.to_owned();
+            Ok(())
+        })?;
+        Ok::<_, RunError>((report, hud))
+    });
+    let joiner = std::thread::spawn(move || {
+        let host = SocketAddr::from(([127, 0, 0, 1], port));
+        let mut session = NetSession::start(
+            Drift::default(),
+            Lobby::bind(Peer::Join { host })?,
+            SessionOptions::default(),
+            &NetOptions::default(),
+            Some(script(23, 0, 9, ticks)),
+        )?;
+        session.play_headless(ticks)
+    });
+    let (report, hud) = host.join().expect("the host's thread").expect("the host's match");
+    joiner.join().expect("the joiner's thread").expect("the joiner's match");
+    let line = hud.lines().last().unwrap_or_default();
+    let (start, rest) = line.split_once(", ping ").unwrap_or_else(|| panic!("{hud:?}"));
+    assert!(start.starts_with("player 1 vs 127.0.0.1:"), "{line}");
+    let (ms, rollbacks) = rest.split_once(" ms, ").unwrap_or_else(|| panic!("{line}"));
+    assert!(ms.parse::<u64>().is_ok_and(|ms| ms < 5_000), "{line}");
+    assert_eq!(rollbacks, format!("{} rollbacks", report.rollbacks), "{line}");
+}

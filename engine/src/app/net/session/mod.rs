@@ -148,7 +148,7 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     fn hud_line(&self) -> String {
         let ping = match self.p2p.network_stats(1 - self.local) {
             Ok(stats) => format!("ping {} ms", stats.ping),
-            Err(_) => "connecting".to_owned(),
+            Err(_) => "ping not measured yet".to_owned(),
         };
         format!(
             "player {} vs {}, {ping}, {} rollbacks",
