@@ -104,7 +104,7 @@ impl<G: Game + Clone + 'static> Config for Rollback<G> {
     /// copy into its buffers (GGRS reuses its slots; no world is allocated
     /// again once every slot has held one).
     type State = Option<SavedTick<G>>;
-    type Address = crate::app::net::PeerAddress;
+    type Address = super::link::PeerAddress;
 }
 
 impl<G: Game + Clone> GameSession<G> {

@@ -81,7 +81,8 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
         .map_err(|message| RunError::Game(format!("an asset the game lists (Game::assets): {message}").into()))?;
     #[cfg(feature = "webrtc")]
     if let Some(url) = options.room.clone() {
-        return super::page_match::start(game, &url, options).await;
+        let backends = backends(options.backend.as_deref())?;
+        return super::page_match::start(game, &url, options, backends).await;
     }
     #[cfg(feature = "netcode")]
     let sync_inputs = options.sync_test.and(replay.clone());
@@ -133,7 +134,7 @@ async fn start<G: Game + Clone + 'static>(game: G, options: RunOptions) -> Resul
 }
 
 /// The backends a page tries: `webgpu`, `webgl2`, or both (WebGPU first).
-pub(super) fn backends(name: Option<&str>) -> Result<wgpu::Backends, RunError> {
+fn backends(name: Option<&str>) -> Result<wgpu::Backends, RunError> {
     match name {
         None => Ok(wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL),
         Some("webgpu") => Ok(wgpu::Backends::BROWSER_WEBGPU),

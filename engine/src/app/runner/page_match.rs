@@ -11,7 +11,6 @@ use crate::app::api::game::Game;
 use crate::app::net::NetSession;
 use crate::app::runner::native::{match_ended, renderer_config};
 use crate::app::runner::options::RunOptions;
-use crate::app::runner::page::backends;
 use crate::app::runner::window::{WindowOptions, spawn_window};
 use crate::app::session::source::FrameSource;
 use crate::input::{Recording, RecordingError};
@@ -47,7 +46,7 @@ pub(super) async fn start<G: Game + Clone + 'static>(game: G, url: &str, options
         // A match runs on the wall clock: the other side does.
         display_hz: None,
         renderer,
-        backends: Some(backends(options.backend.as_deref())?),
+        backends: Some(backends),
         ..WindowOptions::default()
     };
     let source: &'static mut PageMatch<G> = Box::leak(Box::new(PageMatch {

@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use ggrs::{DesyncDetection, PlayerType, SessionBuilder};
 
-use super::{NetSession, Script, ggrs_error};
+use super::net_session::{NetSession, Script, ggrs_error};
 use crate::app::api::stage::Settings;
 use crate::app::net::impairment::ImpairedSocket;
 use crate::app::net::link::{Link, PeerAddress, UdpLink};
