@@ -17,8 +17,13 @@ use crate::input::{Recording, RecordingError};
 use crate::platform::{complain, say, web};
 
 /// Meets the other player in the room at `url` and starts the match on
-/// the page's canvas.
-pub(super) async fn start<G: Game + Clone + 'static>(game: G, url: &str, options: RunOptions) -> Result<(), RunError> {
+/// the page's canvas, drawing with `backends`.
+pub(super) async fn start<G: Game + Clone + 'static>(
+    game: G,
+    url: &str,
+    options: RunOptions,
+    backends: wgpu::Backends,
+) -> Result<(), RunError> {
     let script = match &options.script {
         Some(path) => {
             let name = path.to_string_lossy();
