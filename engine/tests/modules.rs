@@ -36,8 +36,9 @@ fn modules() -> BTreeMap<Module, String> {
                 walk(&path, &module, out);
             } else if path.extension().is_some_and(|e| e == "rs") {
                 // A module's tests in a file of their own (`mod tests;`)
-                // are skipped as an inline `mod tests` is below: they
-                // import what they test with, not the module's design.
+                // are left out of the graph, as an inline `mod tests` is
+                // below: they import what they test with, not the
+                // module's design.
                 if name == "tests" {
                     continue;
                 }

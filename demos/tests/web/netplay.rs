@@ -47,7 +47,8 @@ struct Running {
     child: Child,
     lines: mpsc::Receiver<String>,
     seen: Vec<String>,
-    errors: std::thread::JoinHandle<String>,
+    /// The thread reading standard error, until its text is taken.
+    errors: Option<std::thread::JoinHandle<String>>,
 }
 
 impl Running {
@@ -76,8 +77,16 @@ impl Running {
             child,
             lines,
             seen: Vec::new(),
-            errors,
+            errors: Some(errors),
         }
+    }
+
+    /// Everything it wrote on standard error (once it has ended).
+    fn stderr(&mut self) -> String {
+        self.errors
+            .take()
+            .and_then(|errors| errors.join().ok())
+            .unwrap_or_default()
     }
 
     /// The first line (printed before this call too) that contains `text`.
@@ -99,14 +108,11 @@ impl Running {
                     "no line with {text:?} within {LINE_TIMEOUT:?}; it printed:\n{}",
                     self.seen.join("\n")
                 ),
-                Err(mpsc::RecvTimeoutError::Disconnected) => {
-                    let errors = std::mem::replace(&mut self.errors, std::thread::spawn(String::new));
-                    panic!(
-                        "it ended without a line with {text:?}; it printed:\n{}\n{}",
-                        self.seen.join("\n"),
-                        errors.join().unwrap_or_default()
-                    )
-                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => panic!(
+                    "it ended without a line with {text:?}; it printed:\n{}\n{}",
+                    self.seen.join("\n"),
+                    self.stderr()
+                ),
             }
         }
     }
@@ -116,8 +122,7 @@ impl Running {
     fn finish(mut self) -> (bool, String) {
         let status = self.child.wait().expect("the process ends");
         self.seen.extend(self.lines.try_iter());
-        let errors = std::mem::replace(&mut self.errors, std::thread::spawn(String::new));
-        let stderr = errors.join().unwrap_or_default();
+        let stderr = self.stderr();
         (status.success(), format!("{}\n{stderr}", self.seen.join("\n")))
     }
 }

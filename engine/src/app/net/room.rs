@@ -28,21 +28,12 @@ const CONTROL_CHANNEL: usize = 1;
 const POLL: Duration = Duration::from_millis(5);
 
 /// Why the socket's loop (signalling, then the peer connections) ended,
-/// once it has: shared with the task that runs it.
-#[cfg(not(target_arch = "wasm32"))]
+/// once it has: shared with the task that runs it (a thread natively, the
+/// page's event loop in a browser, where the lock is never contended).
 type Ended = std::sync::Arc<std::sync::Mutex<Option<String>>>;
-#[cfg(target_arch = "wasm32")]
-type Ended = std::rc::Rc<std::cell::RefCell<Option<String>>>;
 
 fn ended_now(ended: &Ended) -> Option<String> {
-    #[cfg(not(target_arch = "wasm32"))]
-    let why = ended
-        .lock()
-        .map(|why| why.clone())
-        .unwrap_or_else(|e| e.into_inner().clone());
-    #[cfg(target_arch = "wasm32")]
-    let why = ended.borrow().clone();
-    why
+    ended.lock().map_or_else(|e| e.into_inner().clone(), |why| why.clone())
 }
 
 /// A room of a signalling server, joined: this side's WebRTC socket,
@@ -91,14 +82,7 @@ impl Room {
                 Ok(()) => "the connection to the room closed".to_owned(),
                 Err(error) => format!("the signalling server at {what} failed or refused this side: {error}"),
             };
-            #[cfg(not(target_arch = "wasm32"))]
-            if let Ok(mut ended) = task_ended.lock() {
-                *ended = Some(why);
-            }
-            #[cfg(target_arch = "wasm32")]
-            {
-                *task_ended.borrow_mut() = Some(why);
-            }
+            *task_ended.lock().unwrap_or_else(std::sync::PoisonError::into_inner) = Some(why);
         });
         Ok(Self {
             url: url.to_owned(),
@@ -148,6 +132,8 @@ impl Room {
                 if packet.len() < MESSAGE_BYTES
                     && let Some(ControlMessage::Meet { welcome, waited_ms }) = ControlMessage::decode(&packet)
                 {
+                    // A peer's latest word only: one entry a peer of the room.
+                    theirs.retain(|t| t.0 != peer);
                     theirs.push((peer, welcome, waited_ms));
                 }
             }
