@@ -2,7 +2,13 @@
 //! scripted Rally players (`rally_left.ron` hosting, `rally_right.ron`
 //! joining) end with the checksum of their UDP match whichever way they
 //! meet: two native builds in a room, two pages in headless Chromium, a
-//! page and a native build. A room already full refuses a third player; a
+//! page and a native build. Each match's left side plays player 1 because
+//! a side asks for its player (`--player`, `player=`): the host in one
+//! pairing, the joiner in another, both in the third; the first to come
+//! hosts where neither asks (the full room), but a busy machine can stall
+//! the first long enough to make it the later one, and a checksum compared
+//! across matches needs the same players in the same seats. A room already
+//! full refuses a third player; a
 //! player killed mid-match ends the other's match with a message saying
 //! so, within the disconnect timeout. A page's `record=` replays natively
 //! to the match's end; `--impair` lays a bad link on WebRTC too.
@@ -207,8 +213,9 @@ fn udp_checksum() -> String {
 fn two_native_builds_in_a_room_end_as_over_udp_a_third_is_refused_and_a_killed_player_ends_the_match() {
     let (mut server, url) = signal_server();
     let room = format!("{url}/natives");
-    // The host's link is a bad one: the same end, with rollbacks.
-    let mut host = native_side(&["--room", &room, "--impair", "40,10,0.05"], "left");
+    // The host's link is a bad one: the same end, with rollbacks. It asks
+    // to host; the joiner takes player 2.
+    let mut host = native_side(&["--room", &room, "--player", "1", "--impair", "40,10,0.05"], "left");
     host.wait_line("waiting for the other player");
     let mut joiner = native_side(&["--room", &room], "right");
     let checksum = match_checksum(&host.wait_line(ENDED));
@@ -223,6 +230,21 @@ fn two_native_builds_in_a_room_end_as_over_udp_a_third_is_refused_and_a_killed_p
     assert!(host_ok && joiner_ok, "{host_out}");
     assert!(host_out.contains("tickwork: connected to peer "), "{host_out}");
     server.wait_line("left room \"natives\" (0 of 2)");
+
+    // Two who ask for the same player are refused: each says so, or (if
+    // the other, refused first, left before its word arrived) that the
+    // other left before the match began.
+    let room = format!("{url}/same");
+    let mut one = native_side(&["--room", &room, "--player", "2"], "left");
+    one.wait_line("waiting for the other player");
+    let other = native_side(&["--room", &room, "--player", "2"], "right");
+    let ends = [other.finish(), one.finish()];
+    let refused = |out: &str| out.contains(&format!("both players in the room {room} asked to play player 2"));
+    for (ok, out) in &ends {
+        assert!(!ok, "{out}");
+        assert!(refused(out) || out.contains("left the room"), "{out}");
+    }
+    assert!(ends.iter().any(|(_, out)| refused(out)), "{ends:?}");
 
     // A match that does not end by itself: two in the room, a third refused.
     let endless = "100000";
@@ -279,10 +301,10 @@ fn browser() -> Browser {
 }
 
 /// Rally's page in a room, playing `side`'s script (WebGL2: enough here,
-/// and faster than WebGPU on the CPU).
-fn page_url(server: &Server, room: &str, side: &str) -> String {
+/// and faster than WebGPU on the CPU), with `more` options (`&player=1`).
+fn page_url(server: &Server, room: &str, side: &str, more: &str) -> String {
     server.url(&format!(
-        "rally/index.html?room={room}&script=../recordings/rally_{side}.ron&frames={TICKS}&backend=webgl2"
+        "rally/index.html?room={room}&script=../recordings/rally_{side}.ron&frames={TICKS}&backend=webgl2{more}"
     ))
 }
 
@@ -311,12 +333,12 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     let files = Server::start(&site).expect("the file server starts");
     let chromium = browser();
 
-    // The page hosts, the native build joins.
+    // The page hosts, the native build joins and asks to be player 2.
     let room = format!("{url}/mixed");
-    let mut page = chromium.open(&page_url(&files, &room, "left")).expect("a tab");
+    let mut page = chromium.open(&page_url(&files, &room, "left", "")).expect("a tab");
     page.wait_console(|l| l.contains("waiting for the other player"), LINE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
-    let mut native = native_side(&["--room", &room], "right");
+    let mut native = native_side(&["--room", &room, "--player", "2"], "right");
     assert_eq!(
         match_checksum(&native.wait_line(ENDED)),
         expected,
@@ -332,7 +354,9 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     // Two browsers, as two players have: a tab behind another gets no
     // animation frames in headless Chromium, and the match runs on them.
     let room = format!("{url}/pages");
-    let mut host = chromium.open(&page_url(&files, &room, "left")).expect("a tab");
+    let mut host = chromium
+        .open(&page_url(&files, &room, "left", "&player=1"))
+        .expect("a tab");
     host.wait_console(|l| l.contains("waiting for the other player"), LINE_TIMEOUT)
         .unwrap_or_else(|e| panic!("{e}"));
     let other_chromium = browser();
@@ -344,7 +368,7 @@ fn pages_in_a_room_end_as_the_udp_match_against_a_page_or_a_native_build() {
     other_chromium
         .allow_downloads(&downloads)
         .unwrap_or_else(|e| panic!("{e}"));
-    let recorded = format!("{}&record=match.ron", page_url(&files, &room, "right"));
+    let recorded = page_url(&files, &room, "right", "&player=2&record=match.ron");
     let mut joiner = other_chromium.open(&recorded).expect("a tab");
     assert_eq!(
         page_checksum(&mut host, Some(&joiner)),

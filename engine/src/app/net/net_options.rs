@@ -26,6 +26,10 @@ pub struct NetOptions {
     /// gone (default 5: GGRS's 2 drops a peer that a busy machine stalls
     /// for a moment, and 5 still tells a player soon that the other left).
     pub disconnect_seconds: f64,
+    /// In a room: the player this side plays, 1 (who hosts) or 2, whoever
+    /// comes first (default `None`: the first to come hosts). Over UDP
+    /// `--host` is player 1.
+    pub player: Option<u8>,
 }
 
 impl Default for NetOptions {
@@ -37,6 +41,7 @@ impl Default for NetOptions {
             wait_seconds: 60.0,
             desync_interval: 10,
             disconnect_seconds: 5.0,
+            player: None,
         }
     }
 }
@@ -90,6 +95,13 @@ impl NetOptions {
                     "above 0, at most {} (NetOptions::MAX_WAIT_SECONDS)",
                     Self::MAX_WAIT_SECONDS
                 ),
+            );
+        }
+        if let Some(player) = self.player.filter(|p| !(1..=2).contains(p)) {
+            return limit(
+                "--player",
+                player.to_string(),
+                "1 or 2 (a match is of two players)".into(),
             );
         }
         if self.desync_interval == 0 {

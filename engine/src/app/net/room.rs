@@ -6,10 +6,18 @@
 //! of a room, and their browsers or native builds open WebRTC data
 //! channels to each other: an unreliable one for GGRS's messages, a
 //! reliable one for Tickwork's control messages. Each then tells the
-//! other its game, its settings and how long it waited in the room
-//! ([`ControlMessage::Meet`]); the one that waited longer (the first to
-//! come) hosts: it plays player 1, and its seed, rate and integrator are
+//! other its game, its settings, the player it asked to play (`--player`,
+//! if any) and how long it waited in the room ([`ControlMessage::Meet`]).
+//! A side that asked for a player plays it (two that asked for the same
+//! one are refused); else the one that waited longer (the first to come)
+//! hosts. The host plays player 1, and its seed, rate and integrator are
 //! the match's. Both decide from the same two messages, so they agree.
+//!
+//! The waits are measured on two clocks up to the moment each side sees
+//! the connection: a side stalled there for longer than the other took
+//! to arrive (a machine busy for a few hundred milliseconds) can come out
+//! as the later one. The first to come is a convenience for people; a
+//! side that must be one player (a script, a test) asks for it.
 
 use std::time::Duration;
 
@@ -93,18 +101,21 @@ impl Room {
     }
 
     /// Waits (within `wait`) for the other player to connect and meet:
-    /// `own` is this side's game and settings. Polls every few
-    /// milliseconds: natively it blocks, in a page it yields to the
-    /// browser between polls.
-    pub(super) async fn meet(mut self, own: &Welcome, wait: Duration) -> Result<Met, RunError> {
+    /// `own` is this side's game and settings, `player` the player it
+    /// asked to play, if any. Polls every few milliseconds: natively it
+    /// blocks, in a page it yields to the browser between polls.
+    pub(super) async fn meet(mut self, own: &Welcome, player: Option<u8>, wait: Duration) -> Result<Met, RunError> {
         let started = Instant::now();
         let mut other: Option<(PeerId, u64)> = None;
-        let mut theirs: Vec<(PeerId, Welcome, u64)> = Vec::new();
+        let mut theirs: Vec<(PeerId, Welcome, Seat)> = Vec::new();
         loop {
             if let Some(why) = ended_now(&self.ended) {
                 return Err(RunError::Network(why));
             }
-            // (A closed socket is said by `ended` on the next poll.)
+            // (A closed socket is said by `ended` on the next poll.) The other
+            // gone is said after its last message is read: a Meet sent just
+            // before it left still decides (a refusal says why).
+            let mut left = None;
             for (peer, state) in self.socket.try_update_peers().unwrap_or_default() {
                 match state {
                     PeerState::Connected if other.is_none() => {
@@ -113,32 +124,37 @@ impl Room {
                         let meet = ControlMessage::Meet {
                             welcome: own.clone(),
                             waited_ms: waited,
+                            player,
                         };
                         let _ = self
                             .socket
                             .channel_mut(CONTROL_CHANNEL)
                             .try_send(meet.encode().into(), peer);
                     }
-                    PeerState::Disconnected if other.is_some_and(|(o, _)| o == peer) => {
-                        return Err(RunError::Network(format!(
-                            "the other player (peer {peer}) left the room {} before the match began",
-                            self.url
-                        )));
-                    }
+                    PeerState::Disconnected if other.is_some_and(|(o, _)| o == peer) => left = Some(peer),
                     _ => {}
                 }
             }
             for (peer, packet) in self.socket.channel_mut(CONTROL_CHANNEL).receive() {
                 if packet.len() < MESSAGE_BYTES
-                    && let Some(ControlMessage::Meet { welcome, waited_ms }) = ControlMessage::decode(&packet)
+                    && let Some(ControlMessage::Meet {
+                        welcome,
+                        waited_ms,
+                        player,
+                    }) = ControlMessage::decode(&packet)
                 {
                     // A peer's latest word only: one entry a peer of the room.
                     theirs.retain(|t| t.0 != peer);
-                    theirs.push((peer, welcome, waited_ms));
+                    let seat = Seat {
+                        waited_ms,
+                        id: peer.to_string(),
+                        player,
+                    };
+                    theirs.push((peer, welcome, seat));
                 }
             }
             if let Some((peer, waited)) = other
-                && let Some((_, welcome, their_wait)) = theirs.iter().find(|t| t.0 == peer)
+                && let Some((_, welcome, their_seat)) = theirs.iter().find(|t| t.0 == peer)
             {
                 if welcome.game != own.game {
                     return Err(RunError::Network(format!(
@@ -146,8 +162,18 @@ impl Room {
                         self.url, welcome.game, own.game
                     )));
                 }
-                let me = self.socket.id().map(|id| id.to_string()).unwrap_or_default();
-                let host = hosts((waited, &me), (*their_wait, &peer.to_string()));
+                let mine = Seat {
+                    waited_ms: waited,
+                    id: self.socket.id().map(|id| id.to_string()).unwrap_or_default(),
+                    player,
+                };
+                let host = hosts(&mine, their_seat).map_err(|player| {
+                    RunError::Network(format!(
+                        "both players in the room {} asked to play player {player} (--player, a page's player=); \
+                         one must ask for the other, or neither (the first to come then hosts)",
+                        self.url
+                    ))
+                })?;
                 return Ok(Met {
                     welcome: if host { own.clone() } else { welcome.clone() },
                     remote: PeerAddress::Room(peer.to_string()),
@@ -159,6 +185,12 @@ impl Room {
                         left: None,
                     },
                 });
+            }
+            if let Some(peer) = left {
+                return Err(RunError::Network(format!(
+                    "the other player (peer {peer}) left the room {} before the match began",
+                    self.url
+                )));
             }
             if started.elapsed() > wait {
                 return Err(RunError::Network(format!(
@@ -173,11 +205,34 @@ impl Room {
     }
 }
 
-/// Whether this side hosts, from both sides' (wait in the room, id): the
-/// one that waited longer came first and hosts; equal waits go to the
-/// smaller id. Both sides decide alike from the same two pairs.
-fn hosts(mine: (u64, &str), theirs: (u64, &str)) -> bool {
-    mine.0 > theirs.0 || (mine.0 == theirs.0 && mine.1 < theirs.1)
+/// What a side said of itself when it met the other: its wait in the room,
+/// its id and the player it asked for.
+#[derive(Clone, Debug)]
+struct Seat {
+    /// Milliseconds from its joining the room to the other's arrival.
+    waited_ms: u64,
+    /// Its id in the room.
+    id: String,
+    /// The player it asked to play (1 hosts), if any.
+    player: Option<u8>,
+}
+
+/// Whether this side hosts, from both sides' seats: a side that asked for
+/// a player plays it (and the other the other); else the one that waited
+/// longer came first and hosts, and equal waits go to the smaller id. Both
+/// sides decide alike from the same two seats.
+///
+/// # Errors
+/// The player both asked for.
+fn hosts(mine: &Seat, theirs: &Seat) -> Result<bool, u8> {
+    match (mine.player, theirs.player) {
+        (Some(a), Some(b)) if a == b => Err(a),
+        (Some(a), _) => Ok(a == 1),
+        (None, Some(b)) => Ok(b != 1),
+        (None, None) => {
+            Ok(mine.waited_ms > theirs.waited_ms || (mine.waited_ms == theirs.waited_ms && mine.id < theirs.id))
+        }
+    }
 }
 
 /// Checks that `url` names a room of a signalling server.
@@ -261,14 +316,49 @@ impl Link for WebRtcLink {
 mod tests {
     use super::*;
 
+    fn seat(waited_ms: u64, id: &str, player: Option<u8>) -> Seat {
+        Seat {
+            waited_ms,
+            id: id.to_owned(),
+            player,
+        }
+    }
+
     /// The first to come hosts, whichever side decides; a tie goes to the
     /// smaller id, on both sides.
     #[test]
     fn both_sides_agree_on_the_host() {
-        assert!(hosts((900, "b"), (40, "a")));
-        assert!(!hosts((40, "a"), (900, "b")));
-        assert!(hosts((40, "a"), (40, "b")));
-        assert!(!hosts((40, "b"), (40, "a")));
+        let agree = |a: &Seat, b: &Seat| {
+            let (ours, theirs) = (hosts(a, b), hosts(b, a));
+            assert_eq!(ours.map(|host| !host), theirs, "{a:?} against {b:?}");
+            ours
+        };
+        assert_eq!(agree(&seat(900, "b", None), &seat(40, "a", None)), Ok(true));
+        assert_eq!(agree(&seat(40, "a", None), &seat(900, "b", None)), Ok(false));
+        assert_eq!(agree(&seat(40, "a", None), &seat(40, "b", None)), Ok(true));
+        assert_eq!(agree(&seat(40, "b", None), &seat(40, "a", None)), Ok(false));
+    }
+
+    /// A player asked for is played whoever came first (the other side
+    /// takes the other); the same player asked for by both is refused.
+    #[test]
+    fn a_player_asked_for_wins_over_the_wait() {
+        for (ours, theirs, host) in [
+            (Some(1), None, true),
+            (Some(2), None, false),
+            (None, Some(1), false),
+            (None, Some(2), true),
+            (Some(1), Some(2), true),
+            (Some(2), Some(1), false),
+        ] {
+            // Whoever waited longer.
+            for (a, b) in [(5, 900), (900, 5)] {
+                assert_eq!(hosts(&seat(a, "a", ours), &seat(b, "b", theirs)), Ok(host));
+                assert_eq!(hosts(&seat(b, "b", theirs), &seat(a, "a", ours)), Ok(!host));
+            }
+        }
+        assert_eq!(hosts(&seat(5, "a", Some(2)), &seat(900, "b", Some(2))), Err(2));
+        assert_eq!(hosts(&seat(900, "b", Some(1)), &seat(5, "a", Some(1))), Err(1));
     }
 
     /// A room URL is ws:// or wss://, a host, and one room name.

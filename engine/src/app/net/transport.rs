@@ -104,13 +104,17 @@ pub(super) enum ControlMessage {
     },
     /// The host's answer: the settings both simulations must share.
     Welcome(Welcome),
-    /// A player met in a room: its game and settings, and how long it
-    /// waited there for the other (the one that waited longer hosts).
+    /// A player met in a room: its game and settings, the player it asked
+    /// to play, and how long it waited there for the other (without a
+    /// player asked for, the one that waited longer hosts).
     Meet {
         /// The settings it would host with.
         welcome: Welcome,
         /// Milliseconds from its joining the room to the other's arrival.
         waited_ms: u64,
+        /// The player it asked to play (`--player`, 1 hosts), if any.
+        #[serde(default)]
+        player: Option<u8>,
     },
     /// This peer has the match's final state: the tick and its checksum.
     Done {

@@ -91,14 +91,24 @@ pub struct RunOptions {
     pub join: Option<std::net::SocketAddr>,
     /// Meet the other player in this room of a signalling server
     /// (`ws://HOST:PORT/ROOM`, as `tickwork signal` prints) and play over
-    /// WebRTC: the first in the room hosts and plays player 1. A page
-    /// takes it as `?room=`.
+    /// WebRTC: the first in the room hosts and plays player 1, unless a
+    /// side asks for a player (`--player`). A page takes it as `?room=`.
     #[cfg(feature = "webrtc")]
     #[cfg_attr(
         feature = "cli",
         arg(long, value_name = "URL", conflicts_with_all = ["host", "join", "sync_test"])
     )]
     pub room: Option<String>,
+    /// With `--room`: play this player, 1 (who hosts) or 2, whichever side
+    /// comes first (the other takes the other; two who ask for the same
+    /// one are refused). Without it the first in the room hosts, which a
+    /// busy machine can mistake. A page takes it as `?player=`.
+    #[cfg(feature = "webrtc")]
+    #[cfg_attr(
+        feature = "cli",
+        arg(long, value_name = "1|2", requires = "room", value_parser = clap::value_parser!(u8).range(1..=2))
+    )]
+    pub player: Option<u8>,
     /// In a match: play this side from a recording of one player's input
     /// (`--record` of a run alone) instead of the keyboard (tests, bots).
     #[cfg(feature = "netcode")]
@@ -164,6 +174,8 @@ impl Default for RunOptions {
             join: None,
             #[cfg(feature = "webrtc")]
             room: None,
+            #[cfg(feature = "webrtc")]
+            player: None,
             #[cfg(feature = "netcode")]
             script: None,
             #[cfg(feature = "netcode")]
@@ -203,6 +215,8 @@ impl RunOptions {
             max_prediction: self.max_prediction,
             impairment: self.impair,
             wait_seconds: self.wait_seconds,
+            #[cfg(feature = "webrtc")]
+            player: self.player,
             ..crate::app::NetOptions::default()
         }
     }

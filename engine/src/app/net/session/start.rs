@@ -71,7 +71,8 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     }
 
     /// Meets the other player in the signalling server's room at `url`
-    /// (`ws://HOST:PORT/ROOM`) and starts the match over WebRTC: the
+    /// (`ws://HOST:PORT/ROOM`) and starts the match over WebRTC: a side
+    /// that asked for a player ([`NetOptions::player`]) plays it, else the
     /// first to come hosts (player 1, its settings the match's). Natively
     /// the future blocks while it waits; in a page it yields to the
     /// browser.
@@ -79,8 +80,8 @@ impl<G: Game + Clone + 'static> NetSession<G> {
     /// # Errors
     /// As [`start`](Self::start); [`RunError::Limit`] for a URL that is
     /// not a room's; [`RunError::Network`] if the server refuses this side
-    /// (the room is full) or cannot be reached, or the other player leaves
-    /// before the match begins.
+    /// (the room is full) or cannot be reached, the other player leaves
+    /// before the match begins, or both asked to play the same player.
     #[cfg(feature = "webrtc")]
     pub async fn start_in_room(
         game: G,
@@ -95,7 +96,9 @@ impl<G: Game + Clone + 'static> NetSession<G> {
             "tickwork: {}: in the room {url}, waiting for the other player",
             own.game
         );
-        let met = room.meet(&own, Duration::from_secs_f64(net.wait_seconds)).await?;
+        let met = room
+            .meet(&own, net.player, Duration::from_secs_f64(net.wait_seconds))
+            .await?;
         if !met.host {
             check_welcome(&own, &met.welcome, &format!("the host ({})", met.remote))?;
         }
