@@ -4,12 +4,11 @@
 //! meet: two native builds in a room, two pages in headless Chromium, a
 //! page and a native build. Each match's left side plays player 1 because
 //! a side asks for its player (`--player`, `player=`): the host in one
-//! pairing, the joiner in another, both in the third; the first to come
-//! hosts where neither asks (the full room), but a busy machine can stall
-//! the first long enough to make it the later one, and a checksum compared
-//! across matches needs the same players in the same seats. A room already
-//! full refuses a third player; a
-//! player killed mid-match ends the other's match with a message saying
+//! pairing, the joiner in another, both in the third. Where neither asks
+//! (the full room) the first to come hosts, which a busy machine can get
+//! the other way round, and a checksum compared across matches needs the
+//! players in the same seats. A room already full refuses a third player;
+//! a player killed mid-match ends the other's match with a message saying
 //! so, within the disconnect timeout. A page's `record=` replays natively
 //! to the match's end; `--impair` lays a bad link on WebRTC too.
 //!
