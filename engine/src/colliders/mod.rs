@@ -17,6 +17,7 @@ mod gpu;
 mod plane;
 pub mod seams;
 pub(crate) mod set;
+pub(crate) mod settled;
 mod spheres;
 pub mod sweep;
 

@@ -8,8 +8,8 @@ use tickwork_integrators::Vec3x4;
 use super::Plane;
 use super::axis::{axis_mut, bounce4, frictionless_block};
 use crate::colliders::BlockColumns;
+use crate::colliders::settled::{for_each_bit, open_blocks};
 use crate::colliders::sweep::{all_clear_axis, clear_axis_lanes, resting_at_rest4, settle_plane, starts_resting4};
-use crate::layout::CHUNK;
 
 impl Plane {
     /// The whole blocks of a chunk whose first block rests, resolved block
@@ -157,8 +157,9 @@ impl Plane {
     /// the same bits).
     ///
     /// In two passes: the clear test on every block, without a branch
-    /// (each block's lanes into `settled`, and a bit for each block with a
-    /// lane not clear); then only those blocks (in a bouncing crowd about
+    /// (each block's lanes into `settled`; the blocks with a lane not
+    /// clear then found from those bytes, eight at a time); then only
+    /// those blocks (in a bouncing crowd about
     /// one in eight, scattered), found by their bits, ask whether they
     /// rest. One pass with a branch a block mispredicted at each such
     /// block, and resolved clear blocks, which the end-of-step rule leaves
@@ -184,48 +185,44 @@ impl Plane {
                 Vec4::from_slice(&c.radius[b * 4..b * 4 + 4])
             }
         };
-        // The blocks with a lane not clear, as bits.
-        let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
         let (x, v) = (&c.position[first..whole], &c.velocity[first..whole]);
         let blocks = start[first..whole].iter().zip(x).zip(v).zip(&mut settled[first..whole]);
         for (b, (((start, x), v), settled)) in (first..whole).zip(blocks) {
             let clear = clear_axis_lanes(pick(start), pick(x), pick(v) * dt, radius(c, b), self.offset, 0.0);
             *settled &= clear.bitmask() as u8;
-            open[b / 64] |= u64::from(*settled != ALL) << (b % 64);
         }
-        for (word, &bits) in open.iter().enumerate() {
-            let mut bits = bits;
-            while bits != 0 {
-                let b = word * 64 + bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let (d0, d1, dv) = (pick(&start[b]), pick(&c.position[b]), pick(&c.velocity[b]) * dt);
-                let lanes = settled[b] | resting_at_rest4(d0, d1, dv, rest_dt).bitmask() as u8;
-                settled[b] = lanes;
-                let whole = lanes == ALL;
-                if !FRICTIONLESS && !whole {
-                    continue;
-                }
-                let r = radius(c, b);
-                let w = if FIXED {
-                    Vec4::ONE
-                } else {
-                    Vec4::from_slice(&c.inverse_mass[b * 4..b * 4 + 4])
-                };
-                let (x, v) = (&mut c.position[b], &mut c.velocity[b]);
-                if FRICTIONLESS {
-                    // Without a branch on `whole` (about one open block in
-                    // two rests, at random): a block not settled whole
-                    // takes inverse mass 0, which the rule leaves as it
-                    // is (its lanes are followed, then resolved).
-                    let w = Vec4::select(BVec4A::splat(whole), w, Vec4::ZERO);
-                    let vn = *axis_mut::<AXIS>(v) * sign;
-                    let factor = bounce4(vn, self.material.restitution, rest);
-                    frictionless_block::<AXIS, NEGATIVE, false, false>(x, v, r, w, self.offset, factor);
-                } else {
-                    self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, rest);
-                }
+        // The blocks with a lane not clear, as bits, from the bytes eight
+        // at a time (a bit set a block in the loop above made each block
+        // wait on the last one's store: about a third of that loop).
+        let open = open_blocks(&settled[..whole]);
+        for_each_bit(&open, |b| {
+            let (d0, d1, dv) = (pick(&start[b]), pick(&c.position[b]), pick(&c.velocity[b]) * dt);
+            let lanes = settled[b] | resting_at_rest4(d0, d1, dv, rest_dt).bitmask() as u8;
+            settled[b] = lanes;
+            let whole = lanes == ALL;
+            if !FRICTIONLESS && !whole {
+                return;
             }
-        }
+            let r = radius(c, b);
+            let w = if FIXED {
+                Vec4::ONE
+            } else {
+                Vec4::from_slice(&c.inverse_mass[b * 4..b * 4 + 4])
+            };
+            let (x, v) = (&mut c.position[b], &mut c.velocity[b]);
+            if FRICTIONLESS {
+                // Without a branch on `whole` (about one open block in
+                // two rests, at random): a block not settled whole
+                // takes inverse mass 0, which the rule leaves as it
+                // is (its lanes are followed, then resolved).
+                let w = Vec4::select(BVec4A::splat(whole), w, Vec4::ZERO);
+                let vn = *axis_mut::<AXIS>(v) * sign;
+                let factor = bounce4(vn, self.material.restitution, rest);
+                frictionless_block::<AXIS, NEGATIVE, false, false>(x, v, r, w, self.offset, factor);
+            } else {
+                self.contact_block::<AXIS, NEGATIVE>(x, v, r, w, rest);
+            }
+        });
     }
 
     /// The whole blocks from block `first` on that rest on the plane,

@@ -31,6 +31,7 @@ use glam::{BVec4A, Vec3A, Vec4};
 use tickwork_integrators::Vec3x4;
 
 use super::chunk::Chunk;
+use crate::colliders::settled::{for_each_bit, open_blocks};
 use crate::colliders::sweep::radius4;
 use crate::colliders::{AxisPlane, RowTouch};
 use crate::layout::CHUNK;
@@ -392,41 +393,6 @@ fn gather(start: &[Vec3x4], c: &Chunk<'_>, at: [usize; 4]) -> (Vec3x4, Vec3x4, V
     let r = if c.point { Vec4::ZERO } else { column(c.radius) };
     let w = if c.movable { Vec4::ONE } else { column(c.inverse_mass) };
     (block(start), block(c.x), block(c.v), r, w)
-}
-
-/// The blocks of `settled` (each block's settled lanes, four bits a byte)
-/// with a lane not settled, as bits, eight bytes at a time without a
-/// branch a byte: a byte `ALL` (`0b1111`) XOR `ALL` is 0, any other has
-/// one of its low four bits set, which is folded into its lowest bit and
-/// the eight lowest bits gathered by one multiplication.
-fn open_blocks(settled: &[u8]) -> [u64; (CHUNK / 4).div_ceil(64)] {
-    const ALL: u64 = u64::from_ne_bytes([0b1111; 8]);
-    const LOW: u64 = u64::from_le_bytes([1; 8]);
-    let mut open = [0u64; (CHUNK / 4).div_ceil(64)];
-    for (k, bytes) in settled.chunks(8).enumerate() {
-        let eight = match <[u8; 8]>::try_from(bytes) {
-            Ok(eight) => u64::from_le_bytes(eight),
-            Err(_) => bytes.iter().rev().fold(ALL, |word, &byte| word << 8 | u64::from(byte)),
-        };
-        let t = eight ^ ALL;
-        let any = (t | t >> 1 | t >> 2 | t >> 3) & LOW;
-        // Byte i's bit (at 8 i) to bit 56 + i: no two products overlap.
-        let bits = any.wrapping_mul(0x0102_0408_1020_4080) >> 56;
-        open[k / 8] |= bits << (k % 8 * 8);
-    }
-    open
-}
-
-/// Calls `f` with the index of each set bit of `words`, in order.
-#[inline(always)]
-fn for_each_bit(words: &[u64], mut f: impl FnMut(usize)) {
-    for (word, &bits) in words.iter().enumerate() {
-        let mut bits = bits;
-        while bits != 0 {
-            f(word * 64 + bits.trailing_zeros() as usize);
-            bits &= bits - 1;
-        }
-    }
 }
 
 #[cfg(test)]

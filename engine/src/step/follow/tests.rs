@@ -1,5 +1,5 @@
 //! The plane's lanes against the exact rule, and the chunk's bookkeeping
-//! (open blocks, padding lanes).
+//! (padding lanes).
 
 use glam::Vec3;
 
@@ -60,34 +60,6 @@ fn the_padding_lanes_of_a_short_last_block_are_left_alone() {
             (below, Vec3A::ZERO),
             "padding lane {lane}"
         );
-    }
-}
-
-/// The open blocks found eight bytes at a time are those whose byte is
-/// not `0b1111`, whatever the bytes and the chunk's length.
-#[test]
-fn open_blocks_are_the_bytes_not_all_settled() {
-    let mut seed = 0x9e37_79b9_u32;
-    for case in 0..2_000 {
-        let len = 1 + case % (CHUNK / 4);
-        let settled: Vec<u8> = (0..len)
-            .map(|_| {
-                seed ^= seed << 13;
-                seed ^= seed >> 17;
-                seed ^= seed << 5;
-                // Mostly settled, as in a crowd.
-                if seed.is_multiple_of(3) {
-                    (seed >> 8) as u8 & 0b1111
-                } else {
-                    0b1111
-                }
-            })
-            .collect();
-        let open = open_blocks(&settled);
-        for b in 0..CHUNK / 4 {
-            let expected = b < len && settled[b] != 0b1111;
-            assert_eq!(open[b / 64] >> (b % 64) & 1 == 1, expected, "case {case}, block {b}");
-        }
     }
 }
 
