@@ -159,9 +159,8 @@ impl Plane {
     /// In two passes: the clear test on every block, without a branch
     /// (each block's lanes into `settled`; the blocks with a lane not
     /// clear then found from those bytes, eight at a time); then only
-    /// those blocks (in a bouncing crowd about
-    /// one in eight, scattered), found by their bits, ask whether they
-    /// rest. One pass with a branch a block mispredicted at each such
+    /// those blocks (in a bouncing crowd about one in eight, scattered)
+    /// ask whether they rest. One pass with a branch a block mispredicted at each such
     /// block, and resolved clear blocks, which the end-of-step rule leaves
     /// as they are (the same bits).
     pub(super) fn settle_mixed<const AXIS: usize, const NEGATIVE: bool, const FIXED: bool, const FRICTIONLESS: bool>(
@@ -192,8 +191,8 @@ impl Plane {
             *settled &= clear.bitmask() as u8;
         }
         // The blocks with a lane not clear, as bits, from the bytes eight
-        // at a time (a bit set a block in the loop above made each block
-        // wait on the last one's store: about a third of that loop).
+        // at a time (not a bit set a block in the loop above, which makes
+        // each block wait on the last one's store).
         let open = open_blocks(&settled[..whole]);
         for_each_bit(&open, |b| {
             let (d0, d1, dv) = (pick(&start[b]), pick(&c.position[b]), pick(&c.velocity[b]) * dt);
